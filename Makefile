@@ -1,0 +1,56 @@
+# libgranmpm - thin wrapper: bootstraps an out-of-tree autotools build in
+# $(BUILD) and forwards the usual targets to it. The real build is
+# Makefile.am; see README.md.
+#
+#   make demo            build everything, run the demo (writes out/)
+#   make check           build and run the whole test suite
+#   make bench           build and run the benchmark (CSV on stdout)
+#   make install PREFIX=/usr/local DESTDIR=
+#   make abi-check       compare the library ABI with abi/libgranmpm.abi
+#   make distcheck       build, test and check the release tarball
+BUILD ?= build
+PREFIX ?= /usr/local
+DESTDIR ?=
+CONFIGURE_FLAGS ?=
+TOP := $(CURDIR)
+
+FORWARD := all check demo bench install uninstall abi-check abi-dump \
+	check-valgrind installcheck
+# Forwarded without prefix/DESTDIR: a command-line prefix would reach
+# distcheck's own install step through MAKEFLAGS and override its private
+# temporary prefix (installing into the real PREFIX instead).
+DIST_FORWARD := dist distcheck
+
+# 'configure' is a real file, so it is not .PHONY: a phony prerequisite
+# would rerun autoreconf and configure on every make.
+.PHONY: $(FORWARD) $(DIST_FORWARD) clean distclean format format-check
+
+all:
+
+$(FORWARD): $(BUILD)/Makefile
+	$(MAKE) -C $(BUILD) $@ prefix=$(PREFIX) DESTDIR=$(DESTDIR) \
+	  DEMO_OUT=$(TOP)/out
+
+$(DIST_FORWARD): $(BUILD)/Makefile
+	$(MAKE) -C $(BUILD) $@
+
+configure: configure.ac Makefile.am
+	autoreconf -fi
+
+$(BUILD)/Makefile: configure
+	mkdir -p $(BUILD)
+	cd $(BUILD) && $(TOP)/configure --prefix=$(PREFIX) $(CONFIGURE_FLAGS)
+
+clean:
+	-$(MAKE) -C $(BUILD) clean
+
+distclean:
+	rm -rf $(BUILD) out
+
+CLANG_FORMAT ?= clang-format
+FORMAT_FILES = $(wildcard include/*.h lib/*.c lib/*.h lib/materials/*.c \
+	tests/*.c tests/*.h examples/*.c bench/*.c)
+format:
+	$(CLANG_FORMAT) -i $(FORMAT_FILES)
+format-check:
+	$(CLANG_FORMAT) --dry-run --Werror $(FORMAT_FILES)

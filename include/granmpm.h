@@ -1,0 +1,469 @@
+/*
+ * granmpm.h - public API of libgranmpm, an embeddable Material Point Method
+ * library for granular flows.
+ *
+ * Conventions (see granmpm(3)):
+ *  - one opaque handle, gm_domain; no internal layout is public;
+ *  - every *_def struct starts with `size_t struct_size` and has an inline
+ *    gm_*_def_default() initialiser: always start from it, then set fields;
+ *  - every fallible call returns a gm_status (0 = GM_OK, negative = error);
+ *    gm_domain_last_error() holds a message naming the point, material or
+ *    parameter at fault;
+ *  - SI units throughout; tension is positive in stresses;
+ *  - the library never prints, exits or aborts on user input.
+ *
+ * Thread safety: calls on one domain must not overlap; distinct domains may be
+ * used from distinct threads at the same time.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#ifndef GRANMPM_H
+#define GRANMPM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(GM_BUILDING_LIBRARY) && defined(__GNUC__)
+#define GM_API __attribute__((visibility("default")))
+#else
+#define GM_API
+#endif
+
+/* ---------------------------------------------------------------- version */
+
+#define GM_VERSION_MAJOR 0
+#define GM_VERSION_MINOR 1
+#define GM_VERSION_PATCH 0
+#define GM_VERSION_STRING "0.1.0"
+/** MAJOR*10000 + MINOR*100 + PATCH, comparable with gm_version_number(). */
+#define GM_VERSION_NUMBER                                                      \
+  (GM_VERSION_MAJOR * 10000 + GM_VERSION_MINOR * 100 + GM_VERSION_PATCH)
+
+/** Version of the library actually linked, as "MAJOR.MINOR.PATCH". */
+GM_API const char *gm_version(void);
+/** Version of the library actually linked, as GM_VERSION_NUMBER. */
+GM_API int gm_version_number(void);
+
+/* ----------------------------------------------------------------- status */
+
+/* X(name, value, description). Values are fixed forever: never renumber. */
+#define GM_STATUS_LIST(X)                                                      \
+  X(GM_OK, 0, "success")                                                       \
+  X(GM_ERR_NULL, -1, "a required pointer argument is NULL")                    \
+  X(GM_ERR_INVALID_ARGUMENT, -2, "an argument is outside its valid range")     \
+  X(GM_ERR_STRUCT_SIZE, -3,                                                    \
+    "struct_size is wrong: initialise definitions with gm_*_def_default()")    \
+  X(GM_ERR_NO_MEMORY, -4, "out of memory")                                     \
+  X(GM_ERR_OUT_OF_GRID, -5, "a material point is outside the background grid") \
+  X(GM_ERR_NOT_FINITE, -6, "a non-finite value (NaN or infinity) appeared")    \
+  X(GM_ERR_UNSTABLE_DT, -7, "the time step exceeds the stable bound")          \
+  X(GM_ERR_CALLBACK, -8, "a user callback reported a failure")                 \
+  X(GM_ERR_UNKNOWN_MATERIAL, -9, "no material with that id")                   \
+  X(GM_ERR_UNKNOWN_POINT, -10, "no material point with that id")               \
+  X(GM_ERR_IO, -11, "a file could not be written")                             \
+  X(GM_ERR_BUSY, -12, "the domain is inside a step or callback")               \
+  X(GM_ERR_UNSUPPORTED, -13, "not supported for this geometry or setting")
+
+#define GM_STATUS_ENUM_ITEM_(name, value, text) name = value,
+typedef enum gm_status { GM_STATUS_LIST(GM_STATUS_ENUM_ITEM_) } gm_status;
+#undef GM_STATUS_ENUM_ITEM_
+
+/** Static description of a status code; never NULL. */
+GM_API const char *gm_strerror(gm_status status);
+
+/* --------------------------------------------------------------- settings */
+
+/** Geometry of a domain. Vectors have gm_geometry_dimension() components. */
+typedef enum gm_geometry {
+  GM_GEOMETRY_1D = 1,           /* uniaxial strain along x */
+  GM_GEOMETRY_PLANE_STRAIN = 2, /* x, y; unit thickness in z */
+  GM_GEOMETRY_AXISYMMETRIC = 3, /* x = radius r >= 0, y = axial z */
+  GM_GEOMETRY_3D = 4            /* reserved; not yet supported */
+} gm_geometry;
+
+/** Where in the explicit cycle the stress is updated (see 002 section 4.4). */
+typedef enum gm_update_scheme {
+  GM_SCHEME_USL = 0,  /* update stress last, from v + a dt */
+  GM_SCHEME_MUSL = 1, /* modified USL: velocities re-mapped (Wieckowski) */
+  GM_SCHEME_USF = 2   /* update stress first, from v at the step's start */
+} gm_update_scheme;
+
+/** Boundary condition on one face of the grid box. */
+typedef enum gm_wall_type {
+  GM_WALL_OPEN = 0,  /* no condition: a point crossing it is an error */
+  GM_WALL_FIXED = 1, /* no-slip: both velocity components zero */
+  GM_WALL_SLIP = 2   /* frictionless: normal velocity zero */
+} gm_wall_type;
+
+/** Faces of the grid box, indices into gm_domain_def.walls. */
+enum {
+  GM_FACE_XMIN = 0,
+  GM_FACE_XMAX = 1,
+  GM_FACE_YMIN = 2,
+  GM_FACE_YMAX = 3,
+  GM_FACE_ZMIN = 4,
+  GM_FACE_ZMAX = 5
+};
+
+/* User task system (Box2D style), used instead of the built-in pool when
+ * enqueue_task is set. The library calls enqueue_task once per parallel
+ * loop; the task system must run task(start, end, worker, task_context)
+ * over [0, item_count) in ranges of at least min_range items, with worker in
+ * [0, worker_count). It may run it inline and return NULL. finish_task waits
+ * for a non-NULL handle returned by enqueue_task. */
+typedef void gm_task_fn(int start, int end, int worker, void *task_context);
+typedef void *gm_enqueue_task_fn(gm_task_fn *task, int item_count,
+                                 int min_range, void *task_context,
+                                 void *user);
+typedef void gm_finish_task_fn(void *user_task, void *user);
+
+typedef struct gm_domain_def {
+  size_t struct_size;       /* set by gm_domain_def_default() */
+  gm_geometry geometry;     /* default GM_GEOMETRY_PLANE_STRAIN */
+  double origin[3];         /* m, lower corner of the grid box */
+  double extent[3];         /* m, size of the grid box; rounded up to cells */
+  double cell_size;         /* m, edge of the square background cells */
+  double gravity[3];        /* m/s^2, body acceleration; default 0 */
+  gm_update_scheme scheme;  /* default GM_SCHEME_USL */
+  gm_wall_type walls[6];    /* per face (GM_FACE_*); default GM_WALL_OPEN */
+  double cfl;               /* Courant number in (0, 1]; default 0.5 */
+  int refuse_unstable_dt;   /* nonzero: dt above the bound fails; default 0 */
+  int max_retries;          /* halvings of dt on a recoverable material
+                               failure; default 4, range 0..20 */
+  int worker_count;         /* built-in pool threads, 1..256; default 1 */
+  gm_enqueue_task_fn *enqueue_task; /* NULL: built-in pool */
+  gm_finish_task_fn *finish_task;   /* required with enqueue_task */
+  void *task_user;                  /* passed to the two functions above */
+} gm_domain_def;
+
+static inline gm_domain_def gm_domain_def_default(void) {
+  gm_domain_def def = {0};
+  def.struct_size = sizeof(gm_domain_def);
+  def.geometry = GM_GEOMETRY_PLANE_STRAIN;
+  def.extent[0] = def.extent[1] = def.extent[2] = 1.0;
+  def.cell_size = 0.1;
+  def.scheme = GM_SCHEME_USL;
+  def.cfl = 0.5;
+  def.max_retries = 4;
+  def.worker_count = 1;
+  return def;
+}
+
+/** Number of vector components for a geometry (1, 2 or 3); 0 if unknown. */
+GM_API int gm_geometry_dimension(gm_geometry geometry);
+
+/* ----------------------------------------------------------------- domain */
+
+typedef struct gm_domain gm_domain;
+
+/** Creates a domain. On failure *out is NULL and the status says why;
+ * gm_last_create_error() then holds the message. */
+GM_API gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out);
+/** Message of the last failed gm_domain_create() on this thread. */
+GM_API const char *gm_last_create_error(void);
+/** Frees the domain and everything it owns. NULL is a no-op. */
+GM_API void gm_domain_destroy(gm_domain *domain);
+/** Message describing the last error on this domain ("" if none). */
+GM_API const char *gm_domain_last_error(const gm_domain *domain);
+
+/* -------------------------------------------------------------- materials */
+
+/** Stress and strain components, Voigt order. Shear strains are tensor
+ * components (eps_xy), not engineering strains. In 1D and 2D only the
+ * components listed in gm_domain_stress_components() are stored. */
+enum {
+  GM_XX = 0,
+  GM_YY = 1,
+  GM_ZZ = 2, /* out of plane; the hoop component theta-theta in axisymmetry */
+  GM_XY = 3,
+  GM_YZ = 4,
+  GM_ZX = 5
+};
+
+/** A batch of points handed to a material update, as SoA slices. The stress
+ * arrives already rotated by the Jaumann spin (the library does that), so a
+ * material only integrates its rate law over strain_increment. */
+typedef struct gm_material_batch {
+  size_t struct_size;                /* sizeof as known by the library */
+  size_t count;                      /* points in this batch */
+  int worker;                        /* 0 .. worker_count-1, stable */
+  int material;                      /* material id */
+  gm_geometry geometry;
+  double dt;                         /* s */
+  const double *strain_increment[6]; /* D dt per component (GM_XX..) */
+  const double *density;             /* kg/m^3 at the end of the step */
+  double *stress[6];                 /* Pa, in: rotated sigma_t, out: t+dt */
+  double *const *state;              /* state[k][i], k < state_count */
+  size_t state_count;
+  const int64_t *point_id; /* ids, for error messages */
+} gm_material_batch;
+
+/** Material update: return 0 on success, > 0 for a recoverable failure (the
+ * step is retried with dt halved), < 0 for a fatal one (the step fails with
+ * GM_ERR_CALLBACK and the domain is unchanged). Runs on worker threads,
+ * concurrently with other batches: it must be thread-safe and must not call
+ * gm_* functions that change a domain. On failure it may write a message of
+ * up to message_size bytes into message (NUL-terminated). */
+typedef int gm_material_update_fn(const gm_material_batch *batch, void *user,
+                                  char *message, size_t message_size);
+
+typedef struct gm_material_def {
+  size_t struct_size;
+  const char *name;               /* copied; for messages and VTU */
+  gm_material_update_fn *update;  /* required */
+  void *user;                     /* passed to update; must outlive domain */
+  size_t state_count;             /* doubles of state per point, 0..64 */
+  const double *initial_state;    /* state_count values; NULL = zeros */
+  double p_wave_modulus;          /* Pa, upper bound of K + 4G/3 (> 0):
+                                     sets the stable time step */
+  double density;                 /* kg/m^3, default for new points (> 0) */
+} gm_material_def;
+
+static inline gm_material_def gm_material_def_default(void) {
+  gm_material_def def = {0};
+  def.struct_size = sizeof(gm_material_def);
+  def.name = "user";
+  return def;
+}
+
+/** Registers a user material; *material_id receives its id (0, 1, ...). */
+GM_API gm_status gm_domain_add_material(gm_domain *domain,
+                                        const gm_material_def *def,
+                                        int *material_id);
+
+/** Isotropic linear elasticity (hypoelastic, with the Jaumann rate). */
+typedef struct gm_elastic_def {
+  size_t struct_size;
+  const char *name;
+  double youngs_modulus; /* Pa, > 0 */
+  double poisson_ratio;  /* -1 < nu < 0.5 */
+  double density;        /* kg/m^3, > 0 */
+} gm_elastic_def;
+
+static inline gm_elastic_def gm_elastic_def_default(void) {
+  gm_elastic_def def = {0};
+  def.struct_size = sizeof(gm_elastic_def);
+  def.name = "elastic";
+  def.youngs_modulus = 1e6;
+  def.poisson_ratio = 0.3;
+  def.density = 1000.0;
+  return def;
+}
+
+/** Registers the built-in linear elastic material (written against the same
+ * gm_material_update_fn interface as user materials). */
+GM_API gm_status gm_domain_add_elastic(gm_domain *domain,
+                                       const gm_elastic_def *def,
+                                       int *material_id);
+
+/** The built-in elastic update itself, for users composing materials:
+ * `user` must point to a gm_elastic_def. */
+GM_API int gm_elastic_update(const gm_material_batch *batch, void *user,
+                             char *message, size_t message_size);
+
+/* ----------------------------------------------------------------- points */
+
+/* Per-point arrays are interleaved: position[i*dim + k], dim from
+ * gm_geometry_dimension(). "Volume" is per unit area in 1D (m), per unit
+ * thickness in plane strain (m^2), and the full 2*pi*r ring in axisymmetry
+ * (m^3); masses (kg) follow the same convention. */
+typedef struct gm_points_def {
+  size_t struct_size;
+  size_t count;
+  int material;                /* from gm_domain_add_material/elastic */
+  const double *position;      /* m, count*dim, required */
+  const double *velocity;      /* m/s, count*dim; NULL = at rest */
+  const double *volume;        /* count, > 0, required */
+  const double *mass;          /* kg, count; NULL = density * volume */
+  const double *density;       /* kg/m^3, count; NULL = material density;
+                                  ignored where mass is given */
+  const double *domain_size;   /* m, count*dim, initial particle domain
+                                  edge lengths (used by GIMP/CPDI and the
+                                  granular method); NULL = cube root etc.
+                                  of the volume per unit measure */
+  const double *stress;        /* Pa, count*6 (Voigt, GM_XX..); NULL = 0 */
+} gm_points_def;
+
+static inline gm_points_def gm_points_def_default(void) {
+  gm_points_def def = {0};
+  def.struct_size = sizeof(gm_points_def);
+  return def;
+}
+
+/** Adds points. Ids are first_id, first_id+1, ...; they never change and are
+ * never reused. first_id may be NULL. All-or-nothing: on error no point is
+ * added. */
+GM_API gm_status gm_domain_add_points(gm_domain *domain,
+                                      const gm_points_def *def,
+                                      int64_t *first_id);
+
+typedef struct gm_fill_def {
+  size_t struct_size;
+  int material;
+  double lower[3];          /* m, box corner */
+  double upper[3];          /* m, opposite corner */
+  int points_per_cell_axis; /* n: n^dim points per full cell, 1..16 */
+  double velocity[3];       /* m/s, initial velocity */
+  double density;           /* kg/m^3; 0 = the material's density */
+} gm_fill_def;
+
+static inline gm_fill_def gm_fill_def_default(void) {
+  gm_fill_def def = {0};
+  def.struct_size = sizeof(gm_fill_def);
+  def.points_per_cell_axis = 2;
+  return def;
+}
+
+/** Fills the box with points on a regular lattice of spacing
+ * cell_size / n, each at the centre of its sub-cell. first_id and count
+ * (points added) may be NULL. */
+GM_API gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
+                                    int64_t *first_id, size_t *count);
+
+/** Number of points. */
+GM_API size_t gm_domain_point_count(const gm_domain *domain);
+
+/** Point fields. Fields are stored per point index; indices may change at
+ * every step (points are kept sorted by cell), ids never change. */
+typedef enum gm_field {
+  GM_FIELD_POSITION = 0,        /* m, dim components */
+  GM_FIELD_VELOCITY = 1,        /* m/s, dim components, writable */
+  GM_FIELD_EXTERNAL_FORCE = 2,  /* N, dim components, writable; added each
+                                   step until changed */
+  GM_FIELD_MASS = 3,            /* kg */
+  GM_FIELD_VOLUME = 4,          /* current volume */
+  GM_FIELD_INITIAL_VOLUME = 5,  /* volume at creation */
+  GM_FIELD_DENSITY = 6,         /* kg/m^3, mass / volume */
+  GM_FIELD_STRESS = 7,          /* Pa, 6 components GM_XX..GM_ZX */
+  GM_FIELD_DEFORMATION_GRADIENT = 8, /* 9 components, row-major F_ij */
+  GM_FIELD_MATERIAL = 9,        /* material id as double */
+  GM_FIELD_ID = 10,             /* point id as double (exact below 2^53) */
+  GM_FIELD_DOMAIN_SIZE = 11     /* m, dim components, initial domain size */
+} gm_field;
+
+/** Number of components of a field in this domain's geometry. */
+GM_API gm_status gm_domain_field_components(const gm_domain *domain,
+                                            gm_field field,
+                                            size_t *components);
+
+/** Copies a field for all points, interleaved (out[i*components + k]), in
+ * point-index order. out_length is the capacity of out in doubles. */
+GM_API gm_status gm_domain_get_field(const gm_domain *domain, gm_field field,
+                                     double *out, size_t out_length);
+
+/** Copies the point ids in point-index order. */
+GM_API gm_status gm_domain_get_ids(const gm_domain *domain, int64_t *out,
+                                   size_t out_length);
+
+/** Index of the point with that id. */
+GM_API gm_status gm_domain_point_index(const gm_domain *domain, int64_t id,
+                                       size_t *index);
+
+/** Zero-copy access to one component of a stored field (point-index order,
+ * point_count values). Valid until the next call that changes the domain.
+ * Components that are identically zero in this geometry are not stored and
+ * give GM_ERR_UNSUPPORTED. */
+GM_API gm_status gm_domain_view_field(const gm_domain *domain, gm_field field,
+                                      size_t component, const double **data);
+
+/** Writable zero-copy access, for GM_FIELD_VELOCITY and
+ * GM_FIELD_EXTERNAL_FORCE only, between steps or from a step hook. Values
+ * written are validated at the start of the next step. */
+GM_API gm_status gm_domain_edit_field(gm_domain *domain, gm_field field,
+                                      size_t component, double **data);
+
+/** Zero-copy access to the ids (point-index order). */
+GM_API gm_status gm_domain_view_ids(const gm_domain *domain,
+                                    const int64_t **ids);
+
+/* ------------------------------------------------------------------- step */
+
+/** Where a step hook is called. */
+typedef enum gm_hook_stage {
+  GM_HOOK_BEFORE_STEP = 0, /* after validation, before any transfer; the hook
+                              may edit velocities and external forces */
+  GM_HOOK_AFTER_STEP = 1   /* after the step is committed */
+} gm_hook_stage;
+
+/** A nonzero return at GM_HOOK_BEFORE_STEP cancels the step with
+ * GM_ERR_CALLBACK (edits the hook made stay). The hook may read fields and
+ * use gm_domain_edit_field(); other state-changing calls give GM_ERR_BUSY. */
+typedef int gm_step_hook_fn(gm_domain *domain, gm_hook_stage stage,
+                            void *user);
+
+/** Installs (or with NULL removes) the step hook. */
+GM_API gm_status gm_domain_set_step_hook(gm_domain *domain,
+                                         gm_step_hook_fn *hook, void *user);
+
+/** Advances by dt seconds; dt <= 0 means the largest stable dt. On error the
+ * domain is exactly as before the call (except for edits made by a hook). */
+GM_API gm_status gm_domain_step(gm_domain *domain, double dt);
+
+/** Largest stable dt for the current state: cfl * h / max(c_p + |v_p|), with
+ * c_p = sqrt(M / rho_p) the P-wave speed (004 eq 3.11-3.12). */
+GM_API gm_status gm_domain_stable_dt(const gm_domain *domain, double *dt);
+
+/** Simulated time (s) and number of completed steps; either pointer may
+ * be NULL, not both. */
+GM_API gm_status gm_domain_get_time(const gm_domain *domain, double *time,
+                                    uint64_t *step_count);
+
+typedef struct gm_summary {
+  size_t struct_size;
+  double mass;            /* kg */
+  double momentum[3];     /* kg m/s */
+  double kinetic_energy;  /* J */
+  double centre_of_mass[3]; /* m */
+} gm_summary;
+
+static inline gm_summary gm_summary_default(void) {
+  gm_summary summary = {0};
+  summary.struct_size = sizeof(gm_summary);
+  return summary;
+}
+
+/** Totals over all points (summed in index-independent order). */
+GM_API gm_status gm_domain_get_summary(const gm_domain *domain,
+                                       gm_summary *summary);
+
+/* ----------------------------------------------------------------- output */
+
+/** Writes all points and fields as a VTK XML unstructured grid (.vtu) with
+ * raw binary appended data. */
+GM_API gm_status gm_domain_write_vtu(const gm_domain *domain,
+                                     const char *path);
+
+/** A ParaView time series: a .pvd file listing one .vtu per frame. */
+typedef struct gm_series gm_series;
+
+/** Starts a series at pvd_path (e.g. "out/bar.pvd"); frames are written
+ * beside it as <stem>_NNNNNN.vtu. The directory must exist. */
+GM_API gm_status gm_series_create(const char *pvd_path, gm_series **out);
+/** Writes the domain's current state as the next frame and rewrites the
+ * .pvd so it is complete after every call. */
+GM_API gm_status gm_series_write(gm_series *series, const gm_domain *domain);
+/** Frees the series (files stay). NULL is a no-op. */
+GM_API void gm_series_destroy(gm_series *series);
+
+/* ------------------------------------------------------------------ hooks */
+
+typedef struct gm_allocator {
+  size_t struct_size;
+  void *(*malloc_fn)(size_t size, void *user);
+  void (*free_fn)(void *pointer, void *user);
+  void *user;
+} gm_allocator;
+
+/** Replaces malloc/free for all later allocations (NULL restores the
+ * default). Call before creating any domain; not thread-safe. */
+GM_API gm_status gm_set_allocator(const gm_allocator *allocator);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* GRANMPM_H */

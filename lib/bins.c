@@ -1,0 +1,143 @@
+/*
+ * bins.c - grouping points by grid block (a counting sort of indices, every
+ * step) and the periodic physical reordering of the point arrays so that
+ * memory order follows the grid (cache-friendly scatter and gather).
+ */
+#include "internal.h"
+
+#include <string.h>
+
+static size_t chunk_begin(size_t count, size_t chunk) {
+  return count * chunk / GM_BIN_CHUNKS;
+}
+
+/* Block of every point of the chunks, and per-chunk counts per block. */
+static void locate_chunks(void *context, size_t begin, size_t end,
+                          int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_grid *grid = &domain->grid;
+  gm_points *points = &domain->points;
+  const int64_t *point_key = points->buffer[points->cur].block_key;
+  for (size_t chunk = begin; chunk < end; chunk++) {
+    uint32_t *counts = grid->chunk_counts;
+    for (size_t b = 0; b < grid->block_count; b++)
+      counts[b * GM_BIN_CHUNKS + chunk] = 0;
+    int64_t cached_key = -1;
+    uint32_t cached_block = GM_NO_BLOCK;
+    size_t last = chunk_begin(points->count, chunk + 1);
+    for (size_t i = chunk_begin(points->count, chunk); i < last; i++) {
+      if (point_key[i] != cached_key) {
+        cached_key = point_key[i];
+        cached_block = gm_grid_find(grid, cached_key);
+      }
+      points->point_block[i] = cached_block;
+      counts[(size_t)cached_block * GM_BIN_CHUNKS + chunk]++;
+    }
+  }
+}
+
+/* Writes each chunk's points into its slots of order[]. */
+static void scatter_chunks(void *context, size_t begin, size_t end,
+                           int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_points *points = &domain->points;
+  uint32_t *counts = domain->grid.chunk_counts;
+  for (size_t chunk = begin; chunk < end; chunk++) {
+    size_t last = chunk_begin(points->count, chunk + 1);
+    for (size_t i = chunk_begin(points->count, chunk); i < last; i++) {
+      size_t slot = (size_t)points->point_block[i] * GM_BIN_CHUNKS + chunk;
+      points->order[counts[slot]++] = (uint32_t)i;
+    }
+  }
+}
+
+gm_status gm_bin_points(gm_domain *domain) {
+  gm_status status = gm_grid_build(domain);
+  if (status != GM_OK)
+    return status;
+  gm_grid *grid = &domain->grid;
+  gm_parallel_for(&domain->pool, GM_BIN_CHUNKS, locate_chunks, domain);
+  /* Exclusive prefix over (block, chunk): points keep index order inside
+   * a block whatever the worker count. */
+  uint32_t running = 0;
+  for (size_t b = 0; b < grid->block_count; b++) {
+    grid->point_start[b] = running;
+    uint32_t *counts = grid->chunk_counts + b * GM_BIN_CHUNKS;
+    for (size_t chunk = 0; chunk < GM_BIN_CHUNKS; chunk++) {
+      uint32_t in_chunk = counts[chunk];
+      counts[chunk] = running;
+      running += in_chunk;
+    }
+  }
+  grid->point_start[grid->block_count] = running;
+  gm_parallel_for(&domain->pool, GM_BIN_CHUNKS, scatter_chunks, domain);
+  return GM_OK;
+}
+
+/* ------------------------------------------------------------ reordering */
+
+static void permute_doubles(double *target, const double *source,
+                            const uint32_t *order, size_t begin, size_t end) {
+  for (size_t k = begin; k < end; k++)
+    target[k] = source[order[k]];
+}
+
+/* Permutes the committed double-buffered fields into the spare buffer. */
+static void permute_buffers(void *context, size_t begin, size_t end,
+                            int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_points *points = &domain->points;
+  const gm_point_buffers *from = &points->buffer[points->cur];
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const uint32_t *order = points->order;
+  for (int k = 0; k < domain->dim; k++) {
+    permute_doubles(to->position[k], from->position[k], order, begin, end);
+    permute_doubles(to->velocity[k], from->velocity[k], order, begin, end);
+  }
+  for (int k = 0; k < GM_STRESS_STORED; k++)
+    permute_doubles(to->stress[k], from->stress[k], order, begin, end);
+  for (int k = 0; k < GM_F_STORED; k++)
+    permute_doubles(to->deformation[k], from->deformation[k], order, begin,
+                    end);
+  permute_doubles(to->volume, from->volume, order, begin, end);
+  size_t stride = points->state_stride;
+  for (size_t i = begin; i < end; i++) {
+    to->block_key[i] = from->block_key[order[i]];
+    if (stride)
+      memcpy(to->state + i * stride, from->state + (size_t)order[i] * stride,
+             stride * sizeof(double));
+  }
+}
+
+/* Permutes one single-buffered array through the scratch buffer. */
+static void permute_in_place(gm_points *points, double *field) {
+  permute_doubles(points->scratch, field, points->order, 0, points->count);
+  memcpy(field, points->scratch, points->count * sizeof(double));
+}
+
+void gm_reorder_points(gm_domain *domain) {
+  gm_points *points = &domain->points;
+  size_t count = points->count;
+  gm_parallel_for(&domain->pool, count, permute_buffers, domain);
+  points->cur ^= 1;
+  permute_in_place(points, points->mass);
+  permute_in_place(points, points->initial_volume);
+  for (int k = 0; k < domain->dim; k++) {
+    permute_in_place(points, points->domain_size[k]);
+    permute_in_place(points, points->external_force[k]);
+  }
+  /* Integer fields go through the same scratch (8 bytes per point). */
+  int64_t *id_scratch = (int64_t *)(void *)points->scratch;
+  for (size_t k = 0; k < count; k++)
+    id_scratch[k] = points->id[points->order[k]];
+  memcpy(points->id, id_scratch, count * sizeof(int64_t));
+  int32_t *material_scratch = (int32_t *)(void *)points->scratch;
+  for (size_t k = 0; k < count; k++)
+    material_scratch[k] = points->material[points->order[k]];
+  memcpy(points->material, material_scratch, count * sizeof(int32_t));
+  for (size_t k = 0; k < count; k++)
+    points->index_of_id[points->id[k]] = (int64_t)k;
+}

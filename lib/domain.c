@@ -1,0 +1,229 @@
+/*
+ * domain.c - domain lifecycle: validation of the definition, creation,
+ * destruction, error messages, time, hooks.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static _Thread_local char create_error[GM_ERROR_MESSAGE_SIZE];
+
+const char *gm_last_create_error(void) { return create_error; }
+
+#define CREATE_FAIL(status, ...)                                               \
+  do {                                                                         \
+    snprintf(create_error, sizeof create_error, __VA_ARGS__);                  \
+    return (status);                                                           \
+  } while (0)
+
+static const char *face_name(int face) {
+  static const char *names[6] = {"xmin", "xmax", "ymin",
+                                 "ymax", "zmin", "zmax"};
+  return names[face];
+}
+
+static gm_status validate_def(const gm_domain_def *def) {
+  if (def->struct_size < sizeof(gm_domain_def))
+    CREATE_FAIL(GM_ERR_STRUCT_SIZE,
+                "gm_domain_def.struct_size is %zu, expected %zu: initialise "
+                "with gm_domain_def_default()",
+                def->struct_size, sizeof(gm_domain_def));
+  int dim = gm_geometry_dimension(def->geometry);
+  if (dim == 0)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.geometry %d is not a gm_geometry value",
+                (int)def->geometry);
+  if (dim == 3)
+    CREATE_FAIL(GM_ERR_UNSUPPORTED,
+                "gm_domain_def.geometry GM_GEOMETRY_3D is reserved and not "
+                "supported in this version");
+  if (!(def->cell_size > 0.0) || !isfinite(def->cell_size))
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.cell_size is %g m, must be finite and > 0",
+                def->cell_size);
+  for (int k = 0; k < dim; k++) {
+    if (!isfinite(def->origin[k]))
+      CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                  "gm_domain_def.origin[%d] is %g, must be finite", k,
+                  def->origin[k]);
+    if (!(def->extent[k] > 0.0) || !isfinite(def->extent[k]))
+      CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                  "gm_domain_def.extent[%d] is %g m, must be finite and > 0",
+                  k, def->extent[k]);
+    double cells = ceil(def->extent[k] / def->cell_size - 1e-9);
+    if (cells > 1e9)
+      CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                  "gm_domain_def.extent[%d] / cell_size = %g cells, at most "
+                  "1e9 per axis",
+                  k, cells);
+    if (!isfinite(def->gravity[k]))
+      CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                  "gm_domain_def.gravity[%d] is %g, must be finite", k,
+                  def->gravity[k]);
+  }
+  if (def->geometry == GM_GEOMETRY_AXISYMMETRIC && def->origin[0] < 0.0)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.origin[0] is %g but the radius must be >= 0 "
+                "in GM_GEOMETRY_AXISYMMETRIC",
+                def->origin[0]);
+  if (def->scheme != GM_SCHEME_USL && def->scheme != GM_SCHEME_MUSL &&
+      def->scheme != GM_SCHEME_USF)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.scheme %d is not a gm_update_scheme value",
+                (int)def->scheme);
+  for (int face = 0; face < 2 * dim; face++) {
+    gm_wall_type wall = def->walls[face];
+    if (wall != GM_WALL_OPEN && wall != GM_WALL_FIXED && wall != GM_WALL_SLIP)
+      CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                  "gm_domain_def.walls[%d] (%s face) is %d, not a "
+                  "gm_wall_type value",
+                  face, face_name(face), (int)wall);
+  }
+  if (!(def->cfl > 0.0 && def->cfl <= 1.0))
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.cfl is %g, must be in (0, 1]", def->cfl);
+  if (def->max_retries < 0 || def->max_retries > 20)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.max_retries is %d, must be in 0..20",
+                def->max_retries);
+  if (def->worker_count < 1 || def->worker_count > 256)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.worker_count is %d, must be in 1..256",
+                def->worker_count);
+  if ((def->enqueue_task == NULL) != (def->finish_task == NULL))
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.enqueue_task and finish_task must be set "
+                "together");
+  return GM_OK;
+}
+
+static gm_status allocate_scratch(gm_domain *domain) {
+  domain->scratch =
+      gm_calloc((size_t)domain->worker_count, sizeof(gm_worker_scratch));
+  if (!domain->scratch)
+    return GM_ERR_NO_MEMORY;
+  for (int w = 0; w < domain->worker_count; w++) {
+    gm_worker_scratch *scratch = &domain->scratch[w];
+    scratch->state_storage =
+        gm_calloc((size_t)GM_MAX_STATE * GM_BATCH_SIZE, sizeof(double));
+    if (!scratch->state_storage)
+      return GM_ERR_NO_MEMORY;
+    for (int k = 0; k < GM_MAX_STATE; k++)
+      scratch->state_columns[k] = scratch->state_storage + k * GM_BATCH_SIZE;
+    for (uint32_t r = 0; r < GM_BATCH_SIZE; r++)
+      scratch->identity_rows[r] = r;
+  }
+  return GM_OK;
+}
+
+gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
+  create_error[0] = '\0';
+  if (!out)
+    CREATE_FAIL(GM_ERR_NULL, "gm_domain_create: out is NULL");
+  *out = NULL;
+  if (!def)
+    CREATE_FAIL(GM_ERR_NULL, "gm_domain_create: def is NULL");
+  gm_status status = validate_def(def);
+  if (status != GM_OK)
+    return status;
+  gm_domain *domain = gm_calloc(1, sizeof *domain);
+  if (!domain)
+    CREATE_FAIL(GM_ERR_NO_MEMORY, "gm_domain_create: out of memory");
+  domain->def = *def;
+  domain->dim = gm_geometry_dimension(def->geometry);
+  domain->axisymmetric = def->geometry == GM_GEOMETRY_AXISYMMETRIC;
+  domain->inv_cell = 1.0 / def->cell_size;
+  for (int k = 0; k < 3; k++)
+    domain->cells[k] =
+        k < domain->dim
+            ? (int64_t)ceil(def->extent[k] / def->cell_size - 1e-9)
+            : 1;
+  domain->worker_count = def->enqueue_task ? def->worker_count
+                                           : def->worker_count;
+  gm_grid *grid = &domain->grid;
+  grid->dim = domain->dim;
+  grid->shift = domain->dim == 1 ? GM_BLOCK_SHIFT_1D : GM_BLOCK_SHIFT_2D;
+  for (int k = 0; k < 3; k++)
+    grid->blocks_per_axis[k] =
+        k < domain->dim ? (domain->cells[k] >> grid->shift) + 1 : 1;
+  status = allocate_scratch(domain);
+  if (status == GM_OK)
+    status = gm_pool_start(&domain->pool, def->worker_count,
+                           def->enqueue_task, def->finish_task,
+                           def->task_user);
+  if (status != GM_OK) {
+    gm_domain_destroy(domain);
+    CREATE_FAIL(status, "gm_domain_create: could not allocate %d workers",
+                def->worker_count);
+  }
+  domain->materials = NULL;
+  *out = domain;
+  return GM_OK;
+}
+
+static void free_grid(gm_grid *grid) {
+  gm_free(grid->block_key);
+  gm_free(grid->neighbour);
+  gm_free(grid->point_start);
+  gm_free(grid->color_block);
+  gm_free(grid->chunk_counts);
+  gm_free(grid->hash_key);
+  gm_free(grid->hash_value);
+  gm_free(grid->mass);
+  for (int k = 0; k < 2; k++) {
+    gm_free(grid->momentum[k]);
+    gm_free(grid->force[k]);
+    gm_free(grid->velocity[k]);
+  }
+}
+
+void gm_domain_destroy(gm_domain *domain) {
+  if (!domain)
+    return;
+  gm_pool_stop(&domain->pool);
+  gm_points_free(&domain->points);
+  gm_buffers_free(&domain->snapshot);
+  free_grid(&domain->grid);
+  if (domain->scratch) {
+    for (int w = 0; w < domain->worker_count; w++)
+      gm_free(domain->scratch[w].state_storage);
+  }
+  gm_free(domain->scratch);
+  gm_free(domain->materials);
+  gm_free(domain);
+}
+
+const char *gm_domain_last_error(const gm_domain *domain) {
+  if (!domain)
+    return "domain is NULL";
+  return domain->last_error;
+}
+
+gm_status gm_domain_set_step_hook(gm_domain *domain, gm_step_hook_fn *hook,
+                                  void *user) {
+  if (!domain)
+    return GM_ERR_NULL;
+  if (domain->busy)
+    return gm_set_error(domain, GM_ERR_BUSY,
+                        "gm_domain_set_step_hook: called during a step");
+  domain->hook = hook;
+  domain->hook_user = user;
+  return GM_OK;
+}
+
+gm_status gm_domain_get_time(const gm_domain *domain, double *time,
+                             uint64_t *step_count) {
+  if (!domain)
+    return GM_ERR_NULL;
+  if (!time && !step_count)
+    return gm_set_error((gm_domain *)domain, GM_ERR_NULL,
+                        "gm_domain_get_time: time and step_count are both "
+                        "NULL");
+  if (time)
+    *time = domain->time;
+  if (step_count)
+    *step_count = domain->step_count;
+  return GM_OK;
+}

@@ -1,0 +1,79 @@
+/*
+ * grid.h - the sparse background grid. Nodes are stored in blocks of 64
+ * (8 x 8 in 2D, 64 in a row in 1D); only blocks near points exist, so memory
+ * and work follow the occupied cells, not the box. Blocks are rebuilt every
+ * step from the points' block keys and sorted by key, which fixes the order
+ * of every sum (results do not depend on worker count).
+ */
+#ifndef GM_GRID_H
+#define GM_GRID_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define GM_BLOCK_NODES 64
+#define GM_BLOCK_SHIFT_2D 3 /* 8 x 8 nodes */
+#define GM_BLOCK_SHIFT_1D 6 /* 64 nodes */
+#define GM_NO_BLOCK UINT32_MAX
+/* Neighbour slots: self, +x, +y, +x+y (a cell's upper nodes may lie in the
+ * next block along each axis). */
+#define GM_BLOCK_NEIGHBOURS 4
+/* Points are binned in this many fixed chunks (not per worker), so the
+ * order of points inside a block never depends on the worker count. */
+#define GM_BIN_CHUNKS 32
+
+typedef struct gm_grid {
+  int dim;
+  int shift;                   /* log2 of nodes per block edge */
+  int64_t blocks_per_axis[3];  /* blocks covering nodes 0..cells */
+  size_t block_count;
+  size_t block_capacity;
+  int64_t *block_key;          /* sorted; key = by * blocks_x + bx */
+  uint32_t *neighbour;         /* block_capacity * GM_BLOCK_NEIGHBOURS */
+  uint32_t *point_start;       /* block_capacity + 1, ranges in order[] */
+  uint32_t *color_block;       /* block indices grouped by colour */
+  size_t color_start[5];       /* colour c: color_block[start[c]..start[c+1]) */
+  uint32_t *chunk_counts;      /* GM_BIN_CHUNKS * block_capacity */
+  /* Open-addressing hash: block key -> block index. */
+  int64_t *hash_key;
+  uint32_t *hash_value;
+  size_t hash_capacity;        /* power of two */
+  size_t hash_used;
+  /* Node fields, block_capacity * GM_BLOCK_NODES each. */
+  double *mass;        /* kg */
+  double *momentum[2]; /* kg m/s */
+  double *force[2];    /* N; acceleration (m/s^2) after the grid update */
+  double *velocity[2]; /* m/s, after the grid update */
+} gm_grid;
+
+/* Colour of a block for the parallel scatter: blocks of one colour are two
+ * apart along each axis, so their nodes (own block and +1 neighbours) never
+ * overlap and they can be scattered concurrently. */
+static inline int gm_block_colour(const gm_grid *grid, int64_t key) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  return (int)((key % blocks_x) & 1) | (int)(((key / blocks_x) & 1) << 1);
+}
+
+/* The four node indices (grid field arrays) of the cell at local (x, y)
+ * of the block with these links, order (0,0) (1,0) (0,1) (1,1). */
+static inline void gm_cell_nodes_2d(const uint32_t *links, int shift,
+                                    int64_t local_x, int64_t local_y,
+                                    size_t node[4]) {
+  int64_t edge = (int64_t)1 << shift, mask = edge - 1;
+  int64_t next_x = local_x + 1, next_y = local_y + 1;
+  int over_x = (int)(next_x >> shift), over_y = (int)(next_y >> shift);
+  next_x &= mask;
+  next_y &= mask;
+  node[0] = (size_t)links[0] * GM_BLOCK_NODES + (size_t)(local_x + edge * local_y);
+  node[1] = (size_t)links[over_x] * GM_BLOCK_NODES +
+            (size_t)(next_x + edge * local_y);
+  node[2] = (size_t)links[2 * over_y] * GM_BLOCK_NODES +
+            (size_t)(local_x + edge * next_y);
+  node[3] = (size_t)links[over_x + 2 * over_y] * GM_BLOCK_NODES +
+            (size_t)(next_x + edge * next_y);
+}
+
+/* Block index of key this step, or GM_NO_BLOCK. */
+uint32_t gm_grid_find(const gm_grid *grid, int64_t key);
+
+#endif

@@ -1,0 +1,91 @@
+/*
+ * grid_update.c - the nodal update: velocities from momenta, accelerations
+ * from forces (lumped mass, 004 eqs 3.14-3.16), and the box-wall boundary
+ * conditions. After a condition changes a nodal velocity, the acceleration
+ * is recomputed as (v_new - v_old)/dt so particle (FLIP) velocities and
+ * nodal velocities agree on walls.
+ */
+#include "internal.h"
+
+typedef struct update_context {
+  gm_domain *domain;
+  double dt; /* s */
+  int mode;
+} update_context;
+
+/* Which velocity components of node (ix, iy) a wall or the axis holds. */
+static void constrained_components(const gm_domain *domain, int64_t ix,
+                                   int64_t iy, bool fixed[2]) {
+  const gm_wall_type *walls = domain->def.walls;
+  fixed[0] = fixed[1] = false;
+  int64_t end[2] = {domain->cells[0], domain->cells[1]};
+  int64_t index[2] = {ix, iy};
+  for (int axis = 0; axis < domain->dim; axis++) {
+    for (int side = 0; side < 2; side++) {
+      if (index[axis] != (side ? end[axis] : 0))
+        continue;
+      gm_wall_type wall = walls[2 * axis + side];
+      if (wall == GM_WALL_FIXED)
+        fixed[0] = fixed[1] = true;
+      else if (wall == GM_WALL_SLIP)
+        fixed[axis] = true;
+    }
+  }
+  /* Radial velocity vanishes on the symmetry axis r = 0. */
+  if (domain->axisymmetric && ix == 0 && domain->def.origin[0] == 0.0)
+    fixed[0] = true;
+}
+
+static void update_blocks(void *context, size_t begin, size_t end,
+                          int worker) {
+  (void)worker;
+  update_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  gm_grid *grid = &domain->grid;
+  int dim = domain->dim, shift = grid->shift;
+  int64_t edge = (int64_t)1 << shift;
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  double dt = ctx->dt;
+  for (size_t b = begin; b < end; b++) {
+    int64_t key = grid->block_key[b];
+    int64_t base_x = (key % blocks_x) << shift;
+    int64_t base_y = dim > 1 ? (key / blocks_x) << shift : 0;
+    bool block_on_wall = base_x == 0 || base_y == 0 ||
+                         base_x + edge > domain->cells[0] ||
+                         (dim > 1 && base_y + edge > domain->cells[1]);
+    for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
+      size_t node = b * GM_BLOCK_NODES + local;
+      double mass = grid->mass[node];
+      for (int k = 0; k < dim; k++) {
+        double velocity = mass > 0.0 ? grid->momentum[k][node] / mass : 0.0;
+        if (ctx->mode == GM_GRID_FULL) {
+          double acceleration = mass > 0.0 ? grid->force[k][node] / mass : 0.0;
+          grid->force[k][node] = acceleration;
+          grid->velocity[k][node] = velocity + acceleration * dt;
+          grid->momentum[k][node] = velocity; /* v_old, for the walls */
+        } else {
+          grid->velocity[k][node] = velocity;
+        }
+      }
+      if (!block_on_wall)
+        continue;
+      int64_t ix = base_x + (int64_t)(local & (size_t)(edge - 1));
+      int64_t iy = dim > 1 ? base_y + (int64_t)(local >> shift) : 0;
+      bool fixed[2];
+      constrained_components(domain, ix, iy, fixed);
+      for (int k = 0; k < dim; k++) {
+        if (!fixed[k])
+          continue;
+        grid->velocity[k][node] = 0.0;
+        if (ctx->mode == GM_GRID_FULL)
+          grid->force[k][node] = -grid->momentum[k][node] / dt;
+      }
+    }
+  }
+}
+
+void gm_grid_update(gm_domain *domain, double dt, int mode) {
+  update_context ctx = {domain, dt, mode};
+  gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks,
+                  &ctx);
+}

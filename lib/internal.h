@@ -1,0 +1,206 @@
+/*
+ * internal.h - the domain behind the opaque handle: SoA point storage, the
+ * sparse block grid, materials, the worker pool. Private to the library.
+ */
+#ifndef GM_INTERNAL_H
+#define GM_INTERNAL_H
+
+#include "granmpm.h"
+#include "grid.h"
+#include "threads.h"
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define GM_ERROR_MESSAGE_SIZE 512
+#define GM_PI 3.14159265358979323846
+#define GM_MAX_STATE 64
+#define GM_MAX_MATERIALS 256
+/* Points handed to a material callback at once: large enough to amortise
+ * the call, small enough that the batch buffers stay in L1/L2. */
+#define GM_BATCH_SIZE 128
+/* Stored stress components in 1D and 2D: xx, yy, zz (hoop), xy. */
+#define GM_STRESS_STORED 4
+/* Stored deformation gradient components: xx, xy, yx, yy, zz (hoop). */
+#define GM_F_STORED 5
+enum { F_XX = 0, F_XY = 1, F_YX = 2, F_YY = 3, F_ZZ = 4 };
+
+/* --------------------------------------------------------------- memory */
+void *gm_alloc(size_t size);
+void *gm_calloc(size_t count, size_t size);
+void gm_free(void *pointer);
+/* Grows *array (element size elem) from old_count to new_count elements,
+ * keeping contents; returns false (array untouched) when out of memory. */
+bool gm_grow(void **array, size_t elem, size_t old_count, size_t new_count);
+
+/* ------------------------------------------------------------ materials */
+typedef struct gm_material {
+  char name[64];
+  gm_material_update_fn *update;
+  void *user;
+  size_t state_count;
+  double initial_state[GM_MAX_STATE];
+  double p_wave_modulus; /* Pa, K + 4G/3 bound for the stable dt */
+  double density;        /* kg/m^3, default for new points */
+  gm_elastic_def elastic; /* parameters of the built-in elastic material */
+  bool builtin_elastic;   /* user == &elastic (re-aimed when moved) */
+} gm_material;
+
+/* ---------------------------------------------------------------- points */
+/* Fields a step rewrites are double-buffered: the step reads buffer `cur`
+ * and writes buffer `cur ^ 1`; success swaps, failure discards. That makes a
+ * step transactional without copying the domain. */
+typedef struct gm_point_buffers {
+  double *position[3];             /* m */
+  double *velocity[3];             /* m/s */
+  double *stress[GM_STRESS_STORED]; /* Pa, xx yy zz xy */
+  double *deformation[GM_F_STORED]; /* F components, see F_XX.. */
+  double *volume;                  /* current volume (units: gm_points_def) */
+  int64_t *block_key;              /* grid block holding the point */
+  double *state;                   /* state[slot*nstate+k]: one pool for all
+                                      materials, stride = max state_count */
+} gm_point_buffers;
+
+typedef struct gm_points {
+  size_t count;
+  size_t capacity;
+  gm_point_buffers buffer[2];
+  int cur; /* index of the committed buffer */
+  /* Single-buffered fields (a step never changes them). */
+  double *mass;            /* kg */
+  double *initial_volume;  /* at creation */
+  double *domain_size[3];  /* m, initial particle domain edges */
+  double *external_force[3]; /* N, host-supplied, persistent */
+  int64_t *id;             /* stable id */
+  int32_t *material;       /* material index */
+  /* id -> index; ids are dense 0..next_id-1 (no removal in v0.1). */
+  int64_t *index_of_id;
+  int64_t next_id;
+  size_t state_stride; /* doubles of state per point */
+  /* Scratch sized with the points (no allocation inside a step). */
+  uint32_t *point_block; /* block index of each point this step */
+  uint32_t *order;       /* point indices grouped by block */
+  double *scratch;       /* one double per point, for reordering */
+} gm_points;
+
+/* ------------------------------------------------------------- per worker */
+typedef struct gm_worker_scratch {
+  double strain_increment[6][GM_BATCH_SIZE];
+  double stress[6][GM_BATCH_SIZE];
+  double density[GM_BATCH_SIZE];
+  int64_t point_id[GM_BATCH_SIZE];
+  uint32_t batch_index[GM_BATCH_SIZE];
+  uint32_t identity_rows[GM_BATCH_SIZE]; /* 0, 1, 2, ... */
+  double *state_columns[GM_MAX_STATE];
+  double *state_storage; /* GM_MAX_STATE * GM_BATCH_SIZE doubles */
+  /* Sub-batch of one material when a chunk mixes materials. */
+  double sub_strain_increment[6][GM_BATCH_SIZE];
+  double sub_stress[6][GM_BATCH_SIZE];
+  double sub_density[GM_BATCH_SIZE];
+  int64_t sub_point_id[GM_BATCH_SIZE];
+  /* First error met by this worker in the current phase (lowest point
+   * index wins, so the message does not depend on the partition). */
+  gm_status error_status;
+  size_t error_index;
+  char error_message[GM_ERROR_MESSAGE_SIZE];
+  int callback_result; /* material return code that caused the error */
+  double max_signal_speed; /* m/s, max(c_p + |v_p|) over new state */
+  char pad[64];
+} gm_worker_scratch;
+
+/* ----------------------------------------------------------------- domain */
+struct gm_domain {
+  gm_domain_def def;
+  int dim;             /* 1 or 2 */
+  bool axisymmetric;
+  double inv_cell;     /* 1/m */
+  int64_t cells[3];    /* cells per axis */
+  gm_grid grid;
+  gm_points points;
+  gm_material *materials;
+  int material_count;
+  gm_pool pool;
+  gm_worker_scratch *scratch; /* one per worker */
+  int worker_count;
+  double time;         /* s */
+  double current_dt;   /* s, dt of the step being taken */
+  uint64_t step_count;
+  double max_signal_speed; /* m/s, for the committed state */
+  gm_step_hook_fn *hook;
+  void *hook_user;
+  bool busy;           /* inside a step: state-changing calls refused */
+  bool in_hook;        /* inside the step hook: edits allowed */
+  int steps_since_reorder;
+  gm_point_buffers snapshot;  /* committed state saved before dt-halving */
+  size_t snapshot_capacity;
+  char last_error[GM_ERROR_MESSAGE_SIZE];
+};
+
+/* Records an error message on the domain and returns status. */
+gm_status gm_set_error(gm_domain *domain, gm_status status, const char *format,
+                       ...) __attribute__((format(printf, 3, 4)));
+/* The same into a per-worker scratch (keeps the lowest point index). */
+void gm_worker_error(gm_worker_scratch *scratch, gm_status status,
+                     size_t index, const char *format, ...)
+    __attribute__((format(printf, 4, 5)));
+/* Moves the lowest-index worker error into the domain; GM_OK if none. */
+gm_status gm_collect_worker_errors(gm_domain *domain);
+void gm_clear_worker_errors(gm_domain *domain);
+
+/* Point storage (points.c). */
+gm_status gm_points_reserve(gm_domain *domain, size_t capacity);
+void gm_points_free(gm_points *points);
+/* Widens the per-point state pool to stride doubles. */
+gm_status gm_points_restride_state(gm_domain *domain, size_t stride);
+/* Sizes one buffer set for capacity points (keeps contents). */
+gm_status gm_buffers_reserve(gm_point_buffers *buffer, size_t old_capacity,
+                             size_t capacity, size_t state_stride);
+void gm_buffers_free(gm_point_buffers *buffer);
+/* Copies count points of every double-buffered field. */
+void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
+                     size_t count, size_t state_stride);
+/* Block key of a position (grid.c); false if outside the grid. */
+bool gm_block_key_of(const gm_domain *domain, const double *position_xyz,
+                     int64_t *key);
+
+/* Step phases. */
+gm_status gm_grid_build(gm_domain *domain);            /* grid.c */
+gm_status gm_bin_points(gm_domain *domain);            /* bins.c */
+void gm_reorder_points(gm_domain *domain);             /* bins.c */
+/* What a P2G pass accumulates (p2g.c). */
+typedef struct gm_p2g_pass {
+  bool mass;            /* nodal mass */
+  bool momentum;        /* nodal momentum */
+  bool forces;          /* internal, body and host forces */
+  int velocity_buffer;  /* buffer whose velocities give the momentum */
+  int stress_buffer;    /* buffer whose stress and volume give forces */
+  bool check_inputs;    /* reject non-finite host-written inputs */
+} gm_p2g_pass;
+void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass);
+void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
+enum { GM_GRID_VELOCITY_ONLY = 0, GM_GRID_FULL = 1 };
+
+/* What a G2P pass does (g2p.c). */
+typedef struct gm_g2p_pass {
+  bool flip_velocity;      /* v_p += dt * sum N a_i  */
+  bool move_points;        /* x_p += dt * sum N v_i (nodal velocity) */
+  bool deform;             /* L from nodal velocity: F, V, stress */
+  double dt;
+} gm_g2p_pass;
+void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);
+
+/* Stress update for one chunk of points (stress_update.c). */
+/* Jaumann rotation, material call and stress write-back for points
+ * [first, first+count) given their velocity gradients (1/s, L_xx L_xy L_yx
+ * L_yy L_zz); reads the committed buffer, writes the next one. */
+void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
+                            size_t first, size_t count, double dt,
+                            const double (*velocity_gradient)[5]);
+
+/* Stable dt (stable_dt.c). */
+double gm_point_signal_speed(const gm_domain *domain, int buffer, size_t i);
+void gm_recompute_signal_speed(gm_domain *domain);
+
+#endif

@@ -1,0 +1,145 @@
+/*
+ * materials.c - the material registry: user callbacks and the built-in
+ * linear elastic material, both stored the same way.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static gm_status check_common(gm_domain *domain, const char *what,
+                              double p_wave_modulus, double density) {
+  if (!(p_wave_modulus > 0.0) || !isfinite(p_wave_modulus))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s: p_wave_modulus is %g Pa, must be finite and > 0",
+                        what, p_wave_modulus);
+  if (!(density > 0.0) || !isfinite(density))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s: density is %g kg/m^3, must be finite and > 0",
+                        what, density);
+  if (domain->material_count >= GM_MAX_MATERIALS)
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s: at most %d materials per domain", what,
+                        GM_MAX_MATERIALS);
+  return GM_OK;
+}
+
+/* Appends a material and widens the per-point state pool if needed. */
+static gm_status append_material(gm_domain *domain, const gm_material *source,
+                                 int *material_id) {
+  size_t old_count = (size_t)domain->material_count;
+  void *materials = domain->materials;
+  if (!gm_grow(&materials, sizeof(gm_material), old_count, old_count + 1))
+    return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                        "gm_domain_add_material: out of memory");
+  domain->materials = materials;
+  /* Built-in materials point at their own parameters: re-aim after a move. */
+  for (size_t m = 0; m < old_count; m++)
+    if (domain->materials[m].builtin_elastic)
+      domain->materials[m].user = &domain->materials[m].elastic;
+  if (source->state_count > domain->points.state_stride) {
+    gm_status status = gm_points_restride_state(domain, source->state_count);
+    if (status != GM_OK)
+      return status;
+  }
+  domain->materials[old_count] = *source;
+  domain->material_count++;
+  *material_id = (int)old_count;
+  return GM_OK;
+}
+
+gm_status gm_domain_add_material(gm_domain *domain, const gm_material_def *def,
+                                 int *material_id) {
+  if (!domain)
+    return GM_ERR_NULL;
+  if (!def || !material_id)
+    return gm_set_error(domain, GM_ERR_NULL,
+                        "gm_domain_add_material: %s is NULL",
+                        def ? "material_id" : "def");
+  if (domain->busy)
+    return gm_set_error(domain, GM_ERR_BUSY,
+                        "gm_domain_add_material: called during a step");
+  if (def->struct_size < sizeof(gm_material_def))
+    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
+                        "gm_material_def.struct_size is %zu, expected %zu",
+                        def->struct_size, sizeof(gm_material_def));
+  if (!def->update)
+    return gm_set_error(domain, GM_ERR_NULL,
+                        "gm_material_def.update is NULL");
+  if (def->state_count > GM_MAX_STATE)
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_material_def.state_count is %zu, at most %d",
+                        def->state_count, GM_MAX_STATE);
+  gm_status status = check_common(domain, "gm_material_def",
+                                  def->p_wave_modulus, def->density);
+  if (status != GM_OK)
+    return status;
+  gm_material material;
+  memset(&material, 0, sizeof material);
+  snprintf(material.name, sizeof material.name, "%s",
+           def->name ? def->name : "user");
+  material.update = def->update;
+  material.user = def->user;
+  material.state_count = def->state_count;
+  for (size_t k = 0; k < def->state_count; k++) {
+    double value = def->initial_state ? def->initial_state[k] : 0.0;
+    if (!isfinite(value))
+      return gm_set_error(domain, GM_ERR_NOT_FINITE,
+                          "gm_material_def.initial_state[%zu] is not finite",
+                          k);
+    material.initial_state[k] = value;
+  }
+  material.p_wave_modulus = def->p_wave_modulus;
+  material.density = def->density;
+  return append_material(domain, &material, material_id);
+}
+
+gm_status gm_domain_add_elastic(gm_domain *domain, const gm_elastic_def *def,
+                                int *material_id) {
+  if (!domain)
+    return GM_ERR_NULL;
+  if (!def || !material_id)
+    return gm_set_error(domain, GM_ERR_NULL,
+                        "gm_domain_add_elastic: %s is NULL",
+                        def ? "material_id" : "def");
+  if (domain->busy)
+    return gm_set_error(domain, GM_ERR_BUSY,
+                        "gm_domain_add_elastic: called during a step");
+  if (def->struct_size < sizeof(gm_elastic_def))
+    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
+                        "gm_elastic_def.struct_size is %zu, expected %zu",
+                        def->struct_size, sizeof(gm_elastic_def));
+  double young = def->youngs_modulus, nu = def->poisson_ratio;
+  if (!(young > 0.0) || !isfinite(young))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_elastic_def.youngs_modulus is %g Pa, must be "
+                        "finite and > 0",
+                        young);
+  if (!(nu > -1.0 && nu < 0.5))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_elastic_def.poisson_ratio is %g, must be in "
+                        "(-1, 0.5)",
+                        nu);
+  /* Constrained (P-wave) modulus M = K + 4G/3 = E(1-nu)/((1+nu)(1-2nu)). */
+  double p_wave = young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  gm_status status =
+      check_common(domain, "gm_elastic_def", p_wave, def->density);
+  if (status != GM_OK)
+    return status;
+  gm_material material;
+  memset(&material, 0, sizeof material);
+  snprintf(material.name, sizeof material.name, "%s",
+           def->name ? def->name : "elastic");
+  material.update = gm_elastic_update;
+  material.elastic = *def;
+  material.elastic.name = NULL; /* the copy in material.name is used */
+  material.p_wave_modulus = p_wave;
+  material.density = def->density;
+  material.builtin_elastic = true;
+  status = append_material(domain, &material, material_id);
+  if (status == GM_OK) /* user points at the domain's own copy */
+    domain->materials[*material_id].user =
+        &domain->materials[*material_id].elastic;
+  return status;
+}

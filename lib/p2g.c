@@ -1,0 +1,235 @@
+/*
+ * p2g.c - particle-to-grid transfer: lumped nodal mass, momentum and forces
+ * (004 eqs 3.13-3.15; 002 eq 9 with the axisymmetric hoop row N_i/x of B).
+ * Blocks are scattered colour by colour, each block by one worker, in a
+ * fixed order: the sums are bitwise identical for any worker count.
+ *
+ * The kernels copy every array pointer into restrict-qualified locals
+ * (struct scatter_view) so the compiler keeps them in registers instead of
+ * reloading them after each store to the grid.
+ */
+#include "internal.h"
+#include "shape_linear.h"
+
+#include <math.h>
+
+typedef struct scatter_view {
+  const double *position[2];       /* m */
+  const double *velocity[2];       /* m/s, source of the momentum */
+  const double *mass;              /* kg */
+  const double *volume;            /* of the stress buffer */
+  const double *stress[4];         /* Pa, xx yy zz xy */
+  const double *external_force[2]; /* N, NULL = none */
+  double *grid_mass;
+  double *grid_momentum[2];
+  double *grid_force[2];
+  const uint32_t *order;
+  const uint32_t *point_start;
+  const uint32_t *neighbour;
+  double origin[2];  /* m */
+  double inv_cell;   /* 1/m */
+  double gravity[2]; /* m/s^2 */
+  int shift;
+  bool axisymmetric;
+} scatter_view;
+
+typedef struct p2g_context {
+  gm_domain *domain;
+  const gm_p2g_pass *pass;
+  scatter_view view;
+  const uint32_t *blocks; /* blocks of the colour being scattered */
+} p2g_context;
+
+/* Names the first point of a block whose host inputs are not finite. */
+static void check_inputs(gm_domain *domain, gm_worker_scratch *scratch,
+                         const scatter_view *v, uint32_t begin, uint32_t end) {
+  int dim = domain->dim;
+  for (uint32_t k = begin; k < end; k++) {
+    size_t p = v->order[k];
+    for (int c = 0; c < dim; c++) {
+      double force = v->external_force[c] ? v->external_force[c][p] : 0.0;
+      if (isfinite(v->velocity[c][p]) && isfinite(force))
+        continue;
+      gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
+                      "step: point id %lld has a non-finite %s (component "
+                      "%d); the step was not taken",
+                      (long long)domain->points.id[p],
+                      isfinite(v->velocity[c][p]) ? "external force"
+                                                  : "velocity",
+                      c);
+    }
+  }
+}
+
+/* Mass, momentum and forces of a block's points (USL, MUSL first pass). */
+static void scatter_block_2d(const scatter_view *v, const gm_p2g_pass *pass,
+                             uint32_t block) {
+  const double *restrict px = v->position[0], *restrict py = v->position[1];
+  const double *restrict vx = v->velocity[0], *restrict vy = v->velocity[1];
+  const double *restrict point_mass = v->mass, *restrict volume = v->volume;
+  const double *restrict sxx = v->stress[0], *restrict syy = v->stress[1];
+  const double *restrict szz = v->stress[2], *restrict sxy = v->stress[3];
+  const double *restrict fx_ext = v->external_force[0];
+  const double *restrict fy_ext = v->external_force[1];
+  double *restrict gm = v->grid_mass;
+  double *restrict gpx = v->grid_momentum[0], *restrict gpy = v->grid_momentum[1];
+  double *restrict gfx = v->grid_force[0], *restrict gfy = v->grid_force[1];
+  const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  int64_t mask = ((int64_t)1 << v->shift) - 1;
+  bool do_mass = pass->mass, do_momentum = pass->momentum;
+  bool do_forces = pass->forces;
+  for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1];
+       k++) {
+    size_t p = v->order[k];
+    double wx[2], dx[2], wy[2], dy[2];
+    int64_t cx = gm_shape_linear_axis(px[p], v->origin[0], v->inv_cell, wx, dx);
+    int64_t cy = gm_shape_linear_axis(py[p], v->origin[1], v->inv_cell, wy, dy);
+    size_t node[4];
+    gm_cell_nodes_2d(links, v->shift, cx & mask, cy & mask, node);
+    double m = point_mass[p];
+    double weight[4] = {wx[0] * wy[0], wx[1] * wy[0], wx[0] * wy[1],
+                        wx[1] * wy[1]};
+    if (do_mass)
+      for (int n = 0; n < 4; n++)
+        gm[node[n]] += weight[n] * m;
+    if (do_momentum) {
+      double mvx = m * vx[p], mvy = m * vy[p];
+      for (int n = 0; n < 4; n++) {
+        gpx[node[n]] += weight[n] * mvx;
+        gpy[node[n]] += weight[n] * mvy;
+      }
+    }
+    if (!do_forces)
+      continue;
+    double grad_x[4] = {dx[0] * wy[0], dx[1] * wy[0], dx[0] * wy[1],
+                        dx[1] * wy[1]};
+    double grad_y[4] = {wx[0] * dy[0], wx[1] * dy[0], wx[0] * dy[1],
+                        wx[1] * dy[1]};
+    double V = volume[p]; /* stress times volume: N m */
+    double txx = sxx[p] * V, tyy = syy[p] * V, txy = sxy[p] * V;
+    double body_x = m * v->gravity[0] + (fx_ext ? fx_ext[p] : 0.0);
+    double body_y = m * v->gravity[1] + (fy_ext ? fy_ext[p] : 0.0);
+    /* Hoop row of B (002 sec 3): sigma_tt V N_i / x acts radially. */
+    if (v->axisymmetric)
+      body_x -= szz[p] * V / px[p];
+    for (int n = 0; n < 4; n++) {
+      gfx[node[n]] += weight[n] * body_x - (txx * grad_x[n] + txy * grad_y[n]);
+      gfy[node[n]] += weight[n] * body_y - (txy * grad_x[n] + tyy * grad_y[n]);
+    }
+  }
+}
+
+static void scatter_block_1d(const scatter_view *v, const gm_p2g_pass *pass,
+                             uint32_t block) {
+  const double *restrict px = v->position[0], *restrict vx = v->velocity[0];
+  const double *restrict point_mass = v->mass, *restrict volume = v->volume;
+  const double *restrict sxx = v->stress[0];
+  const double *restrict fx_ext = v->external_force[0];
+  double *restrict gm = v->grid_mass, *restrict gpx = v->grid_momentum[0];
+  double *restrict gfx = v->grid_force[0];
+  const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  int64_t edge = (int64_t)1 << v->shift, mask = edge - 1;
+  for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1];
+       k++) {
+    size_t p = v->order[k];
+    double w[2], d[2];
+    int64_t local =
+        gm_shape_linear_axis(px[p], v->origin[0], v->inv_cell, w, d) & mask;
+    int64_t next = local + 1;
+    size_t node[2] = {(size_t)links[0] * GM_BLOCK_NODES + (size_t)local,
+                      (size_t)links[next >> v->shift] * GM_BLOCK_NODES +
+                          (size_t)(next & mask)};
+    double m = point_mass[p];
+    double body = m * v->gravity[0] + (fx_ext ? fx_ext[p] : 0.0);
+    double txx = sxx[p] * volume[p];
+    for (int n = 0; n < 2; n++) {
+      if (pass->mass)
+        gm[node[n]] += w[n] * m;
+      if (pass->momentum)
+        gpx[node[n]] += w[n] * m * vx[p];
+      if (pass->forces)
+        gfx[node[n]] += w[n] * body - txx * d[n];
+    }
+  }
+}
+
+static void scatter_blocks(void *context, size_t begin, size_t end,
+                           int worker) {
+  p2g_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  const scatter_view *view = &ctx->view;
+  for (size_t item = begin; item < end; item++) {
+    uint32_t block = ctx->blocks[item];
+    if (ctx->pass->check_inputs)
+      check_inputs(domain, &domain->scratch[worker], view,
+                   view->point_start[block], view->point_start[block + 1]);
+    if (domain->dim == 1)
+      scatter_block_1d(view, ctx->pass, block);
+    else
+      scatter_block_2d(view, ctx->pass, block);
+  }
+}
+
+static void clear_blocks(void *context, size_t begin, size_t end,
+                         int worker) {
+  (void)worker;
+  p2g_context *ctx = context;
+  gm_grid *grid = &ctx->domain->grid;
+  int dim = grid->dim;
+  size_t first = begin * GM_BLOCK_NODES, last = end * GM_BLOCK_NODES;
+  for (size_t node = first; node < last; node++) {
+    if (ctx->pass->mass)
+      grid->mass[node] = 0.0;
+    for (int k = 0; k < dim; k++) {
+      if (ctx->pass->momentum)
+        grid->momentum[k][node] = 0.0;
+      if (ctx->pass->forces)
+        grid->force[k][node] = 0.0;
+    }
+  }
+}
+
+static void make_view(gm_domain *domain, const gm_p2g_pass *pass,
+                      scatter_view *view) {
+  gm_points *points = &domain->points;
+  gm_grid *grid = &domain->grid;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  const gm_point_buffers *moving = &points->buffer[pass->velocity_buffer];
+  const gm_point_buffers *stressed = &points->buffer[pass->stress_buffer];
+  for (int k = 0; k < 2; k++) {
+    int c = k < domain->dim ? k : 0;
+    view->position[k] = current->position[c];
+    view->velocity[k] = moving->velocity[c];
+    view->external_force[k] = points->external_force[c];
+    view->grid_momentum[k] = grid->momentum[c];
+    view->grid_force[k] = grid->force[c];
+    view->origin[k] = domain->def.origin[c];
+    view->gravity[k] = domain->def.gravity[k];
+  }
+  view->mass = points->mass;
+  view->volume = stressed->volume;
+  for (int k = 0; k < 4; k++)
+    view->stress[k] = stressed->stress[k];
+  view->grid_mass = grid->mass;
+  view->order = points->order;
+  view->point_start = grid->point_start;
+  view->neighbour = grid->neighbour;
+  view->inv_cell = domain->inv_cell;
+  view->shift = grid->shift;
+  view->axisymmetric = domain->axisymmetric;
+}
+
+void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass) {
+  gm_grid *grid = &domain->grid;
+  p2g_context ctx;
+  ctx.domain = domain;
+  ctx.pass = pass;
+  make_view(domain, pass, &ctx.view);
+  gm_parallel_for(&domain->pool, grid->block_count, clear_blocks, &ctx);
+  for (int colour = 0; colour < 4; colour++) {
+    size_t first = grid->color_start[colour];
+    size_t count = grid->color_start[colour + 1] - first;
+    ctx.blocks = grid->color_block + first;
+    gm_parallel_for(&domain->pool, count, scatter_blocks, &ctx);
+  }
+}

@@ -1,0 +1,348 @@
+/*
+ * points.c - SoA point storage: capacity, insertion with validation
+ * (all-or-nothing), stable ids, the fill-a-box convenience.
+ */
+#include "internal.h"
+
+#include <limits.h>
+#include <math.h>
+#include <string.h>
+
+#define GROW(field, elem)                                                      \
+  do {                                                                         \
+    void *array_ = (field);                                                    \
+    if (!gm_grow(&array_, (elem), old_capacity, capacity))                     \
+      return GM_ERR_NO_MEMORY;                                                 \
+    (field) = array_;                                                          \
+  } while (0)
+
+gm_status gm_buffers_reserve(gm_point_buffers *buffer, size_t old_capacity,
+                             size_t capacity, size_t state_stride) {
+  for (int k = 0; k < 3; k++) {
+    GROW(buffer->position[k], sizeof(double));
+    GROW(buffer->velocity[k], sizeof(double));
+  }
+  for (int k = 0; k < GM_STRESS_STORED; k++)
+    GROW(buffer->stress[k], sizeof(double));
+  for (int k = 0; k < GM_F_STORED; k++)
+    GROW(buffer->deformation[k], sizeof(double));
+  GROW(buffer->volume, sizeof(double));
+  GROW(buffer->block_key, sizeof(int64_t));
+  if (state_stride)
+    GROW(buffer->state, state_stride * sizeof(double));
+  return GM_OK;
+}
+
+/* Grows every per-point array to hold capacity points. */
+gm_status gm_points_reserve(gm_domain *domain, size_t capacity) {
+  gm_points *points = &domain->points;
+  size_t old_capacity = points->capacity;
+  if (capacity <= old_capacity)
+    return GM_OK;
+  for (int b = 0; b < 2; b++) {
+    gm_status status = gm_buffers_reserve(&points->buffer[b], old_capacity,
+                                      capacity, points->state_stride);
+    if (status != GM_OK)
+      return status;
+  }
+  GROW(points->mass, sizeof(double));
+  GROW(points->initial_volume, sizeof(double));
+  for (int k = 0; k < 3; k++) {
+    GROW(points->domain_size[k], sizeof(double));
+    GROW(points->external_force[k], sizeof(double));
+  }
+  GROW(points->id, sizeof(int64_t));
+  GROW(points->material, sizeof(int32_t));
+  GROW(points->index_of_id, sizeof(int64_t));
+  GROW(points->point_block, sizeof(uint32_t));
+  GROW(points->order, sizeof(uint32_t));
+  GROW(points->scratch, sizeof(double));
+  points->capacity = capacity;
+  return GM_OK;
+}
+
+gm_status gm_points_restride_state(gm_domain *domain, size_t stride) {
+  gm_points *points = &domain->points;
+  size_t old_stride = points->state_stride;
+  for (int b = 0; b < 2; b++) {
+    double *widened = gm_calloc(points->capacity ? points->capacity : 1,
+                                stride * sizeof(double));
+    if (!widened)
+      return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                          "state pool: out of memory");
+    for (size_t i = 0; i < points->count; i++)
+      for (size_t k = 0; k < old_stride; k++)
+        widened[i * stride + k] = points->buffer[b].state[i * old_stride + k];
+    gm_free(points->buffer[b].state);
+    points->buffer[b].state = widened;
+  }
+  points->state_stride = stride;
+  /* The retry snapshot is re-made with the new stride when next needed. */
+  gm_buffers_free(&domain->snapshot);
+  domain->snapshot_capacity = 0;
+  return GM_OK;
+}
+
+void gm_buffers_free(gm_point_buffers *buffer) {
+  for (int k = 0; k < 3; k++) {
+    gm_free(buffer->position[k]);
+    gm_free(buffer->velocity[k]);
+  }
+  for (int k = 0; k < GM_STRESS_STORED; k++)
+    gm_free(buffer->stress[k]);
+  for (int k = 0; k < GM_F_STORED; k++)
+    gm_free(buffer->deformation[k]);
+  gm_free(buffer->volume);
+  gm_free(buffer->block_key);
+  gm_free(buffer->state);
+  memset(buffer, 0, sizeof *buffer);
+}
+
+void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
+                     size_t count, size_t state_stride) {
+  size_t bytes = count * sizeof(double);
+  for (int k = 0; k < 3; k++) {
+    memcpy(to->position[k], from->position[k], bytes);
+    memcpy(to->velocity[k], from->velocity[k], bytes);
+  }
+  for (int k = 0; k < GM_STRESS_STORED; k++)
+    memcpy(to->stress[k], from->stress[k], bytes);
+  for (int k = 0; k < GM_F_STORED; k++)
+    memcpy(to->deformation[k], from->deformation[k], bytes);
+  memcpy(to->volume, from->volume, bytes);
+  memcpy(to->block_key, from->block_key, count * sizeof(int64_t));
+  if (state_stride)
+    memcpy(to->state, from->state, bytes * state_stride);
+}
+
+void gm_points_free(gm_points *points) {
+  for (int b = 0; b < 2; b++)
+    gm_buffers_free(&points->buffer[b]);
+  gm_free(points->mass);
+  gm_free(points->initial_volume);
+  for (int k = 0; k < 3; k++) {
+    gm_free(points->domain_size[k]);
+    gm_free(points->external_force[k]);
+  }
+  gm_free(points->id);
+  gm_free(points->material);
+  gm_free(points->index_of_id);
+  gm_free(points->point_block);
+  gm_free(points->order);
+  gm_free(points->scratch);
+  memset(points, 0, sizeof *points);
+}
+
+/* Volume per unit measure -> the measure the domain size is taken from:
+ * length (1D), area (plane strain), meridional area V/(2 pi r) (axisym). */
+static double default_domain_edge(const gm_domain *domain, double volume,
+                                  double radius) {
+  if (domain->dim == 1)
+    return volume;
+  if (domain->axisymmetric)
+    return sqrt(volume / (2.0 * GM_PI * radius));
+  return sqrt(volume);
+}
+
+static bool all_finite(const double *values, size_t count) {
+  for (size_t k = 0; k < count; k++)
+    if (!isfinite(values[k]))
+      return false;
+  return true;
+}
+
+static const char *axis_name(int k) { return k == 0 ? "x" : k == 1 ? "y" : "z"; }
+
+/* Checks point i of def; the message names the point and the field. */
+static gm_status validate_point(gm_domain *domain, const gm_points_def *def,
+                                size_t i, double density) {
+  int dim = domain->dim;
+  const double *position = def->position + i * (size_t)dim;
+  for (int k = 0; k < dim; k++) {
+    if (!isfinite(position[k]))
+      return gm_set_error(domain, GM_ERR_NOT_FINITE,
+                          "gm_domain_add_points: point %zu position %s is "
+                          "not finite",
+                          i, axis_name(k));
+  }
+  int64_t key;
+  if (!gm_block_key_of(domain, position, &key))
+    return gm_set_error(domain, GM_ERR_OUT_OF_GRID,
+                        "gm_domain_add_points: point %zu position (%g, %g) "
+                        "is outside the grid box",
+                        i, position[0], dim > 1 ? position[1] : 0.0);
+  if (domain->axisymmetric && !(position[0] > 0.0))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_add_points: point %zu radius %g must be "
+                        "> 0 in axisymmetry",
+                        i, position[0]);
+  if (def->velocity && !all_finite(def->velocity + i * (size_t)dim, dim))
+    return gm_set_error(domain, GM_ERR_NOT_FINITE,
+                        "gm_domain_add_points: point %zu velocity is not "
+                        "finite",
+                        i);
+  double volume = def->volume[i];
+  if (!(volume > 0.0) || !isfinite(volume))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_add_points: point %zu volume is %g, must "
+                        "be finite and > 0",
+                        i, volume);
+  if (def->mass) {
+    if (!(def->mass[i] > 0.0) || !isfinite(def->mass[i]))
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "gm_domain_add_points: point %zu mass is %g kg, "
+                          "must be finite and > 0",
+                          i, def->mass[i]);
+  } else if (!(density > 0.0) || !isfinite(density)) {
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_add_points: point %zu density is %g "
+                        "kg/m^3, must be finite and > 0",
+                        i, density);
+  }
+  if (def->domain_size) {
+    for (int k = 0; k < dim; k++) {
+      double edge = def->domain_size[i * (size_t)dim + (size_t)k];
+      if (!(edge > 0.0) || !isfinite(edge))
+        return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                            "gm_domain_add_points: point %zu domain_size %s "
+                            "is %g m, must be finite and > 0",
+                            i, axis_name(k), edge);
+    }
+  }
+  if (def->stress) {
+    const double *stress = def->stress + i * 6;
+    if (!all_finite(stress, 6))
+      return gm_set_error(domain, GM_ERR_NOT_FINITE,
+                          "gm_domain_add_points: point %zu stress is not "
+                          "finite",
+                          i);
+    if (stress[GM_YZ] != 0.0 || stress[GM_ZX] != 0.0)
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "gm_domain_add_points: point %zu stress yz/zx must "
+                          "be 0 in 1D and 2D geometries",
+                          i);
+  }
+  return GM_OK;
+}
+
+static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
+                        double density) {
+  gm_points *points = &domain->points;
+  gm_point_buffers *buffer = &points->buffer[points->cur];
+  const gm_material *material = &domain->materials[def->material];
+  int dim = domain->dim;
+  size_t p = points->count + i;
+  const double *position = def->position + i * (size_t)dim;
+  for (int k = 0; k < 3; k++) {
+    buffer->position[k][p] = k < dim ? position[k] : 0.0;
+    buffer->velocity[k][p] =
+        (k < dim && def->velocity) ? def->velocity[i * (size_t)dim + k] : 0.0;
+    points->external_force[k][p] = 0.0;
+  }
+  gm_block_key_of(domain, position, &buffer->block_key[p]);
+  double volume = def->volume[i];
+  buffer->volume[p] = volume;
+  points->initial_volume[p] = volume;
+  points->mass[p] = def->mass ? def->mass[i] : density * volume;
+  for (int k = 0; k < 3; k++)
+    points->domain_size[k][p] =
+        k >= dim ? 0.0
+        : def->domain_size
+            ? def->domain_size[i * (size_t)dim + k]
+            : default_domain_edge(domain, volume, position[0]);
+  static const int stress_voigt[GM_STRESS_STORED] = {GM_XX, GM_YY, GM_ZZ,
+                                                     GM_XY};
+  for (int k = 0; k < GM_STRESS_STORED; k++)
+    buffer->stress[k][p] = def->stress ? def->stress[i * 6 + stress_voigt[k]]
+                                       : 0.0;
+  buffer->deformation[F_XX][p] = 1.0;
+  buffer->deformation[F_XY][p] = 0.0;
+  buffer->deformation[F_YX][p] = 0.0;
+  buffer->deformation[F_YY][p] = 1.0;
+  buffer->deformation[F_ZZ][p] = 1.0;
+  for (size_t k = 0; k < points->state_stride; k++)
+    buffer->state[p * points->state_stride + k] =
+        k < material->state_count ? material->initial_state[k] : 0.0;
+  points->material[p] = def->material;
+  points->id[p] = points->next_id + (int64_t)i;
+  points->index_of_id[points->next_id + (int64_t)i] = (int64_t)p;
+}
+
+gm_status gm_domain_add_points(gm_domain *domain, const gm_points_def *def,
+                               int64_t *first_id) {
+  if (!domain)
+    return GM_ERR_NULL;
+  if (!def)
+    return gm_set_error(domain, GM_ERR_NULL,
+                        "gm_domain_add_points: def is NULL");
+  if (domain->busy)
+    return gm_set_error(domain, GM_ERR_BUSY,
+                        "gm_domain_add_points: called during a step");
+  if (def->struct_size < sizeof(gm_points_def))
+    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
+                        "gm_points_def.struct_size is %zu, expected %zu",
+                        def->struct_size, sizeof(gm_points_def));
+  if (def->count == 0)
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_add_points: count is 0");
+  if (!def->position || !def->volume)
+    return gm_set_error(domain, GM_ERR_NULL,
+                        "gm_domain_add_points: %s is NULL",
+                        def->position ? "volume" : "position");
+  if (def->material < 0 || def->material >= domain->material_count)
+    return gm_set_error(domain, GM_ERR_UNKNOWN_MATERIAL,
+                        "gm_domain_add_points: material %d is unknown (%d "
+                        "materials registered)",
+                        def->material, domain->material_count);
+  gm_points *points = &domain->points;
+  if (def->count > (size_t)INT_MAX - 1 - points->count)
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_add_points: count %zu would exceed %d "
+                        "points",
+                        def->count, INT_MAX - 1);
+  double material_density = domain->materials[def->material].density;
+  for (size_t i = 0; i < def->count; i++) {
+    double density = def->density ? def->density[i] : material_density;
+    gm_status status = validate_point(domain, def, i, density);
+    if (status != GM_OK)
+      return status;
+  }
+  size_t needed = points->count + def->count;
+  if (needed > points->capacity) {
+    size_t capacity = points->capacity + points->capacity / 2;
+    if (capacity < needed)
+      capacity = needed;
+    if (gm_points_reserve(domain, capacity) != GM_OK)
+      return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                          "gm_domain_add_points: out of memory for %zu points",
+                          needed);
+  }
+  for (size_t i = 0; i < def->count; i++)
+    store_point(domain, def,  i,
+                def->density ? def->density[i] : material_density);
+  if (first_id)
+    *first_id = points->next_id;
+  points->count = needed;
+  points->next_id += (int64_t)def->count;
+  gm_recompute_signal_speed(domain);
+  return GM_OK;
+}
+
+size_t gm_domain_point_count(const gm_domain *domain) {
+  return domain ? domain->points.count : 0;
+}
+
+gm_status gm_domain_point_index(const gm_domain *domain, int64_t id,
+                                size_t *index) {
+  if (!domain)
+    return GM_ERR_NULL;
+  if (!index)
+    return gm_set_error((gm_domain *)domain, GM_ERR_NULL,
+                        "gm_domain_point_index: index is NULL");
+  if (id < 0 || id >= domain->points.next_id)
+    return gm_set_error((gm_domain *)domain, GM_ERR_UNKNOWN_POINT,
+                        "gm_domain_point_index: no point with id %lld",
+                        (long long)id);
+  *index = (size_t)domain->points.index_of_id[id];
+  return GM_OK;
+}

@@ -1,0 +1,224 @@
+/*
+ * series.c - ParaView time series: one .vtu per frame plus a .pvd
+ * collection listing them with their simulated times.
+ *
+ * For pvd_path "out/bar.pvd" the frames are "out/bar_000000.vtu",
+ * "out/bar_000001.vtu", ... (6 digits, more past 999999). The .pvd refers to
+ * them by file name only (relative to the .pvd), so the directory can be
+ * moved as a whole. It is rewritten after every frame, through a temporary
+ * file and a rename, so the .pvd on disk is always a complete collection even
+ * if the simulation is killed between two frames.
+ */
+#include "internal.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+struct gm_series {
+  char *pvd_path;          /* as given */
+  char *temporary_path;    /* pvd_path + ".tmp" */
+  char *stem;              /* file name without directory and extension */
+  char *frame_path;        /* scratch: directory + stem + "_NNNNNN.vtu" */
+  size_t directory_length; /* bytes of pvd_path before the stem */
+  size_t frame_count;      /* frames written and listed in the .pvd */
+  size_t time_capacity;
+  double *times; /* s, simulated time of each frame */
+};
+
+/* Room for "_" + the digits of any size_t + ".vtu" + NUL. */
+enum { FRAME_SUFFIX_CAPACITY = 32 };
+
+static char *copy_bytes(const char *text, size_t length) {
+  char *copy = gm_alloc(length + 1);
+  if (copy) {
+    memcpy(copy, text, length);
+    copy[length] = '\0';
+  }
+  return copy;
+}
+
+/* Writes text into an XML attribute value, escaping the five special
+ * characters so any file name gives well-formed XML. */
+static bool print_xml_escaped(FILE *file, const char *text) {
+  for (const char *c = text; *c; c++) {
+    int written;
+    switch (*c) {
+    case '&':
+      written = fputs("&amp;", file);
+      break;
+    case '<':
+      written = fputs("&lt;", file);
+      break;
+    case '>':
+      written = fputs("&gt;", file);
+      break;
+    case '"':
+      written = fputs("&quot;", file);
+      break;
+    case '\'':
+      written = fputs("&apos;", file);
+      break;
+    default:
+      written = fputc(*c, file);
+    }
+    if (written == EOF)
+      return false;
+  }
+  return true;
+}
+
+static bool print_collection(const gm_series *series, FILE *file) {
+  if (fputs("<?xml version=\"1.0\"?>\n"
+            "<VTKFile type=\"Collection\" version=\"1.0\">\n"
+            "  <Collection>\n",
+            file) == EOF)
+    return false;
+  for (size_t frame = 0; frame < series->frame_count; frame++) {
+    if (fprintf(file, "    <DataSet timestep=\"%.17g\" part=\"0\" file=\"",
+                series->times[frame]) < 0 ||
+        !print_xml_escaped(file, series->stem) ||
+        fprintf(file, "_%06zu.vtu\"/>\n", frame) < 0)
+      return false;
+  }
+  return fputs("  </Collection>\n</VTKFile>\n", file) != EOF;
+}
+
+/* Rewrites the .pvd for the first series->frame_count frames. On failure
+ * returns false with errno describing it and leaves the old .pvd alone. */
+static bool rewrite_collection(const gm_series *series) {
+  errno = 0;
+  FILE *file = fopen(series->temporary_path, "wb");
+  if (!file)
+    return false;
+  bool ok = print_collection(series, file);
+  int error = ok ? 0 : errno;
+  /* fclose flushes: its failure (e.g. disk full) means a truncated file. */
+  if (fclose(file) != 0 && ok) {
+    ok = false;
+    error = errno;
+  }
+  if (ok && rename(series->temporary_path, series->pvd_path) != 0) {
+    ok = false;
+    error = errno;
+  }
+  if (!ok) {
+    remove(series->temporary_path); /* best effort */
+    errno = error;
+  }
+  return ok;
+}
+
+static const char *errno_text(void) {
+  return errno ? strerror(errno) : "unknown error";
+}
+
+static void series_free(gm_series *series) {
+  gm_free(series->pvd_path);
+  gm_free(series->temporary_path);
+  gm_free(series->stem);
+  gm_free(series->frame_path);
+  gm_free(series->times);
+  gm_free(series);
+}
+
+/* Splits pvd_path into directory (kept as a length) and stem: the file name
+ * up to its last '.', or all of it when it has no extension. */
+static bool parse_path(gm_series *series, const char *pvd_path) {
+  const char *slash = strrchr(pvd_path, '/');
+  const char *name = slash ? slash + 1 : pvd_path;
+  const char *dot = strrchr(name, '.');
+  size_t stem_length = dot ? (size_t)(dot - name) : strlen(name);
+  series->directory_length = (size_t)(name - pvd_path);
+  series->stem = stem_length ? copy_bytes(name, stem_length) : NULL;
+  return stem_length > 0;
+}
+
+gm_status gm_series_create(const char *pvd_path, gm_series **out) {
+  if (!out)
+    return GM_ERR_NULL;
+  *out = NULL;
+  if (!pvd_path)
+    return GM_ERR_NULL;
+  gm_series *series = gm_calloc(1, sizeof *series);
+  if (!series)
+    return GM_ERR_NO_MEMORY;
+  if (!parse_path(series, pvd_path)) {
+    series_free(series);
+    /* "dir/" or "dir/.pvd": no name to derive the frame files from. */
+    return GM_ERR_INVALID_ARGUMENT;
+  }
+  size_t path_length = strlen(pvd_path);
+  series->pvd_path = copy_bytes(pvd_path, path_length);
+  series->temporary_path = gm_alloc(path_length + sizeof ".tmp");
+  series->frame_path = gm_alloc(series->directory_length +
+                                strlen(series->stem) + FRAME_SUFFIX_CAPACITY);
+  if (!series->stem || !series->pvd_path || !series->temporary_path ||
+      !series->frame_path) {
+    series_free(series);
+    return GM_ERR_NO_MEMORY;
+  }
+  memcpy(series->temporary_path, pvd_path, path_length);
+  memcpy(series->temporary_path + path_length, ".tmp", sizeof ".tmp");
+  /* An empty but valid collection now: proves the directory exists and is
+   * writable before any simulation time is spent. */
+  if (!rewrite_collection(series)) {
+    series_free(series);
+    return GM_ERR_IO;
+  }
+  *out = series;
+  return GM_OK;
+}
+
+/* Sets series->frame_path to the file of frame number `frame`. */
+static void format_frame_path(gm_series *series, size_t frame) {
+  size_t stem_length = strlen(series->stem);
+  memcpy(series->frame_path, series->pvd_path, series->directory_length);
+  memcpy(series->frame_path + series->directory_length, series->stem,
+         stem_length);
+  snprintf(series->frame_path + series->directory_length + stem_length,
+           FRAME_SUFFIX_CAPACITY, "_%06zu.vtu", frame);
+}
+
+gm_status gm_series_write(gm_series *series, const gm_domain *domain) {
+  if (!domain)
+    return GM_ERR_NULL;
+  /* The domain is const, but its last_error buffer is mutable diagnostic
+   * state by design: const is cast away for error messages only. */
+  gm_domain *error_domain = (gm_domain *)domain;
+  if (!series)
+    return gm_set_error(error_domain, GM_ERR_NULL,
+                        "gm_series_write: series is NULL");
+  size_t frame = series->frame_count;
+  if (frame == series->time_capacity) {
+    size_t capacity = frame ? 2 * frame : 64;
+    if (!gm_grow((void **)&series->times, sizeof(double), frame, capacity))
+      return gm_set_error(error_domain, GM_ERR_NO_MEMORY,
+                          "gm_series_write: out of memory for frame %zu of "
+                          "'%s'",
+                          frame, series->pvd_path);
+    series->time_capacity = capacity;
+  }
+  gm_status status = gm_domain_get_time(domain, &series->times[frame], NULL);
+  if (status != GM_OK)
+    return status;
+  format_frame_path(series, frame);
+  status = gm_domain_write_vtu(domain, series->frame_path);
+  if (status != GM_OK)
+    return status; /* the message names the frame file */
+  series->frame_count = frame + 1;
+  if (!rewrite_collection(series)) {
+    /* Not listed: the .pvd stays the previous complete collection and the
+     * next call rewrites this frame number. */
+    series->frame_count = frame;
+    return gm_set_error(error_domain, GM_ERR_IO,
+                        "gm_series_write: cannot write '%s' (via '%s'): %s",
+                        series->pvd_path, series->temporary_path, errno_text());
+  }
+  return GM_OK;
+}
+
+void gm_series_destroy(gm_series *series) {
+  if (series)
+    series_free(series);
+}

@@ -1,0 +1,50 @@
+/*
+ * shape_linear.h - linear (tent) shape functions of original MPM on a
+ * Cartesian grid of square cells (004 eq 3.25): along each axis a point
+ * at fraction f of its cell has weights (1 - f, f) on the cell's two nodes
+ * and gradients (-1/h, 1/h). Tensor products give 2D.
+ */
+#ifndef GM_SHAPE_LINEAR_H
+#define GM_SHAPE_LINEAR_H
+
+#include <math.h>
+#include <stdint.h>
+
+/* Cell index and the two node weights/gradients along one axis.
+ * coordinate: m; origin: m, grid lower corner; inv_h: 1/m. */
+static inline int64_t gm_shape_linear_axis(double coordinate, double origin,
+                                           double inv_h, double weight[2],
+                                           double gradient[2]) {
+  double scaled = (coordinate - origin) * inv_h; /* position in cells */
+  /* floor() without the libm call: truncate, then step down for negative
+   * non-integers (points inside the grid have scaled >= 0 anyway). */
+  int64_t cell = (int64_t)scaled;
+  cell -= (double)cell > scaled;
+  double fraction = scaled - (double)cell; /* in [0, 1) */
+  weight[0] = 1.0 - fraction;
+  weight[1] = fraction;
+  gradient[0] = -inv_h;
+  gradient[1] = inv_h;
+  return cell;
+}
+
+/* 2D weights and gradients of the 4 nodes (a, b) of the point's cell, node
+ * k = a + 2 b at (cell_x + a, cell_y + b). */
+static inline void gm_shape_linear_2d(const double position[2],
+                                      const double origin[2], double inv_h,
+                                      int64_t cell[2], double weight[4],
+                                      double gradient_x[4],
+                                      double gradient_y[4]) {
+  double wx[2], gx[2], wy[2], gy[2];
+  cell[0] = gm_shape_linear_axis(position[0], origin[0], inv_h, wx, gx);
+  cell[1] = gm_shape_linear_axis(position[1], origin[1], inv_h, wy, gy);
+  for (int b = 0; b < 2; b++) {
+    for (int a = 0; a < 2; a++) {
+      weight[a + 2 * b] = wx[a] * wy[b];
+      gradient_x[a + 2 * b] = gx[a] * wy[b];
+      gradient_y[a + 2 * b] = wx[a] * gy[b];
+    }
+  }
+}
+
+#endif

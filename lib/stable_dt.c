@@ -1,0 +1,45 @@
+/*
+ * stable_dt.c - the explicit time-step bound. The critical step is the
+ * cell size over the fastest signal (004 eq 3.11), with the P-wave speed
+ * c = sqrt((K + 4G/3)/rho) (eq 3.12 needs the square root) plus the point's
+ * own speed, scaled by the Courant number cfl.
+ */
+#include "internal.h"
+
+#include <math.h>
+
+double gm_point_signal_speed(const gm_domain *domain, int buffer, size_t i) {
+  const gm_points *points = &domain->points;
+  const gm_point_buffers *b = &points->buffer[buffer];
+  double density = points->mass[i] / b->volume[i]; /* kg/m^3 */
+  double modulus = domain->materials[points->material[i]].p_wave_modulus;
+  double speed_squared = 0.0;
+  for (int k = 0; k < domain->dim; k++)
+    speed_squared += b->velocity[k][i] * b->velocity[k][i];
+  return sqrt(modulus / density) + sqrt(speed_squared); /* m/s */
+}
+
+void gm_recompute_signal_speed(gm_domain *domain) {
+  double fastest = 0.0;
+  for (size_t i = 0; i < domain->points.count; i++) {
+    double speed = gm_point_signal_speed(domain, domain->points.cur, i);
+    if (speed > fastest)
+      fastest = speed;
+  }
+  domain->max_signal_speed = fastest;
+}
+
+gm_status gm_domain_stable_dt(const gm_domain *domain, double *dt) {
+  if (!domain)
+    return GM_ERR_NULL;
+  gm_domain *mutable_domain = (gm_domain *)domain; /* last_error only */
+  if (!dt)
+    return gm_set_error(mutable_domain, GM_ERR_NULL,
+                        "gm_domain_stable_dt: dt is NULL");
+  if (domain->points.count == 0 || !(domain->max_signal_speed > 0.0))
+    return gm_set_error(mutable_domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_stable_dt: the domain has no points, so "
+                        "no stable time step is defined");
+  *dt = domain->def.cfl * domain->def.cell_size / domain->max_signal_speed;
+  return GM_OK;
+}

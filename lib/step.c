@@ -1,0 +1,235 @@
+/*
+ * step.c - the explicit MPM cycle for USL, MUSL and USF, made
+ * transactional: every phase reads the committed point buffer and writes
+ * the spare one, so a failure anywhere simply leaves the committed buffer
+ * as it was. Recoverable material failures retry the interval as two
+ * halves (recursively, up to max_retries), from a snapshot.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdio.h>
+
+/* Physical re-sorting of points every this many steps (amortised cost). */
+#define GM_REORDER_INTERVAL 16
+
+static gm_status collect(gm_domain *domain) {
+  return gm_collect_worker_errors(domain);
+}
+
+static gm_status run_usl(gm_domain *domain, double dt, bool modified) {
+  int cur = domain->points.cur;
+  gm_p2g_pass scatter = {true, true, true, cur, cur, true};
+  gm_p2g(domain, &scatter);
+  gm_status status = collect(domain);
+  if (status != GM_OK)
+    return status;
+  gm_grid_update(domain, dt, GM_GRID_FULL);
+  if (!modified) {
+    gm_g2p_pass update = {true, true, true, dt};
+    gm_g2p(domain, &update);
+    return collect(domain);
+  }
+  /* MUSL (002 sec 4.4 steps 6-9): particle velocities first, then the
+   * nodal velocities re-mapped from them give positions and strain rate. */
+  gm_g2p_pass velocities = {true, false, false, dt};
+  gm_g2p(domain, &velocities);
+  gm_p2g_pass remap = {false, true, false, cur ^ 1, cur, false};
+  gm_p2g(domain, &remap);
+  gm_grid_update(domain, dt, GM_GRID_VELOCITY_ONLY);
+  gm_g2p_pass motion = {false, true, true, dt};
+  gm_g2p(domain, &motion);
+  return collect(domain);
+}
+
+static gm_status run_usf(gm_domain *domain, double dt) {
+  int cur = domain->points.cur;
+  gm_p2g_pass momentum = {true, true, false, cur, cur, true};
+  gm_p2g(domain, &momentum);
+  gm_status status = collect(domain);
+  if (status != GM_OK)
+    return status;
+  gm_grid_update(domain, dt, GM_GRID_VELOCITY_ONLY);
+  gm_g2p_pass stress = {false, false, true, dt};
+  gm_g2p(domain, &stress);
+  if ((status = collect(domain)) != GM_OK)
+    return status;
+  gm_p2g_pass forces = {false, false, true, cur, cur ^ 1, false};
+  gm_p2g(domain, &forces);
+  gm_grid_update(domain, dt, GM_GRID_FULL);
+  gm_g2p_pass motion = {true, true, false, dt};
+  gm_g2p(domain, &motion);
+  return collect(domain);
+}
+
+/* One attempt over dt; commits on success, touches nothing committed on
+ * failure. */
+static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
+  gm_clear_worker_errors(domain);
+  for (int w = 0; w < domain->worker_count; w++)
+    domain->scratch[w].max_signal_speed = 0.0;
+  domain->current_dt = dt;
+  gm_status status = GM_OK;
+  if (domain->points.count > 0) {
+    status = gm_bin_points(domain);
+    if (status == GM_OK)
+      status = domain->def.scheme == GM_SCHEME_USF
+                   ? run_usf(domain, dt)
+                   : run_usl(domain, dt, domain->def.scheme == GM_SCHEME_MUSL);
+    if (status != GM_OK)
+      return status;
+    domain->points.cur ^= 1;
+    double fastest = 0.0;
+    for (int w = 0; w < domain->worker_count; w++)
+      if (domain->scratch[w].max_signal_speed > fastest)
+        fastest = domain->scratch[w].max_signal_speed;
+    domain->max_signal_speed = fastest;
+  }
+  domain->time += dt;
+  domain->step_count++;
+  if (allow_reorder && ++domain->steps_since_reorder >= GM_REORDER_INTERVAL &&
+      domain->points.count > 0) {
+    gm_reorder_points(domain);
+    domain->steps_since_reorder = 0;
+  }
+  return GM_OK;
+}
+
+static bool recoverable_failure(const gm_domain *domain, gm_status status) {
+  if (status != GM_ERR_CALLBACK)
+    return false;
+  bool recoverable = false;
+  for (int w = 0; w < domain->worker_count; w++) {
+    int result = domain->scratch[w].callback_result;
+    if (result < 0)
+      return false;
+    recoverable = recoverable || result > 0;
+  }
+  return recoverable;
+}
+
+/* Saves or restores the committed state around a dt-halving retry. */
+static gm_status save_snapshot(gm_domain *domain) {
+  gm_points *points = &domain->points;
+  if (domain->snapshot_capacity < points->capacity) {
+    gm_buffers_free(&domain->snapshot);
+    domain->snapshot_capacity = 0;
+    if (gm_buffers_reserve(&domain->snapshot, 0, points->capacity,
+                           points->state_stride) != GM_OK) {
+      gm_buffers_free(&domain->snapshot);
+      return GM_ERR_NO_MEMORY;
+    }
+    domain->snapshot_capacity = points->capacity;
+  }
+  gm_buffers_copy(&domain->snapshot, &points->buffer[points->cur],
+                  points->count, points->state_stride);
+  return GM_OK;
+}
+
+static gm_status advance(gm_domain *domain, double dt, int retries_left,
+                         bool allow_reorder);
+
+/* Retries the interval as two halves; restores the snapshot on failure. */
+static gm_status retry_in_halves(gm_domain *domain, double dt,
+                                 int retries_left) {
+  if (save_snapshot(domain) != GM_OK)
+    return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                        "step: out of memory for the retry snapshot");
+  gm_points *points = &domain->points;
+  double time = domain->time, speed = domain->max_signal_speed;
+  uint64_t steps = domain->step_count;
+  int cur = points->cur;
+  gm_status status = advance(domain, 0.5 * dt, retries_left - 1, false);
+  if (status == GM_OK)
+    status = advance(domain, 0.5 * dt, retries_left - 1, false);
+  if (status != GM_OK) {
+    points->cur = cur;
+    gm_buffers_copy(&points->buffer[cur], &domain->snapshot, points->count,
+                    points->state_stride);
+    domain->time = time;
+    domain->max_signal_speed = speed;
+    domain->step_count = steps;
+  }
+  return status;
+}
+
+static gm_status advance(gm_domain *domain, double dt, int retries_left,
+                         bool allow_reorder) {
+  gm_status status = try_step(domain, dt, allow_reorder);
+  if (!recoverable_failure(domain, status))
+    return status;
+  if (retries_left <= 0) {
+    char reason[GM_ERROR_MESSAGE_SIZE];
+    snprintf(reason, sizeof reason, "%s", domain->last_error);
+    return gm_set_error(domain, GM_ERR_CALLBACK,
+                        "%.380s; still failing after %d halvings of dt "
+                        "(max_retries)",
+                        reason, domain->def.max_retries);
+  }
+  return retry_in_halves(domain, dt, retries_left);
+}
+
+/* Runs the hook at a stage; nonzero return cancels the step. */
+static int run_hook(gm_domain *domain, gm_hook_stage stage) {
+  if (!domain->hook)
+    return 0;
+  domain->in_hook = true;
+  int result = domain->hook(domain, stage, domain->hook_user);
+  domain->in_hook = false;
+  return result;
+}
+
+static gm_status choose_dt(gm_domain *domain, double *dt) {
+  if (isnan(*dt) || isinf(*dt))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_step: dt is %g s, must be finite (<= 0 "
+                        "means the stable dt)",
+                        *dt);
+  if (domain->points.count == 0) {
+    if (*dt <= 0.0)
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "gm_domain_step: dt <= 0 asks for the stable dt, "
+                          "undefined without points");
+    return GM_OK;
+  }
+  double stable;
+  gm_status status = gm_domain_stable_dt(domain, &stable);
+  if (status != GM_OK)
+    return status;
+  if (*dt <= 0.0) {
+    *dt = stable;
+    return GM_OK;
+  }
+  if (domain->def.refuse_unstable_dt && *dt > stable)
+    return gm_set_error(domain, GM_ERR_UNSTABLE_DT,
+                        "gm_domain_step: dt = %g s exceeds the stable bound "
+                        "%g s (cfl %g, cell %g m, fastest signal %g m/s)",
+                        *dt, stable, domain->def.cfl, domain->def.cell_size,
+                        domain->max_signal_speed);
+  return GM_OK;
+}
+
+gm_status gm_domain_step(gm_domain *domain, double dt) {
+  if (!domain)
+    return GM_ERR_NULL;
+  if (domain->busy)
+    return gm_set_error(domain, GM_ERR_BUSY,
+                        "gm_domain_step: called during a step (from a hook "
+                        "or callback)");
+  gm_status status = choose_dt(domain, &dt);
+  if (status != GM_OK)
+    return status;
+  domain->busy = true;
+  if (run_hook(domain, GM_HOOK_BEFORE_STEP) != 0) {
+    domain->busy = false;
+    return gm_set_error(domain, GM_ERR_CALLBACK,
+                        "gm_domain_step: the step hook cancelled the step at "
+                        "t = %g s",
+                        domain->time);
+  }
+  status = advance(domain, dt, domain->def.max_retries, true);
+  if (status == GM_OK)
+    run_hook(domain, GM_HOOK_AFTER_STEP);
+  domain->busy = false;
+  return status;
+}

@@ -1,0 +1,461 @@
+/*
+ * vtu.c - gm_domain_write_vtu: every point and field as a VTK XML
+ * UnstructuredGrid (format version 1.0) with raw appended binary data, the
+ * format ParaView reads natively.
+ *
+ * Written on top of the public field accessors (gm_domain_get_field,
+ * gm_domain_get_ids) so it does not depend on the internal point layout.
+ *
+ * File layout: an XML header whose DataArrays all say format="appended" and
+ * give an offset, then <AppendedData encoding="raw">, an underscore, and the
+ * arrays back to back. Offsets count bytes from the first byte after the
+ * underscore; every array is prefixed by its size in bytes as a UInt64
+ * (header_type="UInt64"), in the host byte order declared in byte_order.
+ *
+ * Every point is one VTK_VERTEX cell, so ParaView shows the points without
+ * a Glyph filter. Vectors are padded to 3 components (VTK's convention, so
+ * ParaView treats them as vectors); the stress has 6 components in Voigt
+ * order xx yy zz xy yz zx (GM_XX..GM_ZX) and F 9 components, row-major.
+ *
+ * The file is written to "<path>.tmp" and renamed over path only when it is
+ * complete, so a failed write never leaves a truncated file under path.
+ */
+#include "internal.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+enum { VTK_VERTEX = 1 };
+
+typedef enum vtu_type { VTU_FLOAT64, VTU_INT64, VTU_INT32, VTU_UINT8 } vtu_type;
+
+/* Source of an array's values. */
+typedef enum vtu_source {
+  SOURCE_FIELD,        /* gm_domain_get_field(field), padded */
+  SOURCE_IDS,          /* gm_domain_get_ids() */
+  SOURCE_MATERIAL,     /* GM_FIELD_MATERIAL converted to Int32 */
+  SOURCE_CONNECTIVITY, /* 0, 1, ..., n-1 */
+  SOURCE_OFFSETS,      /* 1, 2, ..., n: end of each one-point cell */
+  SOURCE_CELL_TYPES    /* VTK_VERTEX for every cell */
+} vtu_source;
+
+/* Where an array goes in the XML tree. */
+typedef enum vtu_section {
+  SECTION_FIELD_DATA,
+  SECTION_POINT_DATA,
+  SECTION_POINTS,
+  SECTION_CELLS
+} vtu_section;
+
+typedef struct vtu_array {
+  const char *name;
+  vtu_section section;
+  vtu_source source;
+  gm_field field; /* for SOURCE_FIELD */
+  vtu_type type;
+  size_t components;              /* in the file (after padding) */
+  const char *component_names[9]; /* NULL: none written */
+} vtu_array;
+
+/* The arrays of a file, in file order. The single FieldData array,
+ * TimeValue, is handled separately (it has 1 tuple, not one per point). */
+static const vtu_array vtu_arrays[] = {
+    {"Points",
+     SECTION_POINTS,
+     SOURCE_FIELD,
+     GM_FIELD_POSITION,
+     VTU_FLOAT64,
+     3,
+     {NULL}},
+    {"connectivity",
+     SECTION_CELLS,
+     SOURCE_CONNECTIVITY,
+     GM_FIELD_ID,
+     VTU_INT64,
+     1,
+     {NULL}},
+    {"offsets",
+     SECTION_CELLS,
+     SOURCE_OFFSETS,
+     GM_FIELD_ID,
+     VTU_INT64,
+     1,
+     {NULL}},
+    {"types",
+     SECTION_CELLS,
+     SOURCE_CELL_TYPES,
+     GM_FIELD_ID,
+     VTU_UINT8,
+     1,
+     {NULL}},
+    {"id", SECTION_POINT_DATA, SOURCE_IDS, GM_FIELD_ID, VTU_INT64, 1, {NULL}},
+    {"material",
+     SECTION_POINT_DATA,
+     SOURCE_MATERIAL,
+     GM_FIELD_MATERIAL,
+     VTU_INT32,
+     1,
+     {NULL}},
+    {"velocity",
+     SECTION_POINT_DATA,
+     SOURCE_FIELD,
+     GM_FIELD_VELOCITY,
+     VTU_FLOAT64,
+     3,
+     {NULL}},
+    {"external_force",
+     SECTION_POINT_DATA,
+     SOURCE_FIELD,
+     GM_FIELD_EXTERNAL_FORCE,
+     VTU_FLOAT64,
+     3,
+     {NULL}},
+    {"mass",
+     SECTION_POINT_DATA,
+     SOURCE_FIELD,
+     GM_FIELD_MASS,
+     VTU_FLOAT64,
+     1,
+     {NULL}},
+    {"volume",
+     SECTION_POINT_DATA,
+     SOURCE_FIELD,
+     GM_FIELD_VOLUME,
+     VTU_FLOAT64,
+     1,
+     {NULL}},
+    {"initial_volume",
+     SECTION_POINT_DATA,
+     SOURCE_FIELD,
+     GM_FIELD_INITIAL_VOLUME,
+     VTU_FLOAT64,
+     1,
+     {NULL}},
+    {"density",
+     SECTION_POINT_DATA,
+     SOURCE_FIELD,
+     GM_FIELD_DENSITY,
+     VTU_FLOAT64,
+     1,
+     {NULL}},
+    {"stress",
+     SECTION_POINT_DATA,
+     SOURCE_FIELD,
+     GM_FIELD_STRESS,
+     VTU_FLOAT64,
+     6,
+     {"xx", "yy", "zz", "xy", "yz", "zx"}},
+    {"deformation_gradient",
+     SECTION_POINT_DATA,
+     SOURCE_FIELD,
+     GM_FIELD_DEFORMATION_GRADIENT,
+     VTU_FLOAT64,
+     9,
+     {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"}},
+    {"domain_size",
+     SECTION_POINT_DATA,
+     SOURCE_FIELD,
+     GM_FIELD_DOMAIN_SIZE,
+     VTU_FLOAT64,
+     3,
+     {NULL}},
+};
+enum { VTU_ARRAY_COUNT = sizeof vtu_arrays / sizeof vtu_arrays[0] };
+/* Widest array, in doubles per point (the deformation gradient). */
+enum { VTU_MAX_COMPONENTS = 9 };
+
+/* Everything one write needs, so helpers take a single argument. */
+typedef struct vtu_writer {
+  gm_domain *domain;    /* for error messages only, see gm_domain_write_vtu */
+  const char *path;     /* final file name */
+  char *temporary_path; /* path + ".tmp", written then renamed */
+  FILE *file;
+  size_t point_count;
+  double time;  /* s */
+  void *buffer; /* point_count * VTU_MAX_COMPONENTS doubles of scratch */
+} vtu_writer;
+
+static size_t type_size(vtu_type type) {
+  switch (type) {
+  case VTU_FLOAT64:
+  case VTU_INT64:
+    return 8;
+  case VTU_INT32:
+    return 4;
+  case VTU_UINT8:
+    return 1;
+  }
+  return 0;
+}
+
+static const char *type_name(vtu_type type) {
+  switch (type) {
+  case VTU_FLOAT64:
+    return "Float64";
+  case VTU_INT64:
+    return "Int64";
+  case VTU_INT32:
+    return "Int32";
+  case VTU_UINT8:
+    return "UInt8";
+  }
+  return "";
+}
+
+static const char *host_byte_order(void) {
+  const uint16_t probe = 1;
+  unsigned char first_byte;
+  memcpy(&first_byte, &probe, 1);
+  return first_byte == 1 ? "LittleEndian" : "BigEndian";
+}
+
+/* Bytes an array takes in the appended block, size prefix included. */
+static uint64_t appended_bytes(uint64_t payload_bytes) {
+  return sizeof(uint64_t) + payload_bytes;
+}
+
+static uint64_t array_payload_bytes(const vtu_array *array, size_t points) {
+  return (uint64_t)points * array->components * type_size(array->type);
+}
+
+/* The domain is const in the public signature, but its last_error buffer is
+ * mutable diagnostic state by design (like errno): casting const away here,
+ * for the message only, is intended. Nothing else of the domain is
+ * modified. Captures errno text before anything can overwrite errno. */
+static gm_status io_error(vtu_writer *writer, const char *what) {
+  const char *reason = errno ? strerror(errno) : "unknown error";
+  return gm_set_error(writer->domain, GM_ERR_IO,
+                      "gm_domain_write_vtu: cannot %s '%s' (temporary file "
+                      "for '%s'): %s",
+                      what, writer->temporary_path, writer->path, reason);
+}
+
+/* ---------------------------------------------------------------- header */
+
+static bool print_array_header(FILE *file, const vtu_array *array,
+                               uint64_t offset) {
+  bool ok = fprintf(file,
+                    "        <DataArray type=\"%s\" Name=\"%s\" "
+                    "NumberOfComponents=\"%zu\" format=\"appended\" "
+                    "offset=\"%llu\"",
+                    type_name(array->type), array->name, array->components,
+                    (unsigned long long)offset) > 0;
+  for (size_t k = 0; ok && k < array->components; k++)
+    if (array->component_names[k])
+      ok = fprintf(file, " ComponentName%zu=\"%s\"", k,
+                   array->component_names[k]) > 0;
+  return ok && fputs("/>\n", file) >= 0;
+}
+
+/* Prints the arrays of one section; offsets continue from *offset. */
+static bool print_section(vtu_writer *writer, vtu_section section,
+                          const char *open_tag, const char *close_tag,
+                          uint64_t *offsets) {
+  if (fputs(open_tag, writer->file) < 0)
+    return false;
+  for (size_t a = 0; a < VTU_ARRAY_COUNT; a++)
+    if (vtu_arrays[a].section == section &&
+        !print_array_header(writer->file, &vtu_arrays[a], offsets[a]))
+      return false;
+  return fputs(close_tag, writer->file) >= 0;
+}
+
+static bool print_header(vtu_writer *writer) {
+  /* Offsets: TimeValue first (one Float64), then the arrays in order. */
+  uint64_t offsets[VTU_ARRAY_COUNT];
+  uint64_t next = appended_bytes(sizeof(double));
+  for (size_t a = 0; a < VTU_ARRAY_COUNT; a++) {
+    offsets[a] = next;
+    next += appended_bytes(
+        array_payload_bytes(&vtu_arrays[a], writer->point_count));
+  }
+  FILE *file = writer->file;
+  return fprintf(file,
+                 "<?xml version=\"1.0\"?>\n"
+                 "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+                 "byte_order=\"%s\" header_type=\"UInt64\">\n"
+                 "  <UnstructuredGrid>\n"
+                 "    <FieldData>\n"
+                 "      <DataArray type=\"Float64\" Name=\"TimeValue\" "
+                 "NumberOfTuples=\"1\" format=\"appended\" offset=\"0\"/>\n"
+                 "    </FieldData>\n"
+                 "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n",
+                 host_byte_order(), writer->point_count,
+                 writer->point_count) > 0 &&
+         print_section(writer, SECTION_POINT_DATA,
+                       "      <PointData Scalars=\"mass\" "
+                       "Vectors=\"velocity\" Tensors=\"stress\">\n",
+                       "      </PointData>\n", offsets) &&
+         print_section(writer, SECTION_POINTS, "      <Points>\n",
+                       "      </Points>\n", offsets) &&
+         print_section(writer, SECTION_CELLS, "      <Cells>\n",
+                       "      </Cells>\n", offsets) &&
+         fputs("    </Piece>\n"
+               "  </UnstructuredGrid>\n"
+               "  <AppendedData encoding=\"raw\">\n"
+               "   _",
+               file) >= 0;
+}
+
+/* ------------------------------------------------------------- payloads */
+
+/* Spreads n points of `from` components in place to `to` >= from
+ * components, zero padded. Walks backwards so no value is overwritten
+ * before it has been moved. */
+static void pad_components(double *values, size_t n, size_t from, size_t to) {
+  if (from == to)
+    return;
+  for (size_t i = n; i-- > 0;) {
+    for (size_t k = to; k-- > from;)
+      values[i * to + k] = 0.0;
+    for (size_t k = from; k-- > 0;)
+      values[i * to + k] = values[i * from + k];
+  }
+}
+
+/* Fills writer->buffer with one array's values; returns a status. */
+static gm_status fill_array(vtu_writer *writer, const vtu_array *array) {
+  const gm_domain *domain = writer->domain;
+  size_t n = writer->point_count;
+  if (array->source == SOURCE_IDS)
+    return gm_domain_get_ids(domain, writer->buffer, n);
+  if (array->source == SOURCE_CONNECTIVITY || array->source == SOURCE_OFFSETS) {
+    int64_t *values = writer->buffer;
+    int64_t first = array->source == SOURCE_OFFSETS ? 1 : 0;
+    for (size_t i = 0; i < n; i++)
+      values[i] = first + (int64_t)i;
+    return GM_OK;
+  }
+  if (array->source == SOURCE_CELL_TYPES) {
+    memset(writer->buffer, VTK_VERTEX, n);
+    return GM_OK;
+  }
+  size_t components = 0;
+  gm_status status =
+      gm_domain_field_components(domain, array->field, &components);
+  if (status != GM_OK)
+    return status;
+  if (components > array->components)
+    return gm_set_error(writer->domain, GM_ERR_UNSUPPORTED,
+                        "gm_domain_write_vtu: field %d has %zu components, "
+                        "the VTU array '%s' holds %zu",
+                        (int)array->field, components, array->name,
+                        array->components);
+  double *values = writer->buffer;
+  status = gm_domain_get_field(domain, array->field, values, n * components);
+  if (status != GM_OK)
+    return status;
+  if (array->source == SOURCE_MATERIAL) {
+    /* Material ids are small integers stored as doubles: exact. Converting
+     * in place front to back is safe, each int32 lands at or before its
+     * double; memcpy keeps the type punning well defined. */
+    unsigned char *bytes = writer->buffer;
+    for (size_t i = 0; i < n; i++) {
+      double material;
+      memcpy(&material, bytes + i * sizeof material, sizeof material);
+      int32_t material_id = (int32_t)material;
+      memcpy(bytes + i * sizeof material_id, &material_id, sizeof material_id);
+    }
+    return GM_OK;
+  }
+  pad_components(values, n, components, array->components);
+  return GM_OK;
+}
+
+static bool write_block(FILE *file, const void *data, uint64_t bytes) {
+  return fwrite(&bytes, sizeof bytes, 1, file) == 1 &&
+         (bytes == 0 || fwrite(data, (size_t)bytes, 1, file) == 1);
+}
+
+static gm_status write_payloads(vtu_writer *writer) {
+  if (!write_block(writer->file, &writer->time, sizeof writer->time))
+    return io_error(writer, "write");
+  for (size_t a = 0; a < VTU_ARRAY_COUNT; a++) {
+    gm_status status = fill_array(writer, &vtu_arrays[a]);
+    if (status != GM_OK)
+      return status;
+    uint64_t bytes = array_payload_bytes(&vtu_arrays[a], writer->point_count);
+    if (!write_block(writer->file, writer->buffer, bytes))
+      return io_error(writer, "write");
+  }
+  if (fputs("\n  </AppendedData>\n</VTKFile>\n", writer->file) < 0)
+    return io_error(writer, "write");
+  return GM_OK;
+}
+
+/* ----------------------------------------------------------------- write */
+
+static gm_status write_temporary_file(vtu_writer *writer) {
+  errno = 0;
+  writer->file = fopen(writer->temporary_path, "wb");
+  if (!writer->file)
+    return io_error(writer, "open");
+  gm_status status = GM_OK;
+  errno = 0;
+  if (!print_header(writer))
+    status = io_error(writer, "write");
+  if (status == GM_OK)
+    status = write_payloads(writer);
+  errno = 0;
+  /* fclose flushes: its failure (e.g. disk full) means an incomplete file. */
+  bool closed = fclose(writer->file) == 0;
+  writer->file = NULL;
+  if (!closed && status == GM_OK)
+    status = io_error(writer, "close");
+  return status;
+}
+
+static gm_status allocate_writer(vtu_writer *writer) {
+  size_t path_length = strlen(writer->path);
+  writer->temporary_path = gm_alloc(path_length + sizeof ".tmp");
+  size_t n = writer->point_count;
+  /* Guard the size computation against overflow on absurd counts. */
+  if (n > SIZE_MAX / (VTU_MAX_COMPONENTS * sizeof(double)))
+    writer->buffer = NULL;
+  else
+    writer->buffer = gm_alloc(n * VTU_MAX_COMPONENTS * sizeof(double));
+  if (!writer->temporary_path || !writer->buffer)
+    return gm_set_error(writer->domain, GM_ERR_NO_MEMORY,
+                        "gm_domain_write_vtu: out of memory for %zu points "
+                        "writing '%s'",
+                        n, writer->path);
+  memcpy(writer->temporary_path, writer->path, path_length);
+  memcpy(writer->temporary_path + path_length, ".tmp", sizeof ".tmp");
+  return GM_OK;
+}
+
+gm_status gm_domain_write_vtu(const gm_domain *domain, const char *path) {
+  if (!domain)
+    return GM_ERR_NULL;
+  /* Cast away const for error messages only: see io_error(). */
+  gm_domain *error_domain = (gm_domain *)domain;
+  if (!path)
+    return gm_set_error(error_domain, GM_ERR_NULL,
+                        "gm_domain_write_vtu: path is NULL");
+  if (path[0] == '\0')
+    return gm_set_error(error_domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_write_vtu: path is empty");
+  vtu_writer writer = {0};
+  writer.domain = error_domain;
+  writer.path = path;
+  writer.point_count = gm_domain_point_count(domain);
+  gm_status status = gm_domain_get_time(domain, &writer.time, NULL);
+  if (status == GM_OK)
+    status = allocate_writer(&writer);
+  if (status == GM_OK)
+    status = write_temporary_file(&writer);
+  if (status == GM_OK) {
+    errno = 0;
+    if (rename(writer.temporary_path, path) != 0)
+      status = gm_set_error(error_domain, GM_ERR_IO,
+                            "gm_domain_write_vtu: cannot rename '%s' to "
+                            "'%s': %s",
+                            writer.temporary_path, path, strerror(errno));
+  }
+  if (status != GM_OK && writer.temporary_path)
+    remove(writer.temporary_path); /* best effort: it may not exist */
+  gm_free(writer.temporary_path);
+  gm_free(writer.buffer);
+  return status;
+}
