@@ -163,7 +163,8 @@ typedef struct gm_domain gm_domain;
 /** Creates a domain. On failure *out is NULL and the status says why;
  * gm_last_create_error() then holds the message. */
 GM_API gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out);
-/** Message of the last failed gm_domain_create() on this thread. */
+/** Message of the last failed gm_domain_create() or gm_series_create() on
+ * this thread. */
 GM_API const char *gm_last_create_error(void);
 /** Frees the domain and everything it owns. NULL is a no-op. */
 GM_API void gm_domain_destroy(gm_domain *domain);
@@ -173,8 +174,8 @@ GM_API const char *gm_domain_last_error(const gm_domain *domain);
 /* -------------------------------------------------------------- materials */
 
 /** Stress and strain components, Voigt order. Shear strains are tensor
- * components (eps_xy), not engineering strains. In 1D and 2D only the
- * components listed in gm_domain_stress_components() are stored. */
+ * components (eps_xy), not engineering strains. In 1D and 2D the yz and zx
+ * components are identically zero (not stored). */
 enum {
   GM_XX = 0,
   GM_YY = 1,
@@ -283,8 +284,9 @@ typedef struct gm_points_def {
                                   ignored where mass is given */
   const double *domain_size;   /* m, count*dim, initial particle domain
                                   edge lengths (used by GIMP/CPDI and the
-                                  granular method); NULL = cube root etc.
-                                  of the volume per unit measure */
+                                  granular method); NULL = the volume in
+                                  1D, its square root in plane strain,
+                                  sqrt(V / (2 pi r)) in axisymmetry */
   const double *stress;        /* Pa, count*6 (Voigt, GM_XX..); NULL = 0 */
 } gm_points_def;
 
@@ -404,11 +406,12 @@ GM_API gm_status gm_domain_set_step_hook(gm_domain *domain,
 GM_API gm_status gm_domain_step(gm_domain *domain, double dt);
 
 /** Largest stable dt for the current state: cfl * h / max(c_p + |v_p|), with
- * c_p = sqrt(M / rho_p) the P-wave speed (004 eq 3.11-3.12). */
+ * c_p = sqrt(M / rho_p) the P-wave speed (004 eq 3.11-3.12). Velocities
+ * edited with gm_domain_edit_field() are taken into account. */
 GM_API gm_status gm_domain_stable_dt(const gm_domain *domain, double *dt);
 
-/** Simulated time (s) and number of completed steps; either pointer may
- * be NULL, not both. */
+/** Simulated time (s) and number of completed steps (a dt-halving retry
+ * counts each sub-step); either pointer may be NULL, not both. */
 GM_API gm_status gm_domain_get_time(const gm_domain *domain, double *time,
                                     uint64_t *step_count);
 

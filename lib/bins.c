@@ -18,7 +18,7 @@ static void locate_chunks(void *context, size_t begin, size_t end,
   gm_domain *domain = context;
   gm_grid *grid = &domain->grid;
   gm_points *points = &domain->points;
-  const int64_t *point_key = points->buffer[points->cur].block_key;
+  const int64_t *point_key = points->block_key;
   for (size_t chunk = begin; chunk < end; chunk++) {
     uint32_t *counts = grid->chunk_counts;
     for (size_t b = 0; b < grid->block_count; b++)
@@ -53,7 +53,23 @@ static void scatter_chunks(void *context, size_t begin, size_t end,
   }
 }
 
+/* Block key of every committed position (all inside the grid: positions
+ * are validated when added and when moved). */
+static void key_ranges(void *context, size_t begin, size_t end, int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_points *points = &domain->points;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  double position[2] = {0.0, 0.0};
+  for (size_t i = begin; i < end; i++) {
+    for (int k = 0; k < domain->dim; k++)
+      position[k] = current->position[k][i];
+    gm_block_key_of(domain, position, &points->block_key[i]);
+  }
+}
+
 gm_status gm_bin_points(gm_domain *domain) {
+  gm_parallel_for(&domain->pool, domain->points.count, key_ranges, domain);
   gm_status status = gm_grid_build(domain);
   if (status != GM_OK)
     return status;
@@ -100,22 +116,23 @@ static void permute_buffers(void *context, size_t begin, size_t end,
   for (int k = 0; k < GM_STRESS_STORED; k++)
     permute_doubles(to->stress[k], from->stress[k], order, begin, end);
   for (int k = 0; k < GM_F_STORED; k++)
-    permute_doubles(to->deformation[k], from->deformation[k], order, begin,
-                    end);
+    if (from->deformation[k])
+      permute_doubles(to->deformation[k], from->deformation[k], order, begin,
+                      end);
   permute_doubles(to->volume, from->volume, order, begin, end);
   size_t stride = points->state_stride;
-  for (size_t i = begin; i < end; i++) {
-    to->block_key[i] = from->block_key[order[i]];
-    if (stride)
-      memcpy(to->state + i * stride, from->state + (size_t)order[i] * stride,
-             stride * sizeof(double));
-  }
+  for (size_t i = begin; stride && i < end; i++)
+    memcpy(to->state + i * stride, from->state + (size_t)order[i] * stride,
+           stride * sizeof(double));
 }
 
-/* Permutes one single-buffered array through the scratch buffer. */
-static void permute_in_place(gm_points *points, double *field) {
-  permute_doubles(points->scratch, field, points->order, 0, points->count);
-  memcpy(field, points->scratch, points->count * sizeof(double));
+/* Permutes one single-buffered array through scratch (count doubles). */
+static void permute_in_place(gm_points *points, double *field,
+                             double *scratch) {
+  if (!field)
+    return;
+  permute_doubles(scratch, field, points->order, 0, points->count);
+  memcpy(field, scratch, points->count * sizeof(double));
 }
 
 void gm_reorder_points(gm_domain *domain) {
@@ -123,21 +140,23 @@ void gm_reorder_points(gm_domain *domain) {
   size_t count = points->count;
   gm_parallel_for(&domain->pool, count, permute_buffers, domain);
   points->cur ^= 1;
-  permute_in_place(points, points->mass);
-  permute_in_place(points, points->initial_volume);
+  /* The buffer just released holds nothing needed: its volume array is
+   * the scratch for the single-buffered fields (8 bytes per point). */
+  double *scratch = points->buffer[points->cur ^ 1].volume;
+  permute_in_place(points, points->mass, scratch);
+  permute_in_place(points, points->initial_volume, scratch);
   for (int k = 0; k < domain->dim; k++) {
-    permute_in_place(points, points->domain_size[k]);
-    permute_in_place(points, points->external_force[k]);
+    permute_in_place(points, points->domain_size[k], scratch);
+    permute_in_place(points, points->external_force[k], scratch);
   }
-  /* Integer fields go through the same scratch (8 bytes per point). */
-  int64_t *id_scratch = (int64_t *)(void *)points->scratch;
+  int64_t *id_scratch = (int64_t *)(void *)scratch;
   for (size_t k = 0; k < count; k++)
     id_scratch[k] = points->id[points->order[k]];
   memcpy(points->id, id_scratch, count * sizeof(int64_t));
-  int32_t *material_scratch = (int32_t *)(void *)points->scratch;
+  int32_t *material_scratch = (int32_t *)(void *)scratch;
   for (size_t k = 0; k < count; k++)
     material_scratch[k] = points->material[points->order[k]];
   memcpy(points->material, material_scratch, count * sizeof(int32_t));
   for (size_t k = 0; k < count; k++)
-    points->index_of_id[points->id[k]] = (int64_t)k;
+    points->index_of_id[points->id[k]] = (uint32_t)k;
 }

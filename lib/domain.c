@@ -12,6 +12,14 @@ static _Thread_local char create_error[GM_ERROR_MESSAGE_SIZE];
 
 const char *gm_last_create_error(void) { return create_error; }
 
+gm_status gm_set_create_error(gm_status status, const char *format, ...) {
+  va_list args;
+  va_start(args, format);
+  vsnprintf(create_error, sizeof create_error, format, args);
+  va_end(args);
+  return status;
+}
+
 #define CREATE_FAIL(status, ...)                                               \
   do {                                                                         \
     snprintf(create_error, sizeof create_error, __VA_ARGS__);                  \
@@ -140,8 +148,7 @@ gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
         k < domain->dim
             ? (int64_t)ceil(def->extent[k] / def->cell_size - 1e-9)
             : 1;
-  domain->worker_count = def->enqueue_task ? def->worker_count
-                                           : def->worker_count;
+  domain->worker_count = def->worker_count;
   gm_grid *grid = &domain->grid;
   grid->dim = domain->dim;
   grid->shift = domain->dim == 1 ? GM_BLOCK_SHIFT_1D : GM_BLOCK_SHIFT_2D;

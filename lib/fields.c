@@ -58,7 +58,7 @@ static double *stored_component(const gm_domain *domain, gm_field field,
   case GM_FIELD_VELOCITY:
     return buffer->velocity[k];
   case GM_FIELD_EXTERNAL_FORCE:
-    return points->external_force[k];
+    return points->external_force[k]; /* NULL until first edited: zeros */
   case GM_FIELD_DOMAIN_SIZE:
     return points->domain_size[k];
   case GM_FIELD_MASS:
@@ -93,7 +93,8 @@ static double field_value(const gm_domain *domain, gm_field field, size_t k,
     const double *stored = stored_component(domain, field, k);
     if (stored)
       return stored[i];
-    return 0.0; /* off-plane shears are zero in 1D/2D */
+    /* Not stored: off-plane shears are 0, F_zz is 1 outside axisymmetry. */
+    return k == 0 || k == 4 || k == 8 ? 1.0 : 0.0;
   }
   default: {
     const double *stored = stored_component(domain, field, k);
@@ -123,18 +124,11 @@ gm_status gm_domain_get_field(const gm_domain *domain, gm_field field,
                         "%zu components",
                         out_length, count, components);
   for (size_t k = 0; k < components; k++) {
-    const double *stored = field == GM_FIELD_DENSITY
-                               ? NULL
-                               : stored_component(domain, field, k);
+    const double *stored = stored_component(domain, field, k);
     for (size_t i = 0; i < count; i++)
       out[i * components + k] =
           stored ? stored[i] : field_value(domain, field, k, i);
   }
-  /* 1D and 2D keep F_yy = F_zz = 1 in storage where they do not evolve;
-   * F_zz is stored (hoop stretch in axisymmetry, 1 otherwise). */
-  if (field == GM_FIELD_DEFORMATION_GRADIENT && domain->dim == 1)
-    for (size_t i = 0; i < count; i++)
-      out[i * 9 + 4] = 1.0;
   return GM_OK;
 }
 
@@ -182,6 +176,11 @@ gm_status gm_domain_view_field(const gm_domain *domain, gm_field field,
   if (!data)
     return gm_set_error((gm_domain *)domain, GM_ERR_NULL,
                         "gm_domain_view_field: data is NULL");
+  /* External forces are allocated on first use; a view makes them exist
+   * (logically const: they are zeros). */
+  if (field == GM_FIELD_EXTERNAL_FORCE &&
+      gm_points_need_external_force((gm_domain *)domain) != GM_OK)
+    return GM_ERR_NO_MEMORY;
   gm_status status =
       check_view(domain, field, component, "gm_domain_view_field");
   if (status != GM_OK)
@@ -206,10 +205,15 @@ gm_status gm_domain_edit_field(gm_domain *domain, gm_field field,
                         "GM_FIELD_VELOCITY and GM_FIELD_EXTERNAL_FORCE are "
                         "writable)",
                         (int)field);
+  if (field == GM_FIELD_EXTERNAL_FORCE &&
+      gm_points_need_external_force(domain) != GM_OK)
+    return GM_ERR_NO_MEMORY;
   gm_status status =
       check_view(domain, field, component, "gm_domain_edit_field");
   if (status != GM_OK)
     return status;
+  if (field == GM_FIELD_VELOCITY) /* the stable dt must see the new speeds */
+    domain->velocity_edited = true;
   *data = stored_component(domain, field, component);
   return GM_OK;
 }

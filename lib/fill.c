@@ -50,6 +50,89 @@ static gm_status validate_fill(gm_domain *domain, const gm_fill_def *def) {
   return GM_OK;
 }
 
+/* The lattice of a fill: sub-cell index ranges per axis. */
+typedef struct lattice {
+  int64_t first[2], last[2];
+  double spacing; /* m */
+  size_t total;
+} lattice;
+
+/* Site n of the lattice (row-major, x fastest) as a point. */
+static void lattice_site(const gm_domain *domain, const lattice *grid,
+                         size_t n, double *position, double *edges,
+                         double *volume) {
+  int64_t width = grid->last[0] - grid->first[0];
+  int64_t site[2] = {grid->first[0] + (int64_t)n % width,
+                     grid->first[1] + (int64_t)n / width};
+  double measure = 1.0; /* length, area, or ring volume */
+  for (int k = 0; k < domain->dim; k++) {
+    position[k] =
+        domain->def.origin[k] + ((double)site[k] + 0.5) * grid->spacing;
+    edges[k] = grid->spacing;
+    measure *= grid->spacing;
+  }
+  if (domain->axisymmetric)
+    measure *= 2.0 * GM_PI * position[0]; /* full ring */
+  *volume = measure;
+}
+
+/* Points are added in slabs so the temporary arrays stay small. */
+enum { FILL_SLAB = 16384 };
+
+typedef struct fill_arrays {
+  double position[FILL_SLAB * 2];
+  double velocity[FILL_SLAB * 2];
+  double edges[FILL_SLAB * 2];
+  double volume[FILL_SLAB];
+  double density[FILL_SLAB];
+} fill_arrays;
+
+/* Adds sites [begin, end) of the lattice as one gm_domain_add_points. */
+static gm_status add_slab(gm_domain *domain, const gm_fill_def *def,
+                          const lattice *grid, size_t begin, size_t end,
+                          double density, fill_arrays *arrays,
+                          int64_t *first_id) {
+  int dim = domain->dim;
+  for (size_t n = begin; n < end; n++) {
+    size_t j = n - begin;
+    lattice_site(domain, grid, n, arrays->position + j * dim,
+                 arrays->edges + j * dim, &arrays->volume[j]);
+    for (int k = 0; k < dim; k++)
+      arrays->velocity[j * dim + k] = def->velocity[k];
+    arrays->density[j] = density;
+  }
+  gm_points_def points = gm_points_def_default();
+  points.count = end - begin;
+  points.material = def->material;
+  points.position = arrays->position;
+  points.velocity = arrays->velocity;
+  points.volume = arrays->volume;
+  points.density = arrays->density;
+  points.domain_size = arrays->edges;
+  return gm_domain_add_points(domain, &points, first_id);
+}
+
+/* All-or-nothing: the corner sites decide whether every site is valid. */
+static gm_status check_corners(gm_domain *domain, const lattice *grid) {
+  double position[2], edges[2], volume;
+  size_t corners[2] = {0, grid->total - 1};
+  for (int c = 0; c < 2; c++) {
+    lattice_site(domain, grid, corners[c], position, edges, &volume);
+    int64_t key;
+    if (!gm_block_key_of(domain, position, &key))
+      return gm_set_error(domain, GM_ERR_OUT_OF_GRID,
+                          "gm_domain_fill_box: the box reaches outside the "
+                          "grid (lattice site at x = %g, y = %g m)",
+                          position[0], domain->dim > 1 ? position[1] : 0.0);
+    if (domain->axisymmetric && !(position[0] > 0.0))
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "gm_domain_fill_box: lattice site at radius %g "
+                          "must be > 0 in axisymmetry",
+                          position[0]);
+  }
+  return GM_OK;
+}
+
 gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
                              int64_t *first_id, size_t *count) {
   if (!domain)
@@ -62,67 +145,47 @@ gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
   gm_status status = validate_fill(domain, def);
   if (status != GM_OK)
     return status;
-  int dim = domain->dim;
-  double spacing = domain->def.cell_size / def->points_per_cell_axis; /* m */
-  int64_t first[2] = {0, 0}, last[2] = {1, 1};
-  size_t total = 1;
-  for (int k = 0; k < dim; k++) {
-    lattice_range(def->lower[k], def->upper[k], domain->def.origin[k], spacing,
-                  &first[k], &last[k]);
-    total *= (size_t)(last[k] - first[k]);
+  lattice grid = {{0, 0}, {1, 1}, 0.0, 1};
+  grid.spacing = domain->def.cell_size / def->points_per_cell_axis;
+  for (int k = 0; k < domain->dim; k++) {
+    lattice_range(def->lower[k], def->upper[k], domain->def.origin[k],
+                  grid.spacing, &grid.first[k], &grid.last[k]);
+    grid.total *= (size_t)(grid.last[k] - grid.first[k]);
   }
-  if (total == 0)
+  if (grid.total == 0)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_fill_box: the box holds no lattice site "
                         "(smaller than cell_size / points_per_cell_axis?)");
-  double *position = gm_alloc(total * (size_t)dim * sizeof(double));
-  double *velocity = gm_alloc(total * (size_t)dim * sizeof(double));
-  double *volume = gm_alloc(total * sizeof(double));
-  double *edges = gm_alloc(total * (size_t)dim * sizeof(double));
-  double *density = gm_alloc(total * sizeof(double));
-  if (!position || !velocity || !volume || !edges || !density) {
-    status = gm_set_error(domain, GM_ERR_NO_MEMORY,
-                          "gm_domain_fill_box: out of memory for %zu points",
-                          total);
-    goto done;
+  if ((status = check_corners(domain, &grid)) != GM_OK)
+    return status;
+  gm_points *points = &domain->points;
+  fill_arrays *arrays = gm_alloc(sizeof *arrays);
+  if (!arrays || gm_points_reserve(domain, points->count + grid.total) != GM_OK) {
+    gm_free(arrays);
+    return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                        "gm_domain_fill_box: out of memory for %zu points",
+                        grid.total);
   }
-  double fill_density = def->density > 0.0
-                            ? def->density
-                            : domain->materials[def->material].density;
-  size_t n = 0;
-  for (int64_t j = first[1]; j < last[1]; j++) {
-    for (int64_t i = first[0]; i < last[0]; i++, n++) {
-      int64_t site[2] = {i, j};
-      double measure = 1.0; /* length, area, or ring volume */
-      for (int k = 0; k < dim; k++) {
-        position[n * dim + k] =
-            domain->def.origin[k] + ((double)site[k] + 0.5) * spacing;
-        velocity[n * dim + k] = def->velocity[k];
-        edges[n * dim + k] = spacing;
-        measure *= spacing;
-      }
-      if (domain->axisymmetric)
-        measure *= 2.0 * GM_PI * position[n * dim]; /* full ring */
-      volume[n] = measure;
-      density[n] = fill_density;
-    }
+  double density = def->density > 0.0
+                       ? def->density
+                       : domain->materials[def->material].density;
+  size_t count_before = points->count;
+  int64_t id_before = points->next_id;
+  for (size_t begin = 0; begin < grid.total && status == GM_OK;
+       begin += FILL_SLAB) {
+    size_t end = begin + FILL_SLAB < grid.total ? begin + FILL_SLAB : grid.total;
+    status = add_slab(domain, def, &grid, begin, end, density, arrays, NULL);
   }
-  gm_points_def points = gm_points_def_default();
-  points.count = total;
-  points.material = def->material;
-  points.position = position;
-  points.velocity = velocity;
-  points.volume = volume;
-  points.density = density;
-  points.domain_size = edges;
-  status = gm_domain_add_points(domain, &points, first_id);
-  if (status == GM_OK && count)
-    *count = total;
-done:
-  gm_free(position);
-  gm_free(velocity);
-  gm_free(volume);
-  gm_free(edges);
-  gm_free(density);
-  return status;
+  gm_free(arrays);
+  if (status != GM_OK) { /* cannot happen after the checks; stay atomic */
+    points->count = count_before;
+    points->next_id = id_before;
+    gm_recompute_signal_speed(domain);
+    return status;
+  }
+  if (first_id)
+    *first_id = id_before;
+  if (count)
+    *count = grid.total;
+  return GM_OK;
 }

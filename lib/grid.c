@@ -170,7 +170,7 @@ static void link_blocks(gm_grid *grid) {
 gm_status gm_grid_build(gm_domain *domain) {
   gm_grid *grid = &domain->grid;
   const gm_points *points = &domain->points;
-  const int64_t *point_key = points->buffer[points->cur].block_key;
+  const int64_t *point_key = points->block_key;
   hash_clear(grid);
   int64_t previous = -1;
   for (size_t i = 0; i < points->count; i++) {

@@ -52,14 +52,16 @@ typedef struct gm_material {
 /* Fields a step rewrites are double-buffered: the step reads buffer `cur`
  * and writes buffer `cur ^ 1`; success swaps, failure discards. That makes a
  * step transactional without copying the domain. */
+/* Only the components a geometry needs are allocated (dim components of
+ * vectors; F_ZZ only in axisymmetry, where the hoop stretch evolves);
+ * the others stay NULL. */
 typedef struct gm_point_buffers {
   double *position[3];             /* m */
   double *velocity[3];             /* m/s */
   double *stress[GM_STRESS_STORED]; /* Pa, xx yy zz xy */
   double *deformation[GM_F_STORED]; /* F components, see F_XX.. */
   double *volume;                  /* current volume (units: gm_points_def) */
-  int64_t *block_key;              /* grid block holding the point */
-  double *state;                   /* state[slot*nstate+k]: one pool for all
+  double *state;                   /* state[i*stride+k]: one pool for all
                                       materials, stride = max state_count */
 } gm_point_buffers;
 
@@ -72,17 +74,18 @@ typedef struct gm_points {
   double *mass;            /* kg */
   double *initial_volume;  /* at creation */
   double *domain_size[3];  /* m, initial particle domain edges */
-  double *external_force[3]; /* N, host-supplied, persistent */
+  double *external_force[3]; /* N, host-supplied, persistent; allocated on
+                                first use (NULL = no external force) */
   int64_t *id;             /* stable id */
   int32_t *material;       /* material index */
   /* id -> index; ids are dense 0..next_id-1 (no removal in v0.1). */
-  int64_t *index_of_id;
+  uint32_t *index_of_id;
+  int64_t *block_key;      /* block of each committed position, this step */
   int64_t next_id;
   size_t state_stride; /* doubles of state per point */
   /* Scratch sized with the points (no allocation inside a step). */
   uint32_t *point_block; /* block index of each point this step */
   uint32_t *order;       /* point indices grouped by block */
-  double *scratch;       /* one double per point, for reordering */
 } gm_points;
 
 /* ------------------------------------------------------------- per worker */
@@ -131,6 +134,7 @@ struct gm_domain {
   gm_step_hook_fn *hook;
   void *hook_user;
   bool busy;           /* inside a step: state-changing calls refused */
+  bool velocity_edited; /* host wrote velocities: signal speed is stale */
   bool in_hook;        /* inside the step hook: edits allowed */
   int steps_since_reorder;
   gm_point_buffers snapshot;  /* committed state saved before dt-halving */
@@ -138,6 +142,9 @@ struct gm_domain {
   char last_error[GM_ERROR_MESSAGE_SIZE];
 };
 
+/* Records the message read by gm_last_create_error() (this thread). */
+gm_status gm_set_create_error(gm_status status, const char *format, ...)
+    __attribute__((format(printf, 2, 3)));
 /* Records an error message on the domain and returns status. */
 gm_status gm_set_error(gm_domain *domain, gm_status status, const char *format,
                        ...) __attribute__((format(printf, 3, 4)));
@@ -155,8 +162,10 @@ void gm_points_free(gm_points *points);
 /* Widens the per-point state pool to stride doubles. */
 gm_status gm_points_restride_state(gm_domain *domain, size_t stride);
 /* Sizes one buffer set for capacity points (keeps contents). */
-gm_status gm_buffers_reserve(gm_point_buffers *buffer, size_t old_capacity,
-                             size_t capacity, size_t state_stride);
+gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
+                             size_t old_capacity, size_t capacity);
+/* Allocates the external-force arrays (zeros) if not yet there. */
+gm_status gm_points_need_external_force(gm_domain *domain);
 void gm_buffers_free(gm_point_buffers *buffer);
 /* Copies count points of every double-buffered field. */
 void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,

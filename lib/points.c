@@ -16,20 +16,24 @@
     (field) = array_;                                                          \
   } while (0)
 
-gm_status gm_buffers_reserve(gm_point_buffers *buffer, size_t old_capacity,
-                             size_t capacity, size_t state_stride) {
-  for (int k = 0; k < 3; k++) {
+/* F components stored in this geometry: xx xy yx yy, plus the hoop zz. */
+static int stored_deformation(const gm_domain *domain) {
+  return domain->axisymmetric ? GM_F_STORED : F_ZZ;
+}
+
+gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
+                             size_t old_capacity, size_t capacity) {
+  for (int k = 0; k < domain->dim; k++) {
     GROW(buffer->position[k], sizeof(double));
     GROW(buffer->velocity[k], sizeof(double));
   }
   for (int k = 0; k < GM_STRESS_STORED; k++)
     GROW(buffer->stress[k], sizeof(double));
-  for (int k = 0; k < GM_F_STORED; k++)
+  for (int k = 0; k < stored_deformation(domain); k++)
     GROW(buffer->deformation[k], sizeof(double));
   GROW(buffer->volume, sizeof(double));
-  GROW(buffer->block_key, sizeof(int64_t));
-  if (state_stride)
-    GROW(buffer->state, state_stride * sizeof(double));
+  if (domain->points.state_stride)
+    GROW(buffer->state, domain->points.state_stride * sizeof(double));
   return GM_OK;
 }
 
@@ -40,24 +44,39 @@ gm_status gm_points_reserve(gm_domain *domain, size_t capacity) {
   if (capacity <= old_capacity)
     return GM_OK;
   for (int b = 0; b < 2; b++) {
-    gm_status status = gm_buffers_reserve(&points->buffer[b], old_capacity,
-                                      capacity, points->state_stride);
+    gm_status status = gm_buffers_reserve(domain, &points->buffer[b],
+                                          old_capacity, capacity);
     if (status != GM_OK)
       return status;
   }
   GROW(points->mass, sizeof(double));
   GROW(points->initial_volume, sizeof(double));
-  for (int k = 0; k < 3; k++) {
+  for (int k = 0; k < domain->dim; k++) {
     GROW(points->domain_size[k], sizeof(double));
-    GROW(points->external_force[k], sizeof(double));
+    if (points->external_force[k])
+      GROW(points->external_force[k], sizeof(double));
   }
   GROW(points->id, sizeof(int64_t));
   GROW(points->material, sizeof(int32_t));
-  GROW(points->index_of_id, sizeof(int64_t));
+  GROW(points->index_of_id, sizeof(uint32_t));
+  GROW(points->block_key, sizeof(int64_t));
   GROW(points->point_block, sizeof(uint32_t));
   GROW(points->order, sizeof(uint32_t));
-  GROW(points->scratch, sizeof(double));
   points->capacity = capacity;
+  return GM_OK;
+}
+
+gm_status gm_points_need_external_force(gm_domain *domain) {
+  gm_points *points = &domain->points;
+  for (int k = 0; k < domain->dim; k++) {
+    if (points->external_force[k])
+      continue;
+    points->external_force[k] =
+        gm_calloc(points->capacity ? points->capacity : 1, sizeof(double));
+    if (!points->external_force[k])
+      return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                          "external force: out of memory");
+  }
   return GM_OK;
 }
 
@@ -93,26 +112,27 @@ void gm_buffers_free(gm_point_buffers *buffer) {
   for (int k = 0; k < GM_F_STORED; k++)
     gm_free(buffer->deformation[k]);
   gm_free(buffer->volume);
-  gm_free(buffer->block_key);
   gm_free(buffer->state);
   memset(buffer, 0, sizeof *buffer);
 }
 
+static void copy_array(double *to, const double *from, size_t count) {
+  if (to && from)
+    memcpy(to, from, count * sizeof(double));
+}
+
 void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
                      size_t count, size_t state_stride) {
-  size_t bytes = count * sizeof(double);
   for (int k = 0; k < 3; k++) {
-    memcpy(to->position[k], from->position[k], bytes);
-    memcpy(to->velocity[k], from->velocity[k], bytes);
+    copy_array(to->position[k], from->position[k], count);
+    copy_array(to->velocity[k], from->velocity[k], count);
   }
   for (int k = 0; k < GM_STRESS_STORED; k++)
-    memcpy(to->stress[k], from->stress[k], bytes);
+    copy_array(to->stress[k], from->stress[k], count);
   for (int k = 0; k < GM_F_STORED; k++)
-    memcpy(to->deformation[k], from->deformation[k], bytes);
-  memcpy(to->volume, from->volume, bytes);
-  memcpy(to->block_key, from->block_key, count * sizeof(int64_t));
-  if (state_stride)
-    memcpy(to->state, from->state, bytes * state_stride);
+    copy_array(to->deformation[k], from->deformation[k], count);
+  copy_array(to->volume, from->volume, count);
+  copy_array(to->state, from->state, count * state_stride);
 }
 
 void gm_points_free(gm_points *points) {
@@ -127,9 +147,9 @@ void gm_points_free(gm_points *points) {
   gm_free(points->id);
   gm_free(points->material);
   gm_free(points->index_of_id);
+  gm_free(points->block_key);
   gm_free(points->point_block);
   gm_free(points->order);
-  gm_free(points->scratch);
   memset(points, 0, sizeof *points);
 }
 
@@ -233,23 +253,21 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
   int dim = domain->dim;
   size_t p = points->count + i;
   const double *position = def->position + i * (size_t)dim;
-  for (int k = 0; k < 3; k++) {
-    buffer->position[k][p] = k < dim ? position[k] : 0.0;
+  for (int k = 0; k < dim; k++) {
+    buffer->position[k][p] = position[k];
     buffer->velocity[k][p] =
-        (k < dim && def->velocity) ? def->velocity[i * (size_t)dim + k] : 0.0;
-    points->external_force[k][p] = 0.0;
+        def->velocity ? def->velocity[i * (size_t)dim + k] : 0.0;
+    if (points->external_force[k])
+      points->external_force[k][p] = 0.0;
   }
-  gm_block_key_of(domain, position, &buffer->block_key[p]);
   double volume = def->volume[i];
   buffer->volume[p] = volume;
   points->initial_volume[p] = volume;
   points->mass[p] = def->mass ? def->mass[i] : density * volume;
-  for (int k = 0; k < 3; k++)
+  for (int k = 0; k < dim; k++)
     points->domain_size[k][p] =
-        k >= dim ? 0.0
-        : def->domain_size
-            ? def->domain_size[i * (size_t)dim + k]
-            : default_domain_edge(domain, volume, position[0]);
+        def->domain_size ? def->domain_size[i * (size_t)dim + k]
+                         : default_domain_edge(domain, volume, position[0]);
   static const int stress_voigt[GM_STRESS_STORED] = {GM_XX, GM_YY, GM_ZZ,
                                                      GM_XY};
   for (int k = 0; k < GM_STRESS_STORED; k++)
@@ -259,13 +277,14 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
   buffer->deformation[F_XY][p] = 0.0;
   buffer->deformation[F_YX][p] = 0.0;
   buffer->deformation[F_YY][p] = 1.0;
-  buffer->deformation[F_ZZ][p] = 1.0;
+  if (buffer->deformation[F_ZZ])
+    buffer->deformation[F_ZZ][p] = 1.0;
   for (size_t k = 0; k < points->state_stride; k++)
     buffer->state[p * points->state_stride + k] =
         k < material->state_count ? material->initial_state[k] : 0.0;
   points->material[p] = def->material;
   points->id[p] = points->next_id + (int64_t)i;
-  points->index_of_id[points->next_id + (int64_t)i] = (int64_t)p;
+  points->index_of_id[points->next_id + (int64_t)i] = (uint32_t)p;
 }
 
 gm_status gm_domain_add_points(gm_domain *domain, const gm_points_def *def,

@@ -136,17 +136,22 @@ static bool parse_path(gm_series *series, const char *pvd_path) {
 
 gm_status gm_series_create(const char *pvd_path, gm_series **out) {
   if (!out)
-    return GM_ERR_NULL;
+    return gm_set_create_error(GM_ERR_NULL, "gm_series_create: out is NULL");
   *out = NULL;
   if (!pvd_path)
-    return GM_ERR_NULL;
+    return gm_set_create_error(GM_ERR_NULL,
+                               "gm_series_create: pvd_path is NULL");
   gm_series *series = gm_calloc(1, sizeof *series);
   if (!series)
-    return GM_ERR_NO_MEMORY;
+    return gm_set_create_error(GM_ERR_NO_MEMORY,
+                               "gm_series_create: out of memory");
   if (!parse_path(series, pvd_path)) {
     series_free(series);
     /* "dir/" or "dir/.pvd": no name to derive the frame files from. */
-    return GM_ERR_INVALID_ARGUMENT;
+    return gm_set_create_error(GM_ERR_INVALID_ARGUMENT,
+                               "gm_series_create: pvd_path '%s' has no file "
+                               "name to derive frame names from",
+                               pvd_path);
   }
   size_t path_length = strlen(pvd_path);
   series->pvd_path = copy_bytes(pvd_path, path_length);
@@ -156,15 +161,19 @@ gm_status gm_series_create(const char *pvd_path, gm_series **out) {
   if (!series->stem || !series->pvd_path || !series->temporary_path ||
       !series->frame_path) {
     series_free(series);
-    return GM_ERR_NO_MEMORY;
+    return gm_set_create_error(GM_ERR_NO_MEMORY,
+                               "gm_series_create: out of memory");
   }
   memcpy(series->temporary_path, pvd_path, path_length);
   memcpy(series->temporary_path + path_length, ".tmp", sizeof ".tmp");
   /* An empty but valid collection now: proves the directory exists and is
    * writable before any simulation time is spent. */
   if (!rewrite_collection(series)) {
+    int error = errno;
     series_free(series);
-    return GM_ERR_IO;
+    return gm_set_create_error(GM_ERR_IO,
+                               "gm_series_create: cannot write '%s': %s",
+                               pvd_path, strerror(error));
   }
   *out = series;
   return GM_OK;

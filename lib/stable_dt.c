@@ -36,10 +36,19 @@ gm_status gm_domain_stable_dt(const gm_domain *domain, double *dt) {
   if (!dt)
     return gm_set_error(mutable_domain, GM_ERR_NULL,
                         "gm_domain_stable_dt: dt is NULL");
+  if (domain->velocity_edited) { /* logically const: a cached maximum */
+    gm_recompute_signal_speed(mutable_domain);
+    mutable_domain->velocity_edited = false;
+  }
   if (domain->points.count == 0 || !(domain->max_signal_speed > 0.0))
     return gm_set_error(mutable_domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_stable_dt: the domain has no points, so "
                         "no stable time step is defined");
   *dt = domain->def.cfl * domain->def.cell_size / domain->max_signal_speed;
+  if (!(*dt > 0.0) || !isfinite(*dt))
+    return gm_set_error(mutable_domain, GM_ERR_NOT_FINITE,
+                        "gm_domain_stable_dt: fastest signal %g m/s gives no "
+                        "finite time step (non-finite velocity?)",
+                        domain->max_signal_speed);
   return GM_OK;
 }

@@ -114,8 +114,8 @@ static gm_status save_snapshot(gm_domain *domain) {
   if (domain->snapshot_capacity < points->capacity) {
     gm_buffers_free(&domain->snapshot);
     domain->snapshot_capacity = 0;
-    if (gm_buffers_reserve(&domain->snapshot, 0, points->capacity,
-                           points->state_stride) != GM_OK) {
+    if (gm_buffers_reserve(domain, &domain->snapshot, 0, points->capacity) !=
+        GM_OK) {
       gm_buffers_free(&domain->snapshot);
       return GM_ERR_NO_MEMORY;
     }
@@ -142,6 +142,8 @@ static gm_status retry_in_halves(gm_domain *domain, double dt,
   gm_status status = advance(domain, 0.5 * dt, retries_left - 1, false);
   if (status == GM_OK)
     status = advance(domain, 0.5 * dt, retries_left - 1, false);
+  if (status == GM_OK)
+    domain->time = time + dt; /* exactly the interval asked for */
   if (status != GM_OK) {
     points->cur = cur;
     gm_buffers_copy(&points->buffer[cur], &domain->snapshot, points->count,

@@ -7,14 +7,13 @@
 #include "threads.h"
 #include "internal.h"
 
-#include <limits.h>
-#include <sched.h>
 
 enum { SPIN_ROUNDS = 20000 };
 
 typedef struct worker_arg {
   gm_pool *pool;
   int worker;
+  unsigned start_generation; /* generation when the pool started */
 } worker_arg;
 
 static void run_share(gm_pool *pool, int worker) {
@@ -30,8 +29,10 @@ static void *worker_main(void *argument) {
   worker_arg *arg = argument;
   gm_pool *pool = arg->pool;
   int worker = arg->worker;
+  /* Not the current value: a loop may already have been posted before this
+   * thread got to run, and it must not be missed. */
+  unsigned seen = arg->start_generation;
   gm_free(arg);
-  unsigned seen = atomic_load(&pool->generation);
   for (;;) {
     unsigned now = seen;
     for (int spin = 0; spin < SPIN_ROUNDS; spin++) {
@@ -41,12 +42,12 @@ static void *worker_main(void *argument) {
     }
     if (now == seen) {
       pthread_mutex_lock(&pool->mutex);
-      while (!pool->stopping &&
+      while (!atomic_load(&pool->stopping) &&
              (now = atomic_load(&pool->generation)) == seen)
         pthread_cond_wait(&pool->wake, &pool->mutex);
       pthread_mutex_unlock(&pool->mutex);
     }
-    if (pool->stopping)
+    if (atomic_load(&pool->stopping))
       return NULL;
     seen = now;
     run_share(pool, worker);
@@ -67,7 +68,7 @@ gm_status gm_pool_start(gm_pool *pool, int worker_count,
   pool->finish_task = finish_task;
   pool->task_user = task_user;
   pool->threads = NULL;
-  pool->stopping = false;
+  atomic_init(&pool->stopping, false);
   pool->started = false;
   atomic_init(&pool->generation, 0);
   atomic_init(&pool->remaining, 0);
@@ -90,6 +91,7 @@ gm_status gm_pool_start(gm_pool *pool, int worker_count,
     }
     arg->pool = pool;
     arg->worker = w;
+    arg->start_generation = 0;
     if (pthread_create(&pool->threads[w], NULL, worker_main, arg) != 0) {
       gm_free(arg);
       pool->worker_count = w;
@@ -107,7 +109,7 @@ void gm_pool_stop(gm_pool *pool) {
     return;
   }
   pthread_mutex_lock(&pool->mutex);
-  pool->stopping = true;
+  atomic_store(&pool->stopping, true);
   atomic_fetch_add(&pool->generation, 1);
   pthread_cond_broadcast(&pool->wake);
   pthread_mutex_unlock(&pool->mutex);

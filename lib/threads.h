@@ -25,7 +25,7 @@ typedef struct gm_pool {
   pthread_cond_t done;
   atomic_uint generation; /* bumped once per parallel loop */
   atomic_int remaining;   /* workers still busy in this loop */
-  bool stopping;
+  atomic_bool stopping;
   bool started;
   /* The loop being run. */
   gm_parallel_fn *fn;

@@ -1,0 +1,275 @@
+/*
+ * granmpm_bench.c - speed and memory of the explicit step, as CSV on stdout.
+ *
+ * Scene: a square elastic block (plane strain, linear shape functions, USL,
+ * 2x2 points per cell) resting on a fixed (no-slip) bottom wall under
+ * gravity, so the step does real work (stress waves from the wall), not
+ * just a free fall. Cases, in increasing size:
+ *
+ *   block-1e4, block-1e5, block-1e6   ~1e4, 1e5, 1e6 points, box just
+ *                                     around the block
+ *   empty-1e5                         the 1e5 block in a box 10x larger
+ *                                     per axis (100x the area): checks that
+ *                                     empty grid space costs nothing
+ *
+ * each with 1 and 2 workers (the built-in pool). Every case runs in its own
+ * forked process, so peak_rss_mb is that case's peak (not the peak of all
+ * cases so far) and bytes_per_point is the peak RSS increase over the
+ * process's RSS before the domain was created, divided by the points: it
+ * includes the grid, the scratch and the transient peaks of creation.
+ *
+ * Usage: granmpm-bench [--quick] [--case NAME]
+ *   --quick      only the 1e4 and 1e5 cases (block-1e4, block-1e5,
+ *                empty-1e5)
+ *   --case NAME  only that case (both worker counts)
+ *
+ * Timing: a few warm-up steps (first-touch allocation of the grid and
+ * scratch happens there), then the step count is chosen so each case takes
+ * about target_seconds. CLOCK_MONOTONIC wall time. See bench/README.md.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <granmpm.h>
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+typedef struct bench_case {
+  const char *name;
+  double target_points;
+  double box_scale; /* box size / compact box size, per axis */
+  bool quick;       /* part of --quick */
+} bench_case;
+
+/* In increasing size order. */
+static const bench_case bench_cases[] = {
+    {"block-1e4", 1e4, 1.0, true},
+    {"block-1e5", 1e5, 1.0, true},
+    {"empty-1e5", 1e5, 10.0, true},
+    {"block-1e6", 1e6, 1.0, false},
+};
+enum { CASE_COUNT = sizeof bench_cases / sizeof bench_cases[0] };
+static const int worker_counts[] = {1, 2};
+
+static const double block_side = 5.0;     /* m, whatever the resolution */
+static const double youngs_modulus = 1e7; /* Pa */
+static const double poisson_ratio = 0.3;
+static const double block_density = 2000.0; /* kg/m^3 */
+static const double gravity = -9.81;        /* m/s^2, along y */
+static const int margin_cells = 4;          /* free cells around the block */
+static const int warm_up_steps = 3;
+static const int calibration_steps = 2;
+static const double target_seconds = 1.5; /* per case */
+static const int min_steps = 3, max_steps = 5000;
+
+/* What one case measured. */
+typedef struct bench_result {
+  size_t points;
+  int steps;
+  double seconds;
+  double peak_rss_bytes;
+  double rss_increase_bytes;
+} bench_result;
+
+static double now_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Current resident set (bytes) from /proc/self/statm; -1 if unavailable. */
+static double current_rss_bytes(void) {
+  FILE *file = fopen("/proc/self/statm", "r");
+  if (!file)
+    return -1.0;
+  unsigned long total_pages = 0, resident_pages = 0;
+  int read = fscanf(file, "%lu %lu", &total_pages, &resident_pages);
+  fclose(file);
+  if (read != 2)
+    return -1.0;
+  return (double)resident_pages * (double)sysconf(_SC_PAGESIZE);
+}
+
+/* Peak resident set of this process (bytes); Linux reports KiB. */
+static double peak_rss_bytes(void) {
+  struct rusage usage;
+  if (getrusage(RUSAGE_SELF, &usage) != 0)
+    return -1.0;
+  return 1024.0 * (double)usage.ru_maxrss;
+}
+
+static int report_failure(const gm_domain *domain, const char *call,
+                          gm_status status) {
+  fprintf(stderr, "granmpm-bench: %s failed: %s\n  %s\n", call,
+          gm_strerror(status),
+          domain ? gm_domain_last_error(domain) : gm_last_create_error());
+  return 1;
+}
+
+/* Evaluates a gm_* call; on error reports it and returns 1. */
+#define CHECK(domain, call)                                                    \
+  do {                                                                         \
+    gm_status check_status_ = (call);                                          \
+    if (check_status_ != GM_OK)                                                \
+      return report_failure(domain, #call, check_status_);                     \
+  } while (0)
+
+/* Creates the domain and the block for one case. */
+static int build_scene(const bench_case *scene, int workers,
+                       gm_domain **domain) {
+  /* n^2 cells of 4 points each give target_points. */
+  int cells_per_side = (int)lround(sqrt(scene->target_points / 4.0));
+  double cell_size = block_side / cells_per_side; /* m */
+  double margin = margin_cells * cell_size;       /* m */
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_PLANE_STRAIN;
+  def.origin[0] = -margin;
+  def.origin[1] = 0.0; /* the bottom wall carries the block */
+  def.extent[0] = scene->box_scale * (block_side + 2 * margin);
+  def.extent[1] = scene->box_scale * (block_side + margin);
+  def.cell_size = cell_size;
+  def.gravity[1] = gravity;
+  def.scheme = GM_SCHEME_USL;
+  def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
+  def.worker_count = workers;
+  CHECK(*domain, gm_domain_create(&def, domain));
+
+  gm_elastic_def elastic = gm_elastic_def_default();
+  elastic.youngs_modulus = youngs_modulus;
+  elastic.poisson_ratio = poisson_ratio;
+  elastic.density = block_density;
+  int material = -1;
+  CHECK(*domain, gm_domain_add_elastic(*domain, &elastic, &material));
+
+  gm_fill_def fill = gm_fill_def_default();
+  fill.material = material;
+  fill.upper[0] = block_side;
+  fill.upper[1] = block_side;
+  fill.points_per_cell_axis = 2;
+  CHECK(*domain, gm_domain_fill_box(*domain, &fill, NULL, NULL));
+  return 0;
+}
+
+/* Runs `steps` stable steps; returns 0 or 1 after reporting an error. */
+static int run_steps(gm_domain *domain, int steps) {
+  for (int step = 0; step < steps; step++)
+    CHECK(domain, gm_domain_step(domain, 0.0)); /* dt <= 0: the stable dt */
+  return 0;
+}
+
+/* Builds, warms up, calibrates and times one case. */
+static int measure_case(const bench_case *scene, int workers,
+                        bench_result *result) {
+  double baseline_rss = current_rss_bytes();
+  gm_domain *domain = NULL;
+  int failed = build_scene(scene, workers, &domain);
+  if (!failed)
+    failed = run_steps(domain, warm_up_steps);
+  double start = now_seconds();
+  if (!failed)
+    failed = run_steps(domain, calibration_steps);
+  double per_step = (now_seconds() - start) / calibration_steps;
+  int steps = (int)(target_seconds / fmax(per_step, 1e-9));
+  steps = steps < min_steps ? min_steps : steps > max_steps ? max_steps : steps;
+  start = now_seconds();
+  if (!failed)
+    failed = run_steps(domain, steps);
+  result->seconds = now_seconds() - start;
+  result->steps = steps;
+  result->points = gm_domain_point_count(domain);
+  result->peak_rss_bytes = peak_rss_bytes();
+  result->rss_increase_bytes =
+      baseline_rss >= 0 ? result->peak_rss_bytes - baseline_rss : -1.0;
+  gm_domain_destroy(domain);
+  return failed;
+}
+
+/* Child process: one case, one CSV row. */
+static int run_case(const bench_case *scene, int workers) {
+  bench_result result = {0};
+  if (measure_case(scene, workers, &result) != 0)
+    return 1;
+  double point_steps = (double)result.points * result.steps;
+  printf("%s,%zu,%d,%d,%.3f,%.2f,%.1f,%.0f\n", scene->name, result.points,
+         workers, result.steps, result.seconds,
+         1e9 * result.seconds / point_steps,
+         result.peak_rss_bytes / (1024.0 * 1024.0),
+         result.rss_increase_bytes / (double)result.points);
+  return 0;
+}
+
+/* Runs a case in a forked child so its memory numbers are its own. */
+static bool run_case_isolated(const bench_case *scene, int workers) {
+  fflush(stdout);
+  fflush(stderr);
+  pid_t child = fork();
+  if (child < 0) {
+    perror("granmpm-bench: fork");
+    return false;
+  }
+  if (child == 0)
+    exit(run_case(scene, workers));
+  int wait_status = 0;
+  if (waitpid(child, &wait_status, 0) != child)
+    return false;
+  if (WIFEXITED(wait_status) && WEXITSTATUS(wait_status) == 0)
+    return true;
+  fprintf(stderr, "granmpm-bench: case %s with %d worker(s) failed\n",
+          scene->name, workers);
+  return false;
+}
+
+static void print_usage(FILE *stream) {
+  fprintf(stream, "usage: granmpm-bench [--quick] [--case NAME]\ncases:");
+  for (int c = 0; c < CASE_COUNT; c++)
+    fprintf(stream, " %s", bench_cases[c].name);
+  fprintf(stream, "\n");
+}
+
+int main(int argc, char **argv) {
+  bool quick = false;
+  const char *only_case = NULL;
+  for (int a = 1; a < argc; a++) {
+    if (strcmp(argv[a], "--quick") == 0) {
+      quick = true;
+    } else if (strcmp(argv[a], "--case") == 0 && a + 1 < argc) {
+      only_case = argv[++a];
+    } else if (strcmp(argv[a], "--help") == 0) {
+      print_usage(stdout);
+      return 0;
+    } else {
+      print_usage(stderr);
+      return 2;
+    }
+  }
+  bool known = only_case == NULL;
+  for (int c = 0; c < CASE_COUNT; c++)
+    known = known || strcmp(bench_cases[c].name, only_case) == 0;
+  if (!known) {
+    fprintf(stderr, "granmpm-bench: unknown case '%s'\n", only_case);
+    print_usage(stderr);
+    return 2;
+  }
+
+  printf("case,points,workers,steps,seconds,ns_per_point_step,peak_rss_mb,"
+         "bytes_per_point\n");
+  bool all_ok = true;
+  for (int c = 0; c < CASE_COUNT; c++) {
+    const bench_case *scene = &bench_cases[c];
+    if ((quick && !scene->quick) ||
+        (only_case && strcmp(scene->name, only_case) != 0))
+      continue;
+    for (size_t w = 0; w < sizeof worker_counts / sizeof worker_counts[0]; w++)
+      all_ok = run_case_isolated(scene, worker_counts[w]) && all_ok;
+  }
+  return all_ok ? 0 : 1;
+}

@@ -1,0 +1,394 @@
+/*
+ * test_vtu.c - VTU and PVD output. Writes a small plane-strain domain,
+ * parses the file back (XML header offsets + raw appended data) and checks
+ * that every value read equals, bit for bit, what the public field
+ * accessors return; checks I/O error reporting and the time series.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "test_util.h"
+
+enum { POINT_COUNT = 5 };
+
+/* ------------------------------------------------------------ temp dirs */
+
+static char temp_dir[256];
+
+static void make_temp_dir(void) {
+  const char *base = getenv("TMPDIR");
+  snprintf(temp_dir, sizeof temp_dir, "%s/gm_vtu_XXXXXX",
+           base && base[0] ? base : "/tmp");
+  ck_assert_ptr_nonnull(mkdtemp(temp_dir));
+}
+
+/* Removes the files in temp_dir (it has no subdirectories) and the dir. */
+static void remove_temp_dir(void) {
+  DIR *dir = opendir(temp_dir);
+  ck_assert_ptr_nonnull(dir);
+  struct dirent *entry;
+  char path[512];
+  while ((entry = readdir(dir)) != NULL) {
+    if (strcmp(entry->d_name, ".") == 0 || strcmp(entry->d_name, "..") == 0)
+      continue;
+    snprintf(path, sizeof path, "%s/%s", temp_dir, entry->d_name);
+    ck_assert_int_eq(remove(path), 0);
+  }
+  closedir(dir);
+  ck_assert_int_eq(rmdir(temp_dir), 0);
+}
+
+/* Number of entries in temp_dir other than "." and "..". */
+static int temp_dir_entry_count(void) {
+  DIR *dir = opendir(temp_dir);
+  ck_assert_ptr_nonnull(dir);
+  int count = 0;
+  struct dirent *entry;
+  while ((entry = readdir(dir)) != NULL)
+    if (strcmp(entry->d_name, ".") != 0 && strcmp(entry->d_name, "..") != 0)
+      count++;
+  closedir(dir);
+  return count;
+}
+
+/* Whole file, NUL-terminated (the binary part may hold more NULs). */
+static char *read_whole_file(const char *path, size_t *size) {
+  FILE *file = fopen(path, "rb");
+  ck_assert_msg(file != NULL, "cannot open %s", path);
+  ck_assert_int_eq(fseek(file, 0, SEEK_END), 0);
+  long length = ftell(file);
+  ck_assert_int_ge(length, 0);
+  rewind(file);
+  char *data = malloc((size_t)length + 1);
+  ck_assert_ptr_nonnull(data);
+  ck_assert_uint_eq(fread(data, 1, (size_t)length, file), (size_t)length);
+  fclose(file);
+  data[length] = '\0';
+  *size = (size_t)length;
+  return data;
+}
+
+/* ------------------------------------------------------------ the domain */
+
+/* Five points at scattered positions (m), plane strain, elastic. Values
+ * are arbitrary but distinct per point so a shuffled or shifted array in
+ * the file cannot match by accident. */
+static gm_domain *make_domain(void) {
+  gm_domain_def def = gm_domain_def_default();
+  def.extent[0] = 2.0;    /* m */
+  def.extent[1] = 1.0;    /* m */
+  def.cell_size = 0.25;   /* m */
+  def.gravity[1] = -9.81; /* m/s^2, so the series frames differ */
+  def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+  const double position[POINT_COUNT * 2] = {1.55, 0.40, 0.30, 0.20, 0.90,
+                                            0.65, 0.12, 0.37, 1.21, 0.83};
+  const double velocity[POINT_COUNT * 2] = {0.1, -0.2, 0.0,  0.3,  -0.05,
+                                            0.0, 0.7,  0.25, -0.4, 0.125};
+  const double volume[POINT_COUNT] = {0.01, 0.02, 0.015, 0.0125, 0.03};
+  const double mass[POINT_COUNT] = {10.5, 19.0, 16.25, 12.0, 31.5};
+  double stress[POINT_COUNT * 6] = {0};
+  for (int i = 0; i < POINT_COUNT; i++) {
+    stress[i * 6 + GM_XX] = -1000.0 - 17.0 * i; /* Pa */
+    stress[i * 6 + GM_YY] = -2000.0 + 3.5 * i;
+    stress[i * 6 + GM_ZZ] = -900.0 - 0.25 * i;
+    stress[i * 6 + GM_XY] = 40.0 * i - 60.0;
+  }
+  gm_points_def points = gm_points_def_default();
+  points.count = POINT_COUNT;
+  points.material = material;
+  points.position = position;
+  points.velocity = velocity;
+  points.volume = volume;
+  points.mass = mass;
+  points.stress = stress;
+  int64_t first_id = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, &first_id));
+  return domain;
+}
+
+/* ---------------------------------------------------------- VTU parsing */
+
+typedef struct parsed_vtu {
+  char *data;                 /* whole file */
+  size_t size;                /* bytes */
+  char *header;               /* copy of the XML before the '_' marker */
+  const unsigned char *block; /* first byte after '_' */
+} parsed_vtu;
+
+static parsed_vtu parse_vtu(const char *path) {
+  parsed_vtu vtu = {0};
+  vtu.data = read_whole_file(path, &vtu.size);
+  char *appended = strstr(vtu.data, "<AppendedData encoding=\"raw\">");
+  ck_assert_ptr_nonnull(appended);
+  char *marker = strchr(appended, '_');
+  ck_assert_ptr_nonnull(marker);
+  size_t header_length = (size_t)(marker - vtu.data);
+  vtu.header = malloc(header_length + 1);
+  ck_assert_ptr_nonnull(vtu.header);
+  memcpy(vtu.header, vtu.data, header_length);
+  vtu.header[header_length] = '\0';
+  vtu.block = (const unsigned char *)marker + 1;
+  return vtu;
+}
+
+static void free_vtu(parsed_vtu *vtu) {
+  free(vtu->data);
+  free(vtu->header);
+}
+
+/* Value of attribute `name` in the tag that contains `where`. */
+static unsigned long long tag_attribute(const char *where, const char *name) {
+  char pattern[64];
+  snprintf(pattern, sizeof pattern, " %s=\"", name);
+  const char *tag_end = strchr(where, '>');
+  const char *found = strstr(where, pattern);
+  ck_assert_msg(found && tag_end && found < tag_end, "no %s attribute", name);
+  return strtoull(found + strlen(pattern), NULL, 10);
+}
+
+/* Payload of the DataArray called name: checks type, components and the
+ * UInt64 size prefix; returns a pointer to the raw values. */
+static const unsigned char *find_array(const parsed_vtu *vtu, const char *name,
+                                       const char *type, size_t components,
+                                       size_t value_size, size_t tuples) {
+  char pattern[128];
+  snprintf(pattern, sizeof pattern, "<DataArray type=\"%s\" Name=\"%s\"", type,
+           name);
+  const char *tag = strstr(vtu->header, pattern);
+  ck_assert_msg(tag != NULL, "no %s array of type %s", name, type);
+  ck_assert_uint_eq(tag_attribute(tag, "NumberOfComponents"), components);
+  unsigned long long offset = tag_attribute(tag, "offset");
+  uint64_t bytes = 0;
+  const unsigned char *prefix = vtu->block + offset;
+  ck_assert_msg(prefix + sizeof bytes <=
+                    (const unsigned char *)vtu->data + vtu->size,
+                "array %s starts past the end of the file", name);
+  memcpy(&bytes, prefix, sizeof bytes);
+  ck_assert_uint_eq(bytes, tuples * components * value_size);
+  ck_assert(prefix + sizeof bytes + bytes <=
+            (const unsigned char *)vtu->data + vtu->size);
+  return prefix + sizeof bytes;
+}
+
+/* Reads the array and compares it bit for bit with the field padded to
+ * `padded` components (zeros in the padding). */
+static void check_field(const parsed_vtu *vtu, const gm_domain *domain,
+                        const char *name, gm_field field, size_t padded) {
+  size_t components = 0;
+  TEST_ASSERT_OK(domain,
+                 gm_domain_field_components(domain, field, &components));
+  double expected[POINT_COUNT * 9];
+  TEST_ASSERT_OK(domain, gm_domain_get_field(domain, field, expected,
+                                             POINT_COUNT * components));
+  const unsigned char *raw =
+      find_array(vtu, name, "Float64", padded, sizeof(double), POINT_COUNT);
+  for (size_t i = 0; i < POINT_COUNT; i++)
+    for (size_t k = 0; k < padded; k++) {
+      double value;
+      memcpy(&value, raw + (i * padded + k) * sizeof value, sizeof value);
+      double want = k < components ? expected[i * components + k] : 0.0;
+      /* Exact: the file holds the same doubles, not a printed rounding. */
+      ck_assert_msg(value == want, "%s[%zu][%zu] = %.17g, expected %.17g", name,
+                    i, k, value, want);
+    }
+}
+
+static const char *host_byte_order(void) {
+  const uint16_t probe = 1;
+  unsigned char first;
+  memcpy(&first, &probe, 1);
+  return first == 1 ? "LittleEndian" : "BigEndian";
+}
+
+/* ----------------------------------------------------------------- tests */
+
+START_TEST(test_vtu_round_trip) {
+  make_temp_dir();
+  gm_domain *domain = make_domain();
+  char path[512];
+  snprintf(path, sizeof path, "%s/points.vtu", temp_dir);
+  TEST_ASSERT_OK(domain, gm_domain_write_vtu(domain, path));
+  /* Only the final file: the temporary one was renamed. */
+  ck_assert_int_eq(temp_dir_entry_count(), 1);
+
+  parsed_vtu vtu = parse_vtu(path);
+  ck_assert_ptr_nonnull(strstr(vtu.header, "type=\"UnstructuredGrid\""));
+  ck_assert_ptr_nonnull(strstr(vtu.header, "header_type=\"UInt64\""));
+  char order[64];
+  snprintf(order, sizeof order, "byte_order=\"%s\"", host_byte_order());
+  ck_assert_ptr_nonnull(strstr(vtu.header, order));
+  const char *piece = strstr(vtu.header, "<Piece");
+  ck_assert_ptr_nonnull(piece);
+  ck_assert_uint_eq(tag_attribute(piece, "NumberOfPoints"), POINT_COUNT);
+  ck_assert_uint_eq(tag_attribute(piece, "NumberOfCells"), POINT_COUNT);
+
+  check_field(&vtu, domain, "Points", GM_FIELD_POSITION, 3);
+  check_field(&vtu, domain, "velocity", GM_FIELD_VELOCITY, 3);
+  check_field(&vtu, domain, "mass", GM_FIELD_MASS, 1);
+  check_field(&vtu, domain, "stress", GM_FIELD_STRESS, 6);
+  check_field(&vtu, domain, "deformation_gradient",
+              GM_FIELD_DEFORMATION_GRADIENT, 9);
+
+  int64_t ids[POINT_COUNT];
+  TEST_ASSERT_OK(domain, gm_domain_get_ids(domain, ids, POINT_COUNT));
+  const unsigned char *raw =
+      find_array(&vtu, "id", "Int64", 1, sizeof(int64_t), POINT_COUNT);
+  for (size_t i = 0; i < POINT_COUNT; i++) {
+    int64_t id;
+    memcpy(&id, raw + i * sizeof id, sizeof id);
+    ck_assert_int_eq(id, ids[i]);
+  }
+  /* One VTK_VERTEX (type 1) cell per point. */
+  raw = find_array(&vtu, "types", "UInt8", 1, 1, POINT_COUNT);
+  for (size_t i = 0; i < POINT_COUNT; i++)
+    ck_assert_uint_eq(raw[i], 1);
+  /* Point i in cell i, each cell ending one entry after the previous. */
+  const unsigned char *connectivity = find_array(
+      &vtu, "connectivity", "Int64", 1, sizeof(int64_t), POINT_COUNT);
+  const unsigned char *offsets =
+      find_array(&vtu, "offsets", "Int64", 1, sizeof(int64_t), POINT_COUNT);
+  for (size_t i = 0; i < POINT_COUNT; i++) {
+    int64_t point, offset;
+    memcpy(&point, connectivity + i * sizeof point, sizeof point);
+    memcpy(&offset, offsets + i * sizeof offset, sizeof offset);
+    ck_assert_int_eq(point, (int64_t)i);
+    ck_assert_int_eq(offset, (int64_t)i + 1);
+  }
+  /* The closing tags follow the last array: the file is complete. */
+  const char *tail = "</AppendedData>\n</VTKFile>\n";
+  ck_assert_uint_gt(vtu.size, strlen(tail));
+  ck_assert_str_eq(vtu.data + vtu.size - strlen(tail), tail);
+  free_vtu(&vtu);
+  gm_domain_destroy(domain);
+  remove_temp_dir();
+}
+END_TEST
+
+START_TEST(test_vtu_missing_directory) {
+  make_temp_dir();
+  gm_domain *domain = make_domain();
+  char path[512];
+  snprintf(path, sizeof path, "%s/no-such-dir/points.vtu", temp_dir);
+  ck_assert_int_eq(gm_domain_write_vtu(domain, path), GM_ERR_IO);
+  const char *message = gm_domain_last_error(domain);
+  ck_assert_msg(strstr(message, path) != NULL,
+                "message '%s' does not name '%s'", message, path);
+  ck_assert_int_eq(temp_dir_entry_count(), 0);
+  ck_assert_int_eq(gm_domain_write_vtu(domain, NULL), GM_ERR_NULL);
+  ck_assert_int_eq(gm_domain_write_vtu(NULL, path), GM_ERR_NULL);
+  gm_domain_destroy(domain);
+  remove_temp_dir();
+}
+END_TEST
+
+/* Timesteps of the DataSets in a .pvd, in file order; returns the count
+ * and checks each file name is stem_NNNNNN.vtu with N its position. */
+static int read_pvd(const char *path, double *timesteps, int capacity) {
+  size_t size = 0;
+  char *text = read_whole_file(path, &size);
+  ck_assert_ptr_nonnull(strstr(text, "</Collection>\n</VTKFile>"));
+  int count = 0;
+  for (const char *tag = strstr(text, "<DataSet"); tag;
+       tag = strstr(tag + 1, "<DataSet")) {
+    ck_assert_int_lt(count, capacity);
+    const char *time = strstr(tag, "timestep=\"");
+    ck_assert_ptr_nonnull(time);
+    timesteps[count] = strtod(time + strlen("timestep=\""), NULL);
+    char file[64];
+    snprintf(file, sizeof file, "file=\"bar_%06d.vtu\"", count);
+    const char *end = strchr(tag, '>');
+    const char *found = strstr(tag, file);
+    ck_assert_msg(found && found < end, "DataSet %d does not list %s", count,
+                  file);
+    count++;
+  }
+  free(text);
+  return count;
+}
+
+START_TEST(test_series_three_frames) {
+  make_temp_dir();
+  gm_domain *domain = make_domain();
+  char pvd[512];
+  snprintf(pvd, sizeof pvd, "%s/bar.pvd", temp_dir);
+  gm_series *series = NULL;
+  ck_assert_int_eq(gm_series_create(pvd, &series), GM_OK);
+  double times[3];
+  for (int frame = 0; frame < 3; frame++) {
+    if (frame > 0)
+      TEST_ASSERT_OK(domain, gm_domain_step(domain, 0.0));
+    TEST_ASSERT_OK(domain, gm_domain_get_time(domain, &times[frame], NULL));
+    TEST_ASSERT_OK(domain, gm_series_write(series, domain));
+    /* The .pvd is complete after every frame. */
+    double listed[8];
+    ck_assert_int_eq(read_pvd(pvd, listed, 8), frame + 1);
+  }
+  gm_series_destroy(series);
+
+  double listed[8];
+  ck_assert_int_eq(read_pvd(pvd, listed, 8), 3);
+  for (int frame = 0; frame < 3; frame++) {
+    /* %.17g round-trips a double exactly. */
+    ck_assert_double_eq(listed[frame], times[frame]);
+    if (frame > 0)
+      ck_assert_double_gt(listed[frame], listed[frame - 1]);
+    char path[512];
+    snprintf(path, sizeof path, "%s/bar_%06d.vtu", temp_dir, frame);
+    parsed_vtu vtu = parse_vtu(path);
+    const char *piece = strstr(vtu.header, "<Piece");
+    ck_assert_ptr_nonnull(piece);
+    ck_assert_uint_eq(tag_attribute(piece, "NumberOfPoints"), POINT_COUNT);
+    free_vtu(&vtu);
+  }
+  /* 3 frames + the .pvd, no temporary files left behind. */
+  ck_assert_int_eq(temp_dir_entry_count(), 4);
+  gm_domain_destroy(domain);
+  remove_temp_dir();
+}
+END_TEST
+
+START_TEST(test_series_bad_arguments) {
+  make_temp_dir();
+  gm_series *series = NULL;
+  ck_assert_int_eq(gm_series_create(NULL, &series), GM_ERR_NULL);
+  ck_assert_ptr_null(series);
+  ck_assert_int_eq(gm_series_create("x.pvd", NULL), GM_ERR_NULL);
+  char path[512];
+  snprintf(path, sizeof path, "%s/", temp_dir);
+  ck_assert_int_eq(gm_series_create(path, &series), GM_ERR_INVALID_ARGUMENT);
+  snprintf(path, sizeof path, "%s/.pvd", temp_dir);
+  ck_assert_int_eq(gm_series_create(path, &series), GM_ERR_INVALID_ARGUMENT);
+  snprintf(path, sizeof path, "%s/missing/bar.pvd", temp_dir);
+  ck_assert_int_eq(gm_series_create(path, &series), GM_ERR_IO);
+  ck_assert_ptr_null(series);
+  ck_assert_int_eq(temp_dir_entry_count(), 0);
+  gm_series_destroy(NULL); /* a no-op */
+  remove_temp_dir();
+}
+END_TEST
+
+static Suite *vtu_suite(void) {
+  Suite *suite = suite_create("vtu");
+  TCase *vtu = tcase_create("vtu");
+  tcase_add_test(vtu, test_vtu_round_trip);
+  tcase_add_test(vtu, test_vtu_missing_directory);
+  suite_add_tcase(suite, vtu);
+  TCase *series = tcase_create("series");
+  tcase_add_test(series, test_series_three_frames);
+  tcase_add_test(series, test_series_bad_arguments);
+  suite_add_tcase(suite, series);
+  return suite;
+}
+
+int main(void) {
+  return test_run_suite(vtu_suite()) ? 1 : 0;
+}
