@@ -405,7 +405,8 @@ GM_API gm_status gm_domain_set_step_hook(gm_domain *domain,
  * domain is exactly as before the call (except for edits made by a hook). */
 GM_API gm_status gm_domain_step(gm_domain *domain, double dt);
 
-/** Largest stable dt for the current state: cfl * h / max(c_p + |v_p|), with
+/** Largest stable dt for the current state: cfl * h / (max c_p + max |v_p|)
+ * (a safe bound of the fastest signal max(c_p + |v_p|)), with
  * c_p = sqrt(M / rho_p) the P-wave speed (004 eq 3.11-3.12). Velocities
  * edited with gm_domain_edit_field() are taken into account. */
 GM_API gm_status gm_domain_stable_dt(const gm_domain *domain, double *dt);

@@ -60,12 +60,23 @@ static void key_ranges(void *context, size_t begin, size_t end, int worker) {
   gm_domain *domain = context;
   gm_points *points = &domain->points;
   const gm_point_buffers *current = &points->buffer[points->cur];
-  double position[2] = {0.0, 0.0};
-  for (size_t i = begin; i < end; i++) {
-    for (int k = 0; k < domain->dim; k++)
-      position[k] = current->position[k][i];
-    gm_block_key_of(domain, position, &points->block_key[i]);
+  const double *restrict x = current->position[0];
+  const double *restrict y = current->position[domain->dim > 1 ? 1 : 0];
+  int64_t *restrict key = points->block_key;
+  double origin_x = domain->def.origin[0], inv_cell = domain->inv_cell;
+  double origin_y = domain->dim > 1 ? domain->def.origin[1] : 0.0;
+  int64_t blocks_x = domain->grid.blocks_per_axis[0];
+  int shift = domain->grid.shift;
+  /* gm_block_key_of's arithmetic, inlined: (int64_t) truncation is floor
+   * for these non-negative cell coordinates. */
+  if (domain->dim == 1) {
+    for (size_t i = begin; i < end; i++)
+      key[i] = (int64_t)((x[i] - origin_x) * inv_cell) >> shift;
+    return;
   }
+  for (size_t i = begin; i < end; i++)
+    key[i] = ((int64_t)((y[i] - origin_y) * inv_cell) >> shift) * blocks_x +
+             ((int64_t)((x[i] - origin_x) * inv_cell) >> shift);
 }
 
 gm_status gm_bin_points(gm_domain *domain) {

@@ -122,6 +122,9 @@ static gm_status allocate_scratch(gm_domain *domain) {
       scratch->state_columns[k] = scratch->state_storage + k * GM_BATCH_SIZE;
     for (uint32_t r = 0; r < GM_BATCH_SIZE; r++)
       scratch->identity_rows[r] = r;
+    scratch->gather = gm_alloc(gm_chunk_gather_size());
+    if (!scratch->gather)
+      return GM_ERR_NO_MEMORY;
   }
   return GM_OK;
 }
@@ -182,7 +185,6 @@ static void free_grid(gm_grid *grid) {
   for (int k = 0; k < 2; k++) {
     gm_free(grid->momentum[k]);
     gm_free(grid->force[k]);
-    gm_free(grid->velocity[k]);
   }
 }
 
@@ -194,8 +196,10 @@ void gm_domain_destroy(gm_domain *domain) {
   gm_buffers_free(&domain->snapshot);
   free_grid(&domain->grid);
   if (domain->scratch) {
-    for (int w = 0; w < domain->worker_count; w++)
+    for (int w = 0; w < domain->worker_count; w++) {
       gm_free(domain->scratch[w].state_storage);
+      gm_free(domain->scratch[w].gather);
+    }
   }
   gm_free(domain->scratch);
   gm_free(domain->materials);

@@ -77,7 +77,7 @@ static void lattice_site(const gm_domain *domain, const lattice *grid,
 }
 
 /* Points are added in slabs so the temporary arrays stay small. */
-enum { FILL_SLAB = 16384 };
+enum { FILL_SLAB = 4096 };
 
 typedef struct fill_arrays {
   double position[FILL_SLAB * 2];

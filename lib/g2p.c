@@ -42,200 +42,304 @@ typedef struct g2p_context {
   gather_view view;
 } g2p_context;
 
-/* Nodal values seen by one point: interpolated acceleration and velocity,
- * and the velocity gradient (L_xx, L_xy, L_yx, L_yy, L_zz). */
-typedef struct point_gather {
-  double acceleration[2]; /* m/s^2 */
-  double velocity[2];     /* m/s */
-  double gradient[5];     /* 1/s */
-} point_gather;
+/* What the grid tells the points of one chunk, SoA: interpolated nodal
+ * acceleration and velocity, and the velocity gradient components
+ * (L_xx, L_xy, L_yx, L_yy, L_zz). */
+struct chunk_gather {
+  double acceleration[2][GM_BATCH_SIZE]; /* m/s^2 */
+  double velocity[2][GM_BATCH_SIZE];     /* m/s */
+  double gradient[5][GM_BATCH_SIZE];     /* 1/s */
+};
+typedef struct chunk_gather chunk_gather;
 
-static inline void gather_2d(const gather_view *v, size_t p,
-                             point_gather *out) {
-  double x = v->position[0][p], y = v->position[1][p];
-  double wx[2], dx[2], wy[2], dy[2];
-  int64_t cx = gm_shape_linear_axis(x, v->origin[0], v->inv_cell, wx, dx);
-  int64_t cy = gm_shape_linear_axis(y, v->origin[1], v->inv_cell, wy, dy);
-  const uint32_t *links =
-      v->neighbour + (size_t)v->point_block[p] * GM_BLOCK_NEIGHBOURS;
-  int64_t mask = ((int64_t)1 << v->shift) - 1;
-  size_t node[4];
-  gm_cell_nodes_2d(links, v->shift, cx & mask, cy & mask, node);
+static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
+                            chunk_gather *out) {
+  const double *restrict px = v->position[0] + first;
+  const double *restrict py = v->position[1] + first;
+  const uint32_t *restrict point_block = v->point_block + first;
+  const uint32_t *restrict neighbour = v->neighbour;
   const double *restrict gvx = v->grid_velocity[0];
   const double *restrict gvy = v->grid_velocity[1];
   const double *restrict gax = v->grid_acceleration[0];
   const double *restrict gay = v->grid_acceleration[1];
-  double weight[4] = {wx[0] * wy[0], wx[1] * wy[0], wx[0] * wy[1],
-                      wx[1] * wy[1]};
-  double grad_x[4] = {dx[0] * wy[0], dx[1] * wy[0], dx[0] * wy[1],
-                      dx[1] * wy[1]};
-  double grad_y[4] = {wx[0] * dy[0], wx[1] * dy[0], wx[0] * dy[1],
-                      wx[1] * dy[1]};
-  point_gather sum = {{0, 0}, {0, 0}, {0, 0, 0, 0, 0}};
-  for (int n = 0; n < 4; n++) {
-    double vx = gvx[node[n]], vy = gvy[node[n]];
-    sum.acceleration[0] += weight[n] * gax[node[n]];
-    sum.acceleration[1] += weight[n] * gay[node[n]];
-    sum.velocity[0] += weight[n] * vx;
-    sum.velocity[1] += weight[n] * vy;
-    sum.gradient[0] += vx * grad_x[n];
-    sum.gradient[1] += vx * grad_y[n];
-    sum.gradient[2] += vy * grad_x[n];
-    sum.gradient[3] += vy * grad_y[n];
+  double origin_x = v->origin[0], origin_y = v->origin[1];
+  double inv_cell = v->inv_cell;
+  int shift = v->shift;
+  int64_t mask = ((int64_t)1 << shift) - 1;
+  bool axisymmetric = v->axisymmetric;
+  for (size_t j = 0; j < count; j++) {
+    double wx[2], dx[2], wy[2], dy[2];
+    int64_t cx = gm_shape_linear_axis(px[j], origin_x, inv_cell, wx, dx);
+    int64_t cy = gm_shape_linear_axis(py[j], origin_y, inv_cell, wy, dy);
+    const uint32_t *links =
+        neighbour + (size_t)point_block[j] * GM_BLOCK_NEIGHBOURS;
+    size_t node[4];
+    gm_cell_nodes_2d(links, shift, cx & mask, cy & mask, node);
+    double weight[4] = {wx[0] * wy[0], wx[1] * wy[0], wx[0] * wy[1],
+                        wx[1] * wy[1]};
+    double grad_x[4] = {dx[0] * wy[0], dx[1] * wy[0], dx[0] * wy[1],
+                        dx[1] * wy[1]};
+    double grad_y[4] = {wx[0] * dy[0], wx[1] * dy[0], wx[0] * dy[1],
+                        wx[1] * dy[1]};
+    double ax = 0, ay = 0, vx = 0, vy = 0, lxx = 0, lxy = 0, lyx = 0, lyy = 0;
+    for (int n = 0; n < 4; n++) {
+      double nvx = gvx[node[n]], nvy = gvy[node[n]];
+      ax += weight[n] * gax[node[n]];
+      ay += weight[n] * gay[node[n]];
+      vx += weight[n] * nvx;
+      vy += weight[n] * nvy;
+      lxx += nvx * grad_x[n];
+      lxy += nvx * grad_y[n];
+      lyx += nvy * grad_x[n];
+      lyy += nvy * grad_y[n];
+    }
+    out->acceleration[0][j] = ax;
+    out->acceleration[1][j] = ay;
+    out->velocity[0][j] = vx;
+    out->velocity[1][j] = vy;
+    out->gradient[0][j] = lxx;
+    out->gradient[1][j] = lxy;
+    out->gradient[2][j] = lyx;
+    out->gradient[3][j] = lyy;
+    /* Hoop strain rate v_r / r (002 sec 3, last row of B). */
+    out->gradient[4][j] = axisymmetric ? vx / px[j] : 0.0;
   }
-  /* Hoop strain rate v_r / r (002 sec 3, last row of B). */
-  if (v->axisymmetric)
-    sum.gradient[4] = sum.velocity[0] / x;
-  *out = sum;
 }
 
-static inline void gather_1d(const gather_view *v, size_t p,
-                             point_gather *out) {
-  double w[2], d[2];
+static void gather_chunk_1d(const gather_view *v, size_t first, size_t count,
+                            chunk_gather *out) {
   int64_t edge = (int64_t)1 << v->shift, mask = edge - 1;
-  int64_t local =
-      gm_shape_linear_axis(v->position[0][p], v->origin[0], v->inv_cell, w,
-                           d) &
-      mask;
-  const uint32_t *links =
-      v->neighbour + (size_t)v->point_block[p] * GM_BLOCK_NEIGHBOURS;
-  int64_t next = local + 1;
-  size_t node[2] = {(size_t)links[0] * GM_BLOCK_NODES + (size_t)local,
-                    (size_t)links[next >> v->shift] * GM_BLOCK_NODES +
-                        (size_t)(next & mask)};
-  point_gather sum = {{0, 0}, {0, 0}, {0, 0, 0, 0, 0}};
-  for (int a = 0; a < 2; a++) {
-    double velocity = v->grid_velocity[0][node[a]];
-    sum.acceleration[0] += w[a] * v->grid_acceleration[0][node[a]];
-    sum.velocity[0] += w[a] * velocity;
-    sum.gradient[0] += velocity * d[a];
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    double w[2], d[2];
+    int64_t local = gm_shape_linear_axis(v->position[0][p], v->origin[0],
+                                         v->inv_cell, w, d) &
+                    mask;
+    const uint32_t *links =
+        v->neighbour + (size_t)v->point_block[p] * GM_BLOCK_NEIGHBOURS;
+    int64_t next = local + 1;
+    size_t node[2] = {(size_t)links[0] * GM_BLOCK_NODES + (size_t)local,
+                      (size_t)links[next >> v->shift] * GM_BLOCK_NODES +
+                          (size_t)(next & mask)};
+    double acceleration = 0.0, velocity = 0.0, gradient = 0.0;
+    for (int a = 0; a < 2; a++) {
+      double nodal = v->grid_velocity[0][node[a]];
+      acceleration += w[a] * v->grid_acceleration[0][node[a]];
+      velocity += w[a] * nodal;
+      gradient += nodal * d[a];
+    }
+    out->acceleration[0][j] = acceleration;
+    out->velocity[0][j] = velocity;
+    out->gradient[0][j] = gradient;
+    for (int k = 1; k < 5; k++)
+      out->gradient[k][j] = 0.0;
   }
-  *out = sum;
 }
 
-/* Moves point p; false (with a worker error) if it leaves the grid. */
-static inline bool move_point(gm_domain *domain, const gather_view *v,
-                              gm_worker_scratch *scratch, size_t p,
-                              const point_gather *g, double dt) {
-  double moved[2] = {0.0, 0.0};
+/* Particle velocities, FLIP: v_p += dt * sum N_i a_i (004 eq 3.17). */
+static void flip_chunk(const gather_view *v, size_t first, size_t count,
+                       const chunk_gather *g, double dt) {
+  for (int k = 0; k < v->dim; k++) {
+    const double *restrict velocity = v->velocity[k] + first;
+    const double *restrict acceleration = g->acceleration[k];
+    double *restrict next = v->next_velocity[k] + first;
+    for (size_t j = 0; j < count; j++)
+      next[j] = velocity[j] + dt * acceleration[j];
+  }
+}
+
+/* x_p += dt * sum N_i v_i; a point leaving the grid fails the step. */
+static void move_chunk(gm_domain *domain, const gather_view *v,
+                       gm_worker_scratch *scratch, size_t first, size_t count,
+                       const chunk_gather *g, double dt) {
   bool inside = true;
   for (int k = 0; k < v->dim; k++) {
-    moved[k] = v->position[k][p] + dt * g->velocity[k];
-    v->next_position[k][p] = moved[k];
+    const double *restrict position = v->position[k] + first;
+    const double *restrict velocity = g->velocity[k];
+    double *restrict next = v->next_position[k] + first;
     /* Same arithmetic as gm_block_key_of and the shape functions. */
-    double scaled = (moved[k] - v->origin[k]) * v->inv_cell;
-    inside = inside && scaled >= 0.0 && scaled < v->cells[k];
+    double origin = v->origin[k], inv_cell = v->inv_cell, cells = v->cells[k];
+    bool axis_inside = true;
+    for (size_t j = 0; j < count; j++) {
+      next[j] = position[j] + dt * velocity[j];
+      double scaled = (next[j] - origin) * inv_cell;
+      axis_inside &= scaled >= 0.0 && scaled < cells;
+    }
+    inside = inside && axis_inside;
   }
   if (inside)
-    return true;
-  bool finite = isfinite(moved[0]) && isfinite(moved[1]);
-  gm_worker_error(scratch, finite ? GM_ERR_OUT_OF_GRID : GM_ERR_NOT_FINITE, p,
-                  "step: point id %lld %s (x = %g, y = %g m at t = %g s); "
-                  "the step was not taken",
-                  (long long)domain->points.id[p],
-                  finite ? "would leave the grid box"
-                         : "got a non-finite position",
-                  moved[0], moved[1], domain->time + dt);
-  return false;
+    return;
+  for (size_t p = first; p < first + count; p++) {
+    double moved[2] = {v->next_position[0][p],
+                       v->dim > 1 ? v->next_position[1][p] : 0.0};
+    int64_t key;
+    if (gm_block_key_of(domain, moved, &key))
+      continue;
+    bool finite = isfinite(moved[0]) && isfinite(moved[1]);
+    gm_worker_error(scratch, finite ? GM_ERR_OUT_OF_GRID : GM_ERR_NOT_FINITE,
+                    p,
+                    "step: point id %lld %s (x = %g, y = %g m at t = %g s); "
+                    "the step was not taken",
+                    (long long)domain->points.id[p],
+                    finite ? "would leave the grid box"
+                           : "got a non-finite position",
+                    moved[0], moved[1], domain->time + dt);
+  }
 }
 
-/* F <- (I + L dt) F and V = det F V0; false if det F <= 0. */
-static inline bool deform_point(gm_domain *domain, const gather_view *v,
-                                gm_worker_scratch *scratch, size_t p,
-                                const double gradient[5], double dt) {
-  double f_xx = v->deformation[F_XX][p], f_xy = v->deformation[F_XY][p];
-  double f_yx = v->deformation[F_YX][p], f_yy = v->deformation[F_YY][p];
-  double i_xx = 1.0 + gradient[0] * dt, i_xy = gradient[1] * dt;
-  double i_yx = gradient[2] * dt, i_yy = 1.0 + gradient[3] * dt;
-  double next_xx = i_xx * f_xx + i_xy * f_yx;
-  double next_xy = i_xx * f_xy + i_xy * f_yy;
-  double next_yx = i_yx * f_xx + i_yy * f_yx;
-  double next_yy = i_yx * f_xy + i_yy * f_yy;
-  /* The hoop stretch is stored in axisymmetry only (1 otherwise). */
-  double next_zz =
-      v->axisymmetric ? (1.0 + gradient[4] * dt) * v->deformation[F_ZZ][p]
-                      : 1.0;
-  v->next_deformation[F_XX][p] = next_xx;
-  v->next_deformation[F_XY][p] = next_xy;
-  v->next_deformation[F_YX][p] = next_yx;
-  v->next_deformation[F_YY][p] = next_yy;
-  if (v->axisymmetric)
-    v->next_deformation[F_ZZ][p] = next_zz;
-  double jacobian = (next_xx * next_yy - next_xy * next_yx) * next_zz;
-  v->next_volume[p] = jacobian * v->initial_volume[p];
-  if (jacobian > 0.0 && jacobian < INFINITY)
-    return true;
-  gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
-                  "step: point id %lld has det F = %g (inverted or "
-                  "non-finite deformation at t = %g s); reduce dt",
-                  (long long)domain->points.id[p], jacobian,
-                  domain->time + dt);
-  return false;
+/* F <- (I + L dt) F and V = det F V0 (004 eq 3.23); det F <= 0 fails. */
+static void deform_chunk(gm_domain *domain, const gather_view *v,
+                         gm_worker_scratch *scratch, size_t first,
+                         size_t count, const chunk_gather *g, double dt) {
+  const double *restrict f_xx = v->deformation[F_XX] + first;
+  const double *restrict f_xy = v->deformation[F_XY] + first;
+  const double *restrict f_yx = v->deformation[F_YX] + first;
+  const double *restrict f_yy = v->deformation[F_YY] + first;
+  double *restrict n_xx = v->next_deformation[F_XX] + first;
+  double *restrict n_xy = v->next_deformation[F_XY] + first;
+  double *restrict n_yx = v->next_deformation[F_YX] + first;
+  double *restrict n_yy = v->next_deformation[F_YY] + first;
+  const double *restrict initial_volume = v->initial_volume + first;
+  double *restrict volume = v->next_volume + first;
+  const double *restrict l_xx = g->gradient[0], *restrict l_xy = g->gradient[1];
+  const double *restrict l_yx = g->gradient[2], *restrict l_yy = g->gradient[3];
+  bool positive = true;
+  for (size_t j = 0; j < count; j++) {
+    double i_xx = 1.0 + l_xx[j] * dt, i_xy = l_xy[j] * dt;
+    double i_yx = l_yx[j] * dt, i_yy = 1.0 + l_yy[j] * dt;
+    n_xx[j] = i_xx * f_xx[j] + i_xy * f_yx[j];
+    n_xy[j] = i_xx * f_xy[j] + i_xy * f_yy[j];
+    n_yx[j] = i_yx * f_xx[j] + i_yy * f_yx[j];
+    n_yy[j] = i_yx * f_xy[j] + i_yy * f_yy[j];
+    double jacobian = n_xx[j] * n_yy[j] - n_xy[j] * n_yx[j];
+    volume[j] = jacobian * initial_volume[j];
+    positive &= jacobian > 0.0 && jacobian < INFINITY;
+  }
+  if (v->axisymmetric) { /* the hoop stretch multiplies det F */
+    const double *restrict f_zz = v->deformation[F_ZZ] + first;
+    double *restrict n_zz = v->next_deformation[F_ZZ] + first;
+    const double *restrict l_zz = g->gradient[4];
+    for (size_t j = 0; j < count; j++) {
+      n_zz[j] = (1.0 + l_zz[j] * dt) * f_zz[j];
+      volume[j] *= n_zz[j];
+      positive &= n_zz[j] > 0.0;
+    }
+  }
+  if (positive)
+    return;
+  for (size_t j = 0; j < count; j++) {
+    double jacobian = volume[j] / initial_volume[j];
+    if (jacobian > 0.0 && jacobian < INFINITY)
+      continue;
+    gm_worker_error(scratch, GM_ERR_NOT_FINITE, first + j,
+                    "step: point id %lld has det F = %g (inverted or "
+                    "non-finite deformation at t = %g s); reduce dt",
+                    (long long)domain->points.id[first + j], jacobian,
+                    domain->time + dt);
+  }
 }
 
-/* Largest c_p + |v_p| of the chunk's new state (stable_dt.c's formula). */
+/* Signal-speed bound of the chunk's new state: the largest c_p^2 and the
+ * largest |v_p|^2 (stable_dt.c combines them; no square root per point). */
 static void chunk_signal_speed(gm_domain *domain, const gather_view *v,
                                gm_worker_scratch *scratch, size_t first,
                                size_t count) {
   const gm_material *materials = domain->materials;
-  double fastest = scratch->max_signal_speed;
+  const double *restrict vx = v->next_velocity[0];
+  const double *restrict vy = v->next_velocity[1];
+  const double *restrict volume = v->next_volume, *restrict mass = v->mass;
+  const int32_t *restrict material = v->material;
+  double wave = scratch->max_wave_speed_squared;
+  double flow = scratch->max_point_speed_squared;
+  double screen = 0.0; /* NaN if any value is not finite */
+  bool planar = v->dim > 1;
   for (size_t p = first; p < first + count; p++) {
-    double speed_squared = 0.0;
-    for (int k = 0; k < v->dim; k++)
-      speed_squared += v->next_velocity[k][p] * v->next_velocity[k][p];
-    double modulus = materials[v->material[p]].p_wave_modulus;
-    double speed = sqrt(modulus * v->next_volume[p] / v->mass[p]) +
-                   sqrt(speed_squared);
-    if (speed > fastest)
-      fastest = speed;
-    if (speed < INFINITY)
+    double speed_squared = vx[p] * vx[p] + (planar ? vy[p] * vy[p] : 0.0);
+    /* c^2 = M / rho = M V / m */
+    double wave_squared =
+        materials[material[p]].p_wave_modulus * volume[p] / mass[p];
+    screen += (speed_squared + wave_squared) * 0.0;
+    flow = speed_squared > flow ? speed_squared : flow;
+    wave = wave_squared > wave ? wave_squared : wave;
+  }
+  scratch->max_wave_speed_squared = wave;
+  scratch->max_point_speed_squared = flow;
+  if (screen == 0.0)
+    return;
+  for (size_t p = first; p < first + count; p++) {
+    if (isfinite(vx[p]) && (!planar || isfinite(vy[p])))
       continue;
     gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
-                    "step: point id %lld got a non-finite velocity or "
-                    "density at t = %g s; the step was not taken",
+                    "step: point id %lld got a non-finite velocity at t = "
+                    "%g s; the step was not taken",
                     (long long)domain->points.id[p],
                     domain->time + domain->current_dt);
   }
-  scratch->max_signal_speed = fastest;
 }
 
-static void g2p_chunks(void *context, size_t begin, size_t end, int worker) {
+/* The chunks of one pass; flip, move and deform are constants in each
+ * specialisation below. */
+static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
+                                             size_t end, int worker,
+                                             const bool flip, const bool move,
+                                             const bool deform) {
   g2p_context *ctx = context;
   gm_domain *domain = ctx->domain;
-  const gm_g2p_pass *pass = ctx->pass;
   const gather_view *v = &ctx->view;
   gm_worker_scratch *scratch = &domain->scratch[worker];
   size_t point_count = domain->points.count;
-  double dt = pass->dt;
-  double gradients[GM_BATCH_SIZE][5];
+  double dt = ctx->pass->dt;
+  chunk_gather *g = scratch->gather;
   for (size_t chunk = begin; chunk < end; chunk++) {
     size_t first = chunk * GM_BATCH_SIZE;
     size_t count = point_count - first < GM_BATCH_SIZE ? point_count - first
                                                        : GM_BATCH_SIZE;
-    for (size_t j = 0; j < count; j++) {
-      size_t p = first + j;
-      point_gather g;
-      if (v->dim == 1)
-        gather_1d(v, p, &g);
-      else
-        gather_2d(v, p, &g);
-      if (pass->flip_velocity)
-        for (int k = 0; k < v->dim; k++)
-          v->next_velocity[k][p] = v->velocity[k][p] + dt * g.acceleration[k];
-      if (pass->move_points)
-        move_point(domain, v, scratch, p, &g, dt);
-      if (pass->deform) {
-        for (int k = 0; k < 5; k++)
-          gradients[j][k] = g.gradient[k];
-        deform_point(domain, v, scratch, p, g.gradient, dt);
-      }
+    if (v->dim == 1)
+      gather_chunk_1d(v, first, count, g);
+    else
+      gather_chunk_2d(v, first, count, g);
+    if (flip)
+      flip_chunk(v, first, count, g, dt);
+    if (move)
+      move_chunk(domain, v, scratch, first, count, g, dt);
+    if (deform) {
+      deform_chunk(domain, v, scratch, first, count, g, dt);
+      const double *gradient[5] = {g->gradient[0], g->gradient[1],
+                                   g->gradient[2], g->gradient[3],
+                                   g->gradient[4]};
+      gm_stress_update_chunk(domain, scratch, first, count, dt, gradient);
     }
-    if (pass->deform)
-      gm_stress_update_chunk(domain, scratch, first, count, dt,
-                             (const double(*)[5])gradients);
-    if (pass->move_points)
+    if (move) /* the last pass of every scheme: the new state is complete */
       chunk_signal_speed(domain, v, scratch, first, count);
   }
+}
+
+static void g2p_update_all(void *c, size_t b, size_t e, int w) {
+  g2p_chunks_kind(c, b, e, w, true, true, true); /* USL */
+}
+static void g2p_flip_only(void *c, size_t b, size_t e, int w) {
+  g2p_chunks_kind(c, b, e, w, true, false, false); /* MUSL, first */
+}
+static void g2p_move_deform(void *c, size_t b, size_t e, int w) {
+  g2p_chunks_kind(c, b, e, w, false, true, true); /* MUSL, second */
+}
+static void g2p_deform_only(void *c, size_t b, size_t e, int w) {
+  g2p_chunks_kind(c, b, e, w, false, false, true); /* USF, first */
+}
+static void g2p_flip_move(void *c, size_t b, size_t e, int w) {
+  g2p_chunks_kind(c, b, e, w, true, true, false); /* USF, second */
+}
+
+static gm_parallel_fn *pass_kernel(const gm_g2p_pass *pass) {
+  if (pass->flip_velocity && pass->move_points && pass->deform)
+    return g2p_update_all;
+  if (pass->flip_velocity && pass->move_points)
+    return g2p_flip_move;
+  if (pass->flip_velocity)
+    return g2p_flip_only;
+  if (pass->move_points)
+    return g2p_move_deform;
+  return g2p_deform_only;
 }
 
 static void make_view(gm_domain *domain, gather_view *view) {
@@ -249,7 +353,7 @@ static void make_view(gm_domain *domain, gather_view *view) {
     view->velocity[k] = from->velocity[c];
     view->next_position[k] = to->position[c];
     view->next_velocity[k] = to->velocity[c];
-    view->grid_velocity[k] = grid->velocity[c];
+    view->grid_velocity[k] = grid->momentum[c]; /* velocity by now */
     view->grid_acceleration[k] = grid->force[c];
     view->origin[k] = domain->def.origin[c];
     view->cells[k] = (double)domain->cells[k];
@@ -270,11 +374,13 @@ static void make_view(gm_domain *domain, gather_view *view) {
   view->axisymmetric = domain->axisymmetric;
 }
 
+size_t gm_chunk_gather_size(void) { return sizeof(chunk_gather); }
+
 void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass) {
   g2p_context ctx;
   ctx.domain = domain;
   ctx.pass = pass;
   make_view(domain, &ctx.view);
   size_t chunks = (domain->points.count + GM_BATCH_SIZE - 1) / GM_BATCH_SIZE;
-  gm_parallel_for(&domain->pool, chunks, g2p_chunks, &ctx);
+  gm_parallel_for(&domain->pool, chunks, pass_kernel(pass), &ctx);
 }

@@ -105,8 +105,7 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
   size_t nodes_old = old * GM_BLOCK_NODES, nodes = capacity * GM_BLOCK_NODES;
   void **arrays[] = {(void **)&grid->mass,        (void **)&grid->momentum[0],
                      (void **)&grid->momentum[1], (void **)&grid->force[0],
-                     (void **)&grid->force[1],    (void **)&grid->velocity[0],
-                     (void **)&grid->velocity[1]};
+                     (void **)&grid->force[1]};
   for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++)
     if (!gm_grow(arrays[a], sizeof(double), nodes_old, nodes))
       return false;

@@ -41,9 +41,8 @@ typedef struct gm_grid {
   size_t hash_used;
   /* Node fields, block_capacity * GM_BLOCK_NODES each. */
   double *mass;        /* kg */
-  double *momentum[2]; /* kg m/s */
+  double *momentum[2]; /* kg m/s; velocity (m/s) after the grid update */
   double *force[2];    /* N; acceleration (m/s^2) after the grid update */
-  double *velocity[2]; /* m/s, after the grid update */
 } gm_grid;
 
 /* Colour of a block for the parallel scatter: blocks of one colour are two

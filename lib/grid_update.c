@@ -3,7 +3,8 @@
  * from forces (lumped mass, 004 eqs 3.14-3.16), and the box-wall boundary
  * conditions. After a condition changes a nodal velocity, the acceleration
  * is recomputed as (v_new - v_old)/dt so particle (FLIP) velocities and
- * nodal velocities agree on walls.
+ * nodal velocities agree on walls. The momentum arrays are overwritten with
+ * velocities and the force arrays with accelerations, in place.
  */
 #include "internal.h"
 
@@ -56,16 +57,20 @@ static void update_blocks(void *context, size_t begin, size_t end,
     for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
       size_t node = b * GM_BLOCK_NODES + local;
       double mass = grid->mass[node];
+      double inverse_mass = mass > 0.0 ? 1.0 / mass : 0.0; /* empty: 0 */
+      double old_velocity[2] = {0.0, 0.0};
       for (int k = 0; k < dim; k++) {
-        double velocity = mass > 0.0 ? grid->momentum[k][node] / mass : 0.0;
-        if (ctx->mode == GM_GRID_FULL) {
-          double acceleration = mass > 0.0 ? grid->force[k][node] / mass : 0.0;
-          grid->force[k][node] = acceleration;
-          grid->velocity[k][node] = velocity + acceleration * dt;
-          grid->momentum[k][node] = velocity; /* v_old, for the walls */
-        } else {
-          grid->velocity[k][node] = velocity;
+        double *motion = &grid->momentum[k][node];
+        old_velocity[k] = ctx->mode == GM_GRID_FULL_FROM_VELOCITY
+                              ? *motion
+                              : *motion * inverse_mass;
+        if (ctx->mode == GM_GRID_VELOCITY_ONLY) {
+          *motion = old_velocity[k];
+          continue;
         }
+        double acceleration = grid->force[k][node] * inverse_mass;
+        grid->force[k][node] = acceleration;
+        *motion = old_velocity[k] + acceleration * dt;
       }
       if (!block_on_wall)
         continue;
@@ -76,9 +81,9 @@ static void update_blocks(void *context, size_t begin, size_t end,
       for (int k = 0; k < dim; k++) {
         if (!fixed[k])
           continue;
-        grid->velocity[k][node] = 0.0;
-        if (ctx->mode == GM_GRID_FULL)
-          grid->force[k][node] = -grid->momentum[k][node] / dt;
+        grid->momentum[k][node] = 0.0;
+        if (ctx->mode != GM_GRID_VELOCITY_ONLY)
+          grid->force[k][node] = -old_velocity[k] / dt;
       }
     }
   }

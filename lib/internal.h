@@ -15,6 +15,13 @@
 #include <stdint.h>
 
 #define GM_ERROR_MESSAGE_SIZE 512
+/* Kernels are written once with constant flags and specialised by forced
+ * inlining into one copy per pass kind. */
+#if defined(__GNUC__)
+#define GM_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define GM_ALWAYS_INLINE inline
+#endif
 #define GM_PI 3.14159265358979323846
 #define GM_MAX_STATE 64
 #define GM_MAX_MATERIALS 256
@@ -90,14 +97,14 @@ typedef struct gm_points {
 
 /* ------------------------------------------------------------- per worker */
 typedef struct gm_worker_scratch {
-  double strain_increment[6][GM_BATCH_SIZE];
-  double stress[6][GM_BATCH_SIZE];
+  double strain_increment[6][GM_BATCH_SIZE]; /* yz, zx stay zero */
+  double stress[6][GM_BATCH_SIZE];           /* yz, zx rows used */
   double density[GM_BATCH_SIZE];
-  int64_t point_id[GM_BATCH_SIZE];
   uint32_t batch_index[GM_BATCH_SIZE];
   uint32_t identity_rows[GM_BATCH_SIZE]; /* 0, 1, 2, ... */
   double *state_columns[GM_MAX_STATE];
   double *state_storage; /* GM_MAX_STATE * GM_BATCH_SIZE doubles */
+  struct chunk_gather *gather; /* G2P results of the chunk (g2p.c) */
   /* Sub-batch of one material when a chunk mixes materials. */
   double sub_strain_increment[6][GM_BATCH_SIZE];
   double sub_stress[6][GM_BATCH_SIZE];
@@ -109,7 +116,8 @@ typedef struct gm_worker_scratch {
   size_t error_index;
   char error_message[GM_ERROR_MESSAGE_SIZE];
   int callback_result; /* material return code that caused the error */
-  double max_signal_speed; /* m/s, max(c_p + |v_p|) over new state */
+  double max_wave_speed_squared;  /* m^2/s^2, max c_p^2 of the new state */
+  double max_point_speed_squared; /* m^2/s^2, max |v_p|^2 of the new state */
   char pad[64];
 } gm_worker_scratch;
 
@@ -130,7 +138,7 @@ struct gm_domain {
   double time;         /* s */
   double current_dt;   /* s, dt of the step being taken */
   uint64_t step_count;
-  double max_signal_speed; /* m/s, for the committed state */
+  double max_signal_speed; /* m/s, max c_p + max |v_p|, committed state */
   gm_step_hook_fn *hook;
   void *hook_user;
   bool busy;           /* inside a step: state-changing calls refused */
@@ -189,7 +197,14 @@ typedef struct gm_p2g_pass {
 } gm_p2g_pass;
 void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass);
 void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
-enum { GM_GRID_VELOCITY_ONLY = 0, GM_GRID_FULL = 1 };
+/* Grid update modes: momentum -> velocity only; momentum and force ->
+ * updated velocity and acceleration; the same when the momentum arrays
+ * already hold velocities (USF's second update). */
+enum {
+  GM_GRID_VELOCITY_ONLY = 0,
+  GM_GRID_FULL = 1,
+  GM_GRID_FULL_FROM_VELOCITY = 2
+};
 
 /* What a G2P pass does (g2p.c). */
 typedef struct gm_g2p_pass {
@@ -199,6 +214,7 @@ typedef struct gm_g2p_pass {
   double dt;
 } gm_g2p_pass;
 void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);
+size_t gm_chunk_gather_size(void); /* bytes of a worker's G2P chunk buffer */
 
 /* Stress update for one chunk of points (stress_update.c). */
 /* Jaumann rotation, material call and stress write-back for points
@@ -206,10 +222,10 @@ void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);
  * L_yy L_zz); reads the committed buffer, writes the next one. */
 void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                             size_t first, size_t count, double dt,
-                            const double (*velocity_gradient)[5]);
+                            const double *const velocity_gradient[5]);
 
 /* Stable dt (stable_dt.c). */
-double gm_point_signal_speed(const gm_domain *domain, int buffer, size_t i);
+/* max c_p + max |v_p| (m/s) of the committed state, recomputed. */
 void gm_recompute_signal_speed(gm_domain *domain);
 
 #endif

@@ -40,10 +40,22 @@ typedef struct p2g_context {
   const uint32_t *blocks; /* blocks of the colour being scattered */
 } p2g_context;
 
-/* Names the first point of a block whose host inputs are not finite. */
+/* Names the first point of a block whose host inputs are not finite. A
+ * cheap screen first: x * 0 is 0 for every finite x and NaN otherwise. */
 static void check_inputs(gm_domain *domain, gm_worker_scratch *scratch,
                          const scatter_view *v, uint32_t begin, uint32_t end) {
   int dim = domain->dim;
+  double screen = 0.0;
+  for (uint32_t k = begin; k < end; k++) {
+    size_t p = v->order[k];
+    for (int c = 0; c < dim; c++) {
+      screen += v->velocity[c][p] * 0.0;
+      if (v->external_force[c])
+        screen += v->external_force[c][p] * 0.0;
+    }
+  }
+  if (screen == 0.0)
+    return;
   for (uint32_t k = begin; k < end; k++) {
     size_t p = v->order[k];
     for (int c = 0; c < dim; c++) {
@@ -61,9 +73,11 @@ static void check_inputs(gm_domain *domain, gm_worker_scratch *scratch,
   }
 }
 
-/* Mass, momentum and forces of a block's points (USL, MUSL first pass). */
-static void scatter_block_2d(const scatter_view *v, const gm_p2g_pass *pass,
-                             uint32_t block) {
+/* A block's points into the grid; do_* are compile-time constants in each
+ * specialisation below, so each pass kind gets its own tight loop. */
+static GM_ALWAYS_INLINE void
+scatter_block_2d_kind(const scatter_view *v, uint32_t block, const bool do_mass,
+                      const bool do_momentum, const bool do_forces) {
   const double *restrict px = v->position[0], *restrict py = v->position[1];
   const double *restrict vx = v->velocity[0], *restrict vy = v->velocity[1];
   const double *restrict point_mass = v->mass, *restrict volume = v->volume;
@@ -75,15 +89,18 @@ static void scatter_block_2d(const scatter_view *v, const gm_p2g_pass *pass,
   double *restrict gpx = v->grid_momentum[0], *restrict gpy = v->grid_momentum[1];
   double *restrict gfx = v->grid_force[0], *restrict gfy = v->grid_force[1];
   const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  const uint32_t *restrict order = v->order;
   int64_t mask = ((int64_t)1 << v->shift) - 1;
-  bool do_mass = pass->mass, do_momentum = pass->momentum;
-  bool do_forces = pass->forces;
+  double origin_x = v->origin[0], origin_y = v->origin[1];
+  double inv_cell = v->inv_cell;
+  double gravity_x = v->gravity[0], gravity_y = v->gravity[1];
+  bool axisymmetric = v->axisymmetric, has_external = fx_ext != NULL;
   for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1];
        k++) {
-    size_t p = v->order[k];
+    size_t p = order[k];
     double wx[2], dx[2], wy[2], dy[2];
-    int64_t cx = gm_shape_linear_axis(px[p], v->origin[0], v->inv_cell, wx, dx);
-    int64_t cy = gm_shape_linear_axis(py[p], v->origin[1], v->inv_cell, wy, dy);
+    int64_t cx = gm_shape_linear_axis(px[p], origin_x, inv_cell, wx, dx);
+    int64_t cy = gm_shape_linear_axis(py[p], origin_y, inv_cell, wy, dy);
     size_t node[4];
     gm_cell_nodes_2d(links, v->shift, cx & mask, cy & mask, node);
     double m = point_mass[p];
@@ -107,16 +124,31 @@ static void scatter_block_2d(const scatter_view *v, const gm_p2g_pass *pass,
                         wx[1] * dy[1]};
     double V = volume[p]; /* stress times volume: N m */
     double txx = sxx[p] * V, tyy = syy[p] * V, txy = sxy[p] * V;
-    double body_x = m * v->gravity[0] + (fx_ext ? fx_ext[p] : 0.0);
-    double body_y = m * v->gravity[1] + (fy_ext ? fy_ext[p] : 0.0);
+    double body_x = m * gravity_x, body_y = m * gravity_y;
+    if (has_external) {
+      body_x += fx_ext[p];
+      body_y += fy_ext[p];
+    }
     /* Hoop row of B (002 sec 3): sigma_tt V N_i / x acts radially. */
-    if (v->axisymmetric)
+    if (axisymmetric)
       body_x -= szz[p] * V / px[p];
     for (int n = 0; n < 4; n++) {
       gfx[node[n]] += weight[n] * body_x - (txx * grad_x[n] + txy * grad_y[n]);
       gfy[node[n]] += weight[n] * body_y - (txy * grad_x[n] + tyy * grad_y[n]);
     }
   }
+}
+
+static void scatter_block_2d(const scatter_view *v, const gm_p2g_pass *pass,
+                             uint32_t block) {
+  if (pass->mass && pass->momentum && pass->forces)
+    scatter_block_2d_kind(v, block, true, true, true);
+  else if (pass->mass && pass->momentum)
+    scatter_block_2d_kind(v, block, true, true, false);
+  else if (pass->momentum)
+    scatter_block_2d_kind(v, block, false, true, false);
+  else
+    scatter_block_2d_kind(v, block, pass->mass, false, pass->forces);
 }
 
 static void scatter_block_1d(const scatter_view *v, const gm_p2g_pass *pass,

@@ -56,7 +56,7 @@ static gm_status run_usf(gm_domain *domain, double dt) {
     return status;
   gm_p2g_pass forces = {false, false, true, cur, cur ^ 1, false};
   gm_p2g(domain, &forces);
-  gm_grid_update(domain, dt, GM_GRID_FULL);
+  gm_grid_update(domain, dt, GM_GRID_FULL_FROM_VELOCITY);
   gm_g2p_pass motion = {true, true, false, dt};
   gm_g2p(domain, &motion);
   return collect(domain);
@@ -66,8 +66,10 @@ static gm_status run_usf(gm_domain *domain, double dt) {
  * failure. */
 static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
   gm_clear_worker_errors(domain);
-  for (int w = 0; w < domain->worker_count; w++)
-    domain->scratch[w].max_signal_speed = 0.0;
+  for (int w = 0; w < domain->worker_count; w++) {
+    domain->scratch[w].max_wave_speed_squared = 0.0;
+    domain->scratch[w].max_point_speed_squared = 0.0;
+  }
   domain->current_dt = dt;
   gm_status status = GM_OK;
   if (domain->points.count > 0) {
@@ -79,11 +81,13 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
     if (status != GM_OK)
       return status;
     domain->points.cur ^= 1;
-    double fastest = 0.0;
-    for (int w = 0; w < domain->worker_count; w++)
-      if (domain->scratch[w].max_signal_speed > fastest)
-        fastest = domain->scratch[w].max_signal_speed;
-    domain->max_signal_speed = fastest;
+    double wave = 0.0, flow = 0.0; /* m^2/s^2 */
+    for (int w = 0; w < domain->worker_count; w++) {
+      gm_worker_scratch *scratch = &domain->scratch[w];
+      wave = fmax(wave, scratch->max_wave_speed_squared);
+      flow = fmax(flow, scratch->max_point_speed_squared);
+    }
+    domain->max_signal_speed = sqrt(wave) + sqrt(flow);
   }
   domain->time += dt;
   domain->step_count++;

@@ -13,41 +13,56 @@
 
 enum { L_XX = 0, L_XY = 1, L_YX = 2, L_YY = 3, L_ZZ = 4 };
 
-/* Strain increment and Jaumann-rotated stress of point p into row j. */
-static void prepare_row(gm_domain *domain, gm_worker_scratch *scratch,
-                        size_t p, size_t j, const double gradient[5],
-                        double dt) {
+/* Strain increments of the chunk into scratch rows, the Jaumann-rotated
+ * stress straight into the next buffer (where the material updates it in
+ * place), densities into scratch. */
+static void prepare_rows(gm_domain *domain, gm_worker_scratch *scratch,
+                         size_t first, size_t count,
+                         const double *const gradient[5], double dt) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *from = &points->buffer[points->cur];
   const gm_point_buffers *to = &points->buffer[points->cur ^ 1];
-  double spin = 0.5 * (gradient[L_XY] - gradient[L_YX]) * dt; /* W_xy dt */
-  double sxx = from->stress[0][p], syy = from->stress[1][p];
-  double szz = from->stress[2][p], sxy = from->stress[3][p];
-  scratch->stress[GM_XX][j] = sxx + 2.0 * spin * sxy;
-  scratch->stress[GM_YY][j] = syy - 2.0 * spin * sxy;
-  scratch->stress[GM_ZZ][j] = szz;
-  scratch->stress[GM_XY][j] = sxy + spin * (syy - sxx);
-  scratch->stress[GM_YZ][j] = 0.0;
-  scratch->stress[GM_ZX][j] = 0.0;
-  scratch->strain_increment[GM_XX][j] = gradient[L_XX] * dt;
-  scratch->strain_increment[GM_YY][j] = gradient[L_YY] * dt;
-  scratch->strain_increment[GM_ZZ][j] = gradient[L_ZZ] * dt;
-  scratch->strain_increment[GM_XY][j] =
-      0.5 * (gradient[L_XY] + gradient[L_YX]) * dt;
-  scratch->strain_increment[GM_YZ][j] = 0.0;
-  scratch->strain_increment[GM_ZX][j] = 0.0;
-  scratch->density[j] = points->mass[p] / to->volume[p];
-  scratch->point_id[j] = points->id[p];
+  const double *restrict sxx = from->stress[0] + first;
+  const double *restrict syy = from->stress[1] + first;
+  const double *restrict szz = from->stress[2] + first;
+  const double *restrict sxy = from->stress[3] + first;
+  double *restrict rxx = to->stress[0] + first, *restrict ryy = to->stress[1] + first;
+  double *restrict rzz = to->stress[2] + first, *restrict rxy = to->stress[3] + first;
+  const double *restrict mass = points->mass + first;
+  const double *restrict volume = to->volume + first;
+  const double *restrict l_xx = gradient[L_XX], *restrict l_xy = gradient[L_XY];
+  const double *restrict l_yx = gradient[L_YX], *restrict l_yy = gradient[L_YY];
+  const double *restrict l_zz = gradient[L_ZZ];
+  double *restrict e_xx = scratch->strain_increment[GM_XX];
+  double *restrict e_yy = scratch->strain_increment[GM_YY];
+  double *restrict e_zz = scratch->strain_increment[GM_ZZ];
+  double *restrict e_xy = scratch->strain_increment[GM_XY];
+  double *restrict density = scratch->density;
+  for (size_t j = 0; j < count; j++) {
+    double spin = 0.5 * (l_xy[j] - l_yx[j]) * dt; /* W_xy dt */
+    rxx[j] = sxx[j] + 2.0 * spin * sxy[j];
+    ryy[j] = syy[j] - 2.0 * spin * sxy[j];
+    rzz[j] = szz[j];
+    rxy[j] = sxy[j] + spin * (syy[j] - sxx[j]);
+    e_xx[j] = l_xx[j] * dt;
+    e_yy[j] = l_yy[j] * dt;
+    e_zz[j] = l_zz[j] * dt;
+    e_xy[j] = 0.5 * (l_xy[j] + l_yx[j]) * dt;
+    density[j] = mass[j] / volume[j];
+  }
+  /* yz and zx are zero in 1D and 2D; a material may still write them. */
+  for (size_t j = 0; j < count; j++)
+    scratch->stress[GM_YZ][j] = scratch->stress[GM_ZX][j] = 0.0;
 }
 
-/* Calls material m on `count` rows held in the given arrays; rows map to
- * points first + row_point[r]. Returns the callback's code. */
+/* Calls material m on `count` rows; rows map to points first + row[r].
+ * Returns the callback's code. */
 static int call_material(gm_domain *domain, gm_worker_scratch *scratch,
                          int material_index, size_t first,
                          const uint32_t *row_point, size_t count,
-                         double (*strain)[GM_BATCH_SIZE],
-                         double (*stress)[GM_BATCH_SIZE], double *density,
-                         int64_t *point_id, double dt) {
+                         const double *const strain[6], double *const stress[6],
+                         const double *density, const int64_t *point_id,
+                         double dt) {
   const gm_material *material = &domain->materials[material_index];
   gm_points *points = &domain->points;
   const gm_point_buffers *from = &points->buffer[points->cur];
@@ -74,8 +89,8 @@ static int call_material(gm_domain *domain, gm_worker_scratch *scratch,
   batch.state_count = nstate;
   batch.point_id = point_id;
   char message[256] = "";
-  int result = material->update(&batch, material->user, message,
-                                sizeof message);
+  int result =
+      material->update(&batch, material->user, message, sizeof message);
   if (result != 0) {
     message[sizeof message - 1] = '\0';
     gm_worker_error(scratch, GM_ERR_CALLBACK, first + row_point[0],
@@ -95,10 +110,18 @@ static int call_material(gm_domain *domain, gm_worker_scratch *scratch,
   return 0;
 }
 
-/* Chunk mixing materials: one sub-batch per material present. */
+/* Chunk mixing materials: one gathered sub-batch per material present. */
 static void update_mixed(gm_domain *domain, gm_worker_scratch *scratch,
                          size_t first, size_t count, double dt) {
-  const int32_t *material = domain->points.material + first;
+  gm_points *points = &domain->points;
+  const int32_t *material = points->material + first;
+  double *const *next_stress = points->buffer[points->cur ^ 1].stress;
+  const double *sub_strain[6];
+  double *sub_stress[6];
+  for (int c = 0; c < 6; c++) {
+    sub_strain[c] = scratch->sub_strain_increment[c];
+    sub_stress[c] = scratch->sub_stress[c];
+  }
   bool done[GM_BATCH_SIZE] = {false};
   for (size_t seed = 0; seed < count; seed++) {
     if (done[seed])
@@ -112,44 +135,38 @@ static void update_mixed(gm_domain *domain, gm_worker_scratch *scratch,
       for (int c = 0; c < 6; c++) {
         scratch->sub_strain_increment[c][rows] =
             scratch->strain_increment[c][j];
-        scratch->sub_stress[c][rows] = scratch->stress[c][j];
+        scratch->sub_stress[c][rows] =
+            c < GM_STRESS_STORED ? next_stress[c][first + j] : 0.0;
       }
       scratch->sub_density[rows] = scratch->density[j];
-      scratch->sub_point_id[rows] = scratch->point_id[j];
+      scratch->sub_point_id[rows] = points->id[first + j];
       rows++;
     }
     call_material(domain, scratch, material[seed], first, scratch->batch_index,
-                  rows, scratch->sub_strain_increment, scratch->sub_stress,
-                  scratch->sub_density, scratch->sub_point_id, dt);
+                  rows, sub_strain, sub_stress, scratch->sub_density,
+                  scratch->sub_point_id, dt);
     for (size_t r = 0; r < rows; r++)
-      for (int c = 0; c < 6; c++)
-        scratch->stress[c][scratch->batch_index[r]] = scratch->sub_stress[c][r];
+      for (int c = 0; c < GM_STRESS_STORED; c++)
+        next_stress[c][first + scratch->batch_index[r]] =
+            scratch->sub_stress[c][r];
   }
 }
 
-void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
-                            size_t first, size_t count, double dt,
-                            const double (*velocity_gradient)[5]) {
-  gm_points *points = &domain->points;
-  bool uniform = true;
-  for (size_t j = 0; j < count; j++) {
-    prepare_row(domain, scratch, first + j, j, velocity_gradient[j], dt);
-    uniform = uniform && points->material[first + j] == points->material[first];
-  }
-  if (uniform)
-    call_material(domain, scratch, points->material[first], first,
-                  scratch->identity_rows, count, scratch->strain_increment,
-                  scratch->stress, scratch->density, scratch->point_id, dt);
-  else
-    update_mixed(domain, scratch, first, count, dt);
-  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
-  for (size_t j = 0; j < count; j++) {
-    size_t p = first + j;
+/* Names the first point of the chunk with a non-finite new stress. */
+static void check_stress(gm_domain *domain, gm_worker_scratch *scratch,
+                         size_t first, size_t count, double dt) {
+  const gm_points *points = &domain->points;
+  double *const *stress = points->buffer[points->cur ^ 1].stress;
+  double screen = 0.0; /* x * 0 is NaN exactly when x is not finite */
+  for (int c = 0; c < GM_STRESS_STORED; c++)
+    for (size_t j = 0; j < count; j++)
+      screen += stress[c][first + j] * 0.0;
+  if (screen == 0.0)
+    return;
+  for (size_t p = first; p < first + count; p++) {
     bool finite = true;
-    for (int c = 0; c < GM_STRESS_STORED; c++) {
-      to->stress[c][p] = scratch->stress[c][j];
-      finite = finite && isfinite(scratch->stress[c][j]);
-    }
+    for (int c = 0; c < GM_STRESS_STORED; c++)
+      finite = finite && isfinite(stress[c][p]);
     if (!finite)
       gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
                       "step: point id %lld (material %d) got a non-finite "
@@ -157,4 +174,31 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                       (long long)points->id[p], points->material[p],
                       domain->time + dt);
   }
+}
+
+void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
+                            size_t first, size_t count, double dt,
+                            const double *const velocity_gradient[5]) {
+  gm_points *points = &domain->points;
+  prepare_rows(domain, scratch, first, count, velocity_gradient, dt);
+  const int32_t *material = points->material + first;
+  bool uniform = true;
+  for (size_t j = 1; j < count; j++)
+    uniform = uniform && material[j] == material[0];
+  if (uniform) { /* the common case: the material works on the buffers */
+    double *const *next_stress = points->buffer[points->cur ^ 1].stress;
+    const double *strain[6];
+    double *stress[6];
+    for (int c = 0; c < 6; c++) {
+      strain[c] = scratch->strain_increment[c];
+      stress[c] = c < GM_STRESS_STORED ? next_stress[c] + first
+                                       : scratch->stress[c];
+    }
+    call_material(domain, scratch, material[0], first, scratch->identity_rows,
+                  count, strain, stress, scratch->density, points->id + first,
+                  dt);
+  } else {
+    update_mixed(domain, scratch, first, count, dt);
+  }
+  check_stress(domain, scratch, first, count, dt);
 }

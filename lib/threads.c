@@ -8,7 +8,7 @@
 #include "internal.h"
 
 
-enum { SPIN_ROUNDS = 20000 };
+enum { SPIN_ROUNDS = 200000 };
 
 typedef struct worker_arg {
   gm_pool *pool;
