@@ -35,9 +35,9 @@ extern "C" {
 
 /* ---------------------------------------------------------------- version */
 
-#define GM_VERSION_MAJOR 0
-#define GM_VERSION_MINOR 1
-#define GM_VERSION_PATCH 0
+#define GM_VERSION_MAJOR  0
+#define GM_VERSION_MINOR  1
+#define GM_VERSION_PATCH  0
 #define GM_VERSION_STRING "0.1.0"
 /** MAJOR*10000 + MINOR*100 + PATCH, comparable with gm_version_number(). */
 #define GM_VERSION_NUMBER                                                      \
@@ -117,24 +117,23 @@ enum {
  * for a non-NULL handle returned by enqueue_task. */
 typedef void gm_task_fn(int start, int end, int worker, void *task_context);
 typedef void *gm_enqueue_task_fn(gm_task_fn *task, int item_count,
-                                 int min_range, void *task_context,
-                                 void *user);
+                                 int min_range, void *task_context, void *user);
 typedef void gm_finish_task_fn(void *user_task, void *user);
 
 typedef struct gm_domain_def {
-  size_t struct_size;       /* set by gm_domain_def_default() */
-  gm_geometry geometry;     /* default GM_GEOMETRY_PLANE_STRAIN */
-  double origin[3];         /* m, lower corner of the grid box */
-  double extent[3];         /* m, size of the grid box; rounded up to cells */
-  double cell_size;         /* m, edge of the square background cells */
-  double gravity[3];        /* m/s^2, body acceleration; default 0 */
-  gm_update_scheme scheme;  /* default GM_SCHEME_USL */
-  gm_wall_type walls[6];    /* per face (GM_FACE_*); default GM_WALL_OPEN */
-  double cfl;               /* Courant number in (0, 1]; default 0.5 */
-  int refuse_unstable_dt;   /* nonzero: dt above the bound fails; default 0 */
-  int max_retries;          /* halvings of dt on a recoverable material
-                               failure; default 4, range 0..20 */
-  int worker_count;         /* built-in pool threads, 1..256; default 1 */
+  size_t struct_size;      /* set by gm_domain_def_default() */
+  gm_geometry geometry;    /* default GM_GEOMETRY_PLANE_STRAIN */
+  double origin[3];        /* m, lower corner of the grid box */
+  double extent[3];        /* m, size of the grid box; rounded up to cells */
+  double cell_size;        /* m, edge of the square background cells */
+  double gravity[3];       /* m/s^2, body acceleration; default 0 */
+  gm_update_scheme scheme; /* default GM_SCHEME_USL */
+  gm_wall_type walls[6];   /* per face (GM_FACE_*); default GM_WALL_OPEN */
+  double cfl;              /* Courant number in (0, 1]; default 0.5 */
+  int refuse_unstable_dt;  /* nonzero: dt above the bound fails; default 0 */
+  int max_retries;         /* halvings of dt on a recoverable material
+                              failure; default 4, range 0..20 */
+  int worker_count;        /* built-in pool threads, 1..256; default 1 */
   gm_enqueue_task_fn *enqueue_task; /* NULL: built-in pool */
   gm_finish_task_fn *finish_task;   /* required with enqueue_task */
   void *task_user;                  /* passed to the two functions above */
@@ -189,10 +188,10 @@ enum {
  * arrives already rotated by the Jaumann spin (the library does that), so a
  * material only integrates its rate law over strain_increment. */
 typedef struct gm_material_batch {
-  size_t struct_size;                /* sizeof as known by the library */
-  size_t count;                      /* points in this batch */
-  int worker;                        /* 0 .. worker_count-1, stable */
-  int material;                      /* material id */
+  size_t struct_size; /* sizeof as known by the library */
+  size_t count;       /* points in this batch */
+  int worker;         /* 0 .. worker_count-1, stable */
+  int material;       /* material id */
   gm_geometry geometry;
   double dt;                         /* s */
   const double *strain_increment[6]; /* D dt per component (GM_XX..) */
@@ -214,14 +213,14 @@ typedef int gm_material_update_fn(const gm_material_batch *batch, void *user,
 
 typedef struct gm_material_def {
   size_t struct_size;
-  const char *name;               /* copied; for messages and VTU */
-  gm_material_update_fn *update;  /* required */
-  void *user;                     /* passed to update; must outlive domain */
-  size_t state_count;             /* doubles of state per point, 0..64 */
-  const double *initial_state;    /* state_count values; NULL = zeros */
-  double p_wave_modulus;          /* Pa, upper bound of K + 4G/3 (> 0):
-                                     sets the stable time step */
-  double density;                 /* kg/m^3, default for new points (> 0) */
+  const char *name;              /* copied; for messages and VTU */
+  gm_material_update_fn *update; /* required */
+  void *user;                    /* passed to update; must outlive domain */
+  size_t state_count;            /* doubles of state per point, 0..64 */
+  const double *initial_state;   /* state_count values; NULL = zeros */
+  double p_wave_modulus;         /* Pa, upper bound of K + 4G/3 (> 0):
+                                    sets the stable time step */
+  double density;                /* kg/m^3, default for new points (> 0) */
 } gm_material_def;
 
 static inline gm_material_def gm_material_def_default(void) {
@@ -275,19 +274,19 @@ GM_API int gm_elastic_update(const gm_material_batch *batch, void *user,
 typedef struct gm_points_def {
   size_t struct_size;
   size_t count;
-  int material;                /* from gm_domain_add_material/elastic */
-  const double *position;      /* m, count*dim, required */
-  const double *velocity;      /* m/s, count*dim; NULL = at rest */
-  const double *volume;        /* count, > 0, required */
-  const double *mass;          /* kg, count; NULL = density * volume */
-  const double *density;       /* kg/m^3, count; NULL = material density;
-                                  ignored where mass is given */
-  const double *domain_size;   /* m, count*dim, initial particle domain
-                                  edge lengths (used by GIMP/CPDI and the
-                                  granular method); NULL = the volume in
-                                  1D, its square root in plane strain,
-                                  sqrt(V / (2 pi r)) in axisymmetry */
-  const double *stress;        /* Pa, count*6 (Voigt, GM_XX..); NULL = 0 */
+  int material;              /* from gm_domain_add_material/elastic */
+  const double *position;    /* m, count*dim, required */
+  const double *velocity;    /* m/s, count*dim; NULL = at rest */
+  const double *volume;      /* count, > 0, required */
+  const double *mass;        /* kg, count; NULL = density * volume */
+  const double *density;     /* kg/m^3, count; NULL = material density;
+                                ignored where mass is given */
+  const double *domain_size; /* m, count*dim, initial particle domain
+                                edge lengths (used by GIMP/CPDI and the
+                                granular method); NULL = the volume in
+                                1D, its square root in plane strain,
+                                sqrt(V / (2 pi r)) in axisymmetry */
+  const double *stress;      /* Pa, count*6 (Voigt, GM_XX..); NULL = 0 */
 } gm_points_def;
 
 static inline gm_points_def gm_points_def_default(void) {
@@ -332,25 +331,24 @@ GM_API size_t gm_domain_point_count(const gm_domain *domain);
 /** Point fields. Fields are stored per point index; indices may change at
  * every step (points are kept sorted by cell), ids never change. */
 typedef enum gm_field {
-  GM_FIELD_POSITION = 0,        /* m, dim components */
-  GM_FIELD_VELOCITY = 1,        /* m/s, dim components, writable */
-  GM_FIELD_EXTERNAL_FORCE = 2,  /* N, dim components, writable; added each
-                                   step until changed */
-  GM_FIELD_MASS = 3,            /* kg */
-  GM_FIELD_VOLUME = 4,          /* current volume */
-  GM_FIELD_INITIAL_VOLUME = 5,  /* volume at creation */
-  GM_FIELD_DENSITY = 6,         /* kg/m^3, mass / volume */
-  GM_FIELD_STRESS = 7,          /* Pa, 6 components GM_XX..GM_ZX */
+  GM_FIELD_POSITION = 0,             /* m, dim components */
+  GM_FIELD_VELOCITY = 1,             /* m/s, dim components, writable */
+  GM_FIELD_EXTERNAL_FORCE = 2,       /* N, dim components, writable; added each
+                                        step until changed */
+  GM_FIELD_MASS = 3,                 /* kg */
+  GM_FIELD_VOLUME = 4,               /* current volume */
+  GM_FIELD_INITIAL_VOLUME = 5,       /* volume at creation */
+  GM_FIELD_DENSITY = 6,              /* kg/m^3, mass / volume */
+  GM_FIELD_STRESS = 7,               /* Pa, 6 components GM_XX..GM_ZX */
   GM_FIELD_DEFORMATION_GRADIENT = 8, /* 9 components, row-major F_ij */
-  GM_FIELD_MATERIAL = 9,        /* material id as double */
-  GM_FIELD_ID = 10,             /* point id as double (exact below 2^53) */
-  GM_FIELD_DOMAIN_SIZE = 11     /* m, dim components, initial domain size */
+  GM_FIELD_MATERIAL = 9,             /* material id as double */
+  GM_FIELD_ID = 10,                  /* point id as double (exact below 2^53) */
+  GM_FIELD_DOMAIN_SIZE = 11 /* m, dim components, initial domain size */
 } gm_field;
 
 /** Number of components of a field in this domain's geometry. */
 GM_API gm_status gm_domain_field_components(const gm_domain *domain,
-                                            gm_field field,
-                                            size_t *components);
+                                            gm_field field, size_t *components);
 
 /** Copies a field for all points, interleaved (out[i*components + k]), in
  * point-index order. out_length is the capacity of out in doubles. */
@@ -394,8 +392,7 @@ typedef enum gm_hook_stage {
 /** A nonzero return at GM_HOOK_BEFORE_STEP cancels the step with
  * GM_ERR_CALLBACK (edits the hook made stay). The hook may read fields and
  * use gm_domain_edit_field(); other state-changing calls give GM_ERR_BUSY. */
-typedef int gm_step_hook_fn(gm_domain *domain, gm_hook_stage stage,
-                            void *user);
+typedef int gm_step_hook_fn(gm_domain *domain, gm_hook_stage stage, void *user);
 
 /** Installs (or with NULL removes) the step hook. */
 GM_API gm_status gm_domain_set_step_hook(gm_domain *domain,
@@ -418,9 +415,9 @@ GM_API gm_status gm_domain_get_time(const gm_domain *domain, double *time,
 
 typedef struct gm_summary {
   size_t struct_size;
-  double mass;            /* kg */
-  double momentum[3];     /* kg m/s */
-  double kinetic_energy;  /* J */
+  double mass;              /* kg */
+  double momentum[3];       /* kg m/s */
+  double kinetic_energy;    /* J */
   double centre_of_mass[3]; /* m */
 } gm_summary;
 
@@ -438,8 +435,7 @@ GM_API gm_status gm_domain_get_summary(const gm_domain *domain,
 
 /** Writes all points and fields as a VTK XML unstructured grid (.vtu) with
  * raw binary appended data. */
-GM_API gm_status gm_domain_write_vtu(const gm_domain *domain,
-                                     const char *path);
+GM_API gm_status gm_domain_write_vtu(const gm_domain *domain, const char *path);
 
 /** A ParaView time series: a .pvd file listing one .vtu per frame. */
 typedef struct gm_series gm_series;

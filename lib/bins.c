@@ -12,8 +12,7 @@ static size_t chunk_begin(size_t count, size_t chunk) {
 }
 
 /* Block of every point of the chunks, and per-chunk counts per block. */
-static void locate_chunks(void *context, size_t begin, size_t end,
-                          int worker) {
+static void locate_chunks(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   gm_domain *domain = context;
   gm_grid *grid = &domain->grid;

@@ -10,7 +10,9 @@
 
 static _Thread_local char create_error[GM_ERROR_MESSAGE_SIZE];
 
-const char *gm_last_create_error(void) { return create_error; }
+const char *gm_last_create_error(void) {
+  return create_error;
+}
 
 gm_status gm_set_create_error(gm_status status, const char *format, ...) {
   va_list args;
@@ -58,8 +60,8 @@ static gm_status validate_def(const gm_domain_def *def) {
                   def->origin[k]);
     if (!(def->extent[k] > 0.0) || !isfinite(def->extent[k]))
       CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
-                  "gm_domain_def.extent[%d] is %g m, must be finite and > 0",
-                  k, def->extent[k]);
+                  "gm_domain_def.extent[%d] is %g m, must be finite and > 0", k,
+                  def->extent[k]);
     double cells = ceil(def->extent[k] / def->cell_size - 1e-9);
     if (cells > 1e9)
       CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
@@ -148,9 +150,8 @@ gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
   domain->inv_cell = 1.0 / def->cell_size;
   for (int k = 0; k < 3; k++)
     domain->cells[k] =
-        k < domain->dim
-            ? (int64_t)ceil(def->extent[k] / def->cell_size - 1e-9)
-            : 1;
+        k < domain->dim ? (int64_t)ceil(def->extent[k] / def->cell_size - 1e-9)
+                        : 1;
   domain->worker_count = def->worker_count;
   gm_grid *grid = &domain->grid;
   grid->dim = domain->dim;
@@ -160,9 +161,8 @@ gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
         k < domain->dim ? (domain->cells[k] >> grid->shift) + 1 : 1;
   status = allocate_scratch(domain);
   if (status == GM_OK)
-    status = gm_pool_start(&domain->pool, def->worker_count,
-                           def->enqueue_task, def->finish_task,
-                           def->task_user);
+    status = gm_pool_start(&domain->pool, def->worker_count, def->enqueue_task,
+                           def->finish_task, def->task_user);
   if (status != GM_OK) {
     gm_domain_destroy(domain);
     CREATE_FAIL(status, "gm_domain_create: could not allocate %d workers",

@@ -58,9 +58,8 @@ typedef struct lattice {
 } lattice;
 
 /* Site n of the lattice (row-major, x fastest) as a point. */
-static void lattice_site(const gm_domain *domain, const lattice *grid,
-                         size_t n, double *position, double *edges,
-                         double *volume) {
+static void lattice_site(const gm_domain *domain, const lattice *grid, size_t n,
+                         double *position, double *edges, double *volume) {
   int64_t width = grid->last[0] - grid->first[0];
   int64_t site[2] = {grid->first[0] + (int64_t)n % width,
                      grid->first[1] + (int64_t)n / width};
@@ -160,7 +159,8 @@ gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
     return status;
   gm_points *points = &domain->points;
   fill_arrays *arrays = gm_alloc(sizeof *arrays);
-  if (!arrays || gm_points_reserve(domain, points->count + grid.total) != GM_OK) {
+  if (!arrays ||
+      gm_points_reserve(domain, points->count + grid.total) != GM_OK) {
     gm_free(arrays);
     return gm_set_error(domain, GM_ERR_NO_MEMORY,
                         "gm_domain_fill_box: out of memory for %zu points",
@@ -173,7 +173,8 @@ gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
   int64_t id_before = points->next_id;
   for (size_t begin = 0; begin < grid.total && status == GM_OK;
        begin += FILL_SLAB) {
-    size_t end = begin + FILL_SLAB < grid.total ? begin + FILL_SLAB : grid.total;
+    size_t end =
+        begin + FILL_SLAB < grid.total ? begin + FILL_SLAB : grid.total;
     status = add_slab(domain, def, &grid, begin, end, density, arrays, NULL);
   }
   gm_free(arrays);

@@ -14,14 +14,14 @@
 
 /* Every array a pass touches, in restrict-qualified locals (see p2g.c). */
 typedef struct gather_view {
-  const double *position[2];   /* m, committed */
-  const double *velocity[2];   /* m/s, committed */
+  const double *position[2]; /* m, committed */
+  const double *velocity[2]; /* m/s, committed */
   const double *deformation[GM_F_STORED];
   const double *grid_velocity[2];     /* m/s */
   const double *grid_acceleration[2]; /* m/s^2 */
   const uint32_t *point_block;
   const uint32_t *neighbour;
-  const double *mass;           /* kg */
+  const double *mass; /* kg */
   const double *initial_volume;
   const int32_t *material;
   double *next_position[2];
@@ -30,7 +30,7 @@ typedef struct gather_view {
   double *next_volume;
   double origin[2];
   double inv_cell;
-  double cells[2];         /* cells per axis, as doubles */
+  double cells[2]; /* cells per axis, as doubles */
   int shift;
   int dim;
   bool axisymmetric;
@@ -176,8 +176,7 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
     if (gm_block_key_of(domain, moved, &key))
       continue;
     bool finite = isfinite(moved[0]) && isfinite(moved[1]);
-    gm_worker_error(scratch, finite ? GM_ERR_OUT_OF_GRID : GM_ERR_NOT_FINITE,
-                    p,
+    gm_worker_error(scratch, finite ? GM_ERR_OUT_OF_GRID : GM_ERR_NOT_FINITE, p,
                     "step: point id %lld %s (x = %g, y = %g m at t = %g s); "
                     "the step was not taken",
                     (long long)domain->points.id[p],
@@ -189,8 +188,8 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
 
 /* F <- (I + L dt) F and V = det F V0 (004 eq 3.23); det F <= 0 fails. */
 static void deform_chunk(gm_domain *domain, const gather_view *v,
-                         gm_worker_scratch *scratch, size_t first,
-                         size_t count, const chunk_gather *g, double dt) {
+                         gm_worker_scratch *scratch, size_t first, size_t count,
+                         const chunk_gather *g, double dt) {
   const double *restrict f_xx = v->deformation[F_XX] + first;
   const double *restrict f_xy = v->deformation[F_XY] + first;
   const double *restrict f_yx = v->deformation[F_YX] + first;
@@ -374,7 +373,9 @@ static void make_view(gm_domain *domain, gather_view *view) {
   view->axisymmetric = domain->axisymmetric;
 }
 
-size_t gm_chunk_gather_size(void) { return sizeof(chunk_gather); }
+size_t gm_chunk_gather_size(void) {
+  return sizeof(chunk_gather);
+}
 
 void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass) {
   g2p_context ctx;

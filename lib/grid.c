@@ -16,14 +16,15 @@ bool gm_block_key_of(const gm_domain *domain, const double *position_xyz,
   for (int k = 0; k < domain->dim; k++) {
     /* The same arithmetic as gm_shape_linear_axis, so the block agrees
      * with the cell the shape functions use. */
-    double scaled = (position_xyz[k] - domain->def.origin[k]) * domain->inv_cell;
+    double scaled =
+        (position_xyz[k] - domain->def.origin[k]) * domain->inv_cell;
     if (!(scaled >= 0.0 && scaled < (double)domain->cells[k]))
       return false;
     cell[k] = (int64_t)scaled;
   }
   int shift = domain->grid.shift;
-  *key = (cell[1] >> shift) * domain->grid.blocks_per_axis[0] +
-         (cell[0] >> shift);
+  *key =
+      (cell[1] >> shift) * domain->grid.blocks_per_axis[0] + (cell[0] >> shift);
   return true;
 }
 
@@ -103,7 +104,7 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
   size_t old = grid->block_capacity;
   size_t capacity = block_count + block_count / 2;
   size_t nodes_old = old * GM_BLOCK_NODES, nodes = capacity * GM_BLOCK_NODES;
-  void **arrays[] = {(void **)&grid->mass,        (void **)&grid->momentum[0],
+  void **arrays[] = {(void **)&grid->mass, (void **)&grid->momentum[0],
                      (void **)&grid->momentum[1], (void **)&grid->force[0],
                      (void **)&grid->force[1]};
   for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++)
@@ -112,8 +113,7 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
   void *links = grid->neighbour, *keys = grid->block_key,
        *starts = grid->point_start, *colours = grid->color_block,
        *counts = grid->chunk_counts;
-  if (!gm_grow(&links, GM_BLOCK_NEIGHBOURS * sizeof(uint32_t), old,
-               capacity) ||
+  if (!gm_grow(&links, GM_BLOCK_NEIGHBOURS * sizeof(uint32_t), old, capacity) ||
       !gm_grow(&keys, sizeof(int64_t), old, capacity) ||
       !gm_grow(&starts, sizeof(uint32_t), old + 1, capacity + 1) ||
       !gm_grow(&colours, sizeof(uint32_t), old, capacity) ||

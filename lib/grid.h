@@ -11,10 +11,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define GM_BLOCK_NODES 64
+#define GM_BLOCK_NODES    64
 #define GM_BLOCK_SHIFT_2D 3 /* 8 x 8 nodes */
+#define GM_BLOCK_EDGE_2D  8
 #define GM_BLOCK_SHIFT_1D 6 /* 64 nodes */
-#define GM_NO_BLOCK UINT32_MAX
+#define GM_NO_BLOCK       UINT32_MAX
 /* Neighbour slots: self, +x, +y, +x+y (a cell's upper nodes may lie in the
  * next block along each axis). */
 #define GM_BLOCK_NEIGHBOURS 4
@@ -24,20 +25,20 @@
 
 typedef struct gm_grid {
   int dim;
-  int shift;                   /* log2 of nodes per block edge */
-  int64_t blocks_per_axis[3];  /* blocks covering nodes 0..cells */
+  int shift;                  /* log2 of nodes per block edge */
+  int64_t blocks_per_axis[3]; /* blocks covering nodes 0..cells */
   size_t block_count;
   size_t block_capacity;
-  int64_t *block_key;          /* sorted; key = by * blocks_x + bx */
-  uint32_t *neighbour;         /* block_capacity * GM_BLOCK_NEIGHBOURS */
-  uint32_t *point_start;       /* block_capacity + 1, ranges in order[] */
-  uint32_t *color_block;       /* block indices grouped by colour */
-  size_t color_start[5];       /* colour c: color_block[start[c]..start[c+1]) */
-  uint32_t *chunk_counts;      /* GM_BIN_CHUNKS * block_capacity */
+  int64_t *block_key;     /* sorted; key = by * blocks_x + bx */
+  uint32_t *neighbour;    /* block_capacity * GM_BLOCK_NEIGHBOURS */
+  uint32_t *point_start;  /* block_capacity + 1, ranges in order[] */
+  uint32_t *color_block;  /* block indices grouped by colour */
+  size_t color_start[5];  /* colour c: color_block[start[c]..start[c+1]) */
+  uint32_t *chunk_counts; /* GM_BIN_CHUNKS * block_capacity */
   /* Open-addressing hash: block key -> block index. */
   int64_t *hash_key;
   uint32_t *hash_value;
-  size_t hash_capacity;        /* power of two */
+  size_t hash_capacity; /* power of two */
   size_t hash_used;
   /* Node fields, block_capacity * GM_BLOCK_NODES each. */
   double *mass;        /* kg */
@@ -63,7 +64,8 @@ static inline void gm_cell_nodes_2d(const uint32_t *links, int shift,
   int over_x = (int)(next_x >> shift), over_y = (int)(next_y >> shift);
   next_x &= mask;
   next_y &= mask;
-  node[0] = (size_t)links[0] * GM_BLOCK_NODES + (size_t)(local_x + edge * local_y);
+  node[0] =
+      (size_t)links[0] * GM_BLOCK_NODES + (size_t)(local_x + edge * local_y);
   node[1] = (size_t)links[over_x] * GM_BLOCK_NODES +
             (size_t)(next_x + edge * local_y);
   node[2] = (size_t)links[2 * over_y] * GM_BLOCK_NODES +

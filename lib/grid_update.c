@@ -37,8 +37,7 @@ static void constrained_components(const gm_domain *domain, int64_t ix,
     fixed[0] = true;
 }
 
-static void update_blocks(void *context, size_t begin, size_t end,
-                          int worker) {
+static void update_blocks(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   update_context *ctx = context;
   gm_domain *domain = ctx->domain;
@@ -91,6 +90,5 @@ static void update_blocks(void *context, size_t begin, size_t end,
 
 void gm_grid_update(gm_domain *domain, double dt, int mode) {
   update_context ctx = {domain, dt, mode};
-  gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks,
-                  &ctx);
+  gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks, &ctx);
 }

@@ -22,8 +22,8 @@
 #else
 #define GM_ALWAYS_INLINE inline
 #endif
-#define GM_PI 3.14159265358979323846
-#define GM_MAX_STATE 64
+#define GM_PI            3.14159265358979323846
+#define GM_MAX_STATE     64
 #define GM_MAX_MATERIALS 256
 /* Points handed to a material callback at once: large enough to amortise
  * the call, small enough that the batch buffers stay in L1/L2. */
@@ -49,8 +49,8 @@ typedef struct gm_material {
   void *user;
   size_t state_count;
   double initial_state[GM_MAX_STATE];
-  double p_wave_modulus; /* Pa, K + 4G/3 bound for the stable dt */
-  double density;        /* kg/m^3, default for new points */
+  double p_wave_modulus;  /* Pa, K + 4G/3 bound for the stable dt */
+  double density;         /* kg/m^3, default for new points */
   gm_elastic_def elastic; /* parameters of the built-in elastic material */
   bool builtin_elastic;   /* user == &elastic (re-aimed when moved) */
 } gm_material;
@@ -63,13 +63,13 @@ typedef struct gm_material {
  * vectors; F_ZZ only in axisymmetry, where the hoop stretch evolves);
  * the others stay NULL. */
 typedef struct gm_point_buffers {
-  double *position[3];             /* m */
-  double *velocity[3];             /* m/s */
+  double *position[3];              /* m */
+  double *velocity[3];              /* m/s */
   double *stress[GM_STRESS_STORED]; /* Pa, xx yy zz xy */
   double *deformation[GM_F_STORED]; /* F components, see F_XX.. */
-  double *volume;                  /* current volume (units: gm_points_def) */
-  double *state;                   /* state[i*stride+k]: one pool for all
-                                      materials, stride = max state_count */
+  double *volume;                   /* current volume (units: gm_points_def) */
+  double *state;                    /* state[i*stride+k]: one pool for all
+                                       materials, stride = max state_count */
 } gm_point_buffers;
 
 typedef struct gm_points {
@@ -78,16 +78,16 @@ typedef struct gm_points {
   gm_point_buffers buffer[2];
   int cur; /* index of the committed buffer */
   /* Single-buffered fields (a step never changes them). */
-  double *mass;            /* kg */
-  double *initial_volume;  /* at creation */
-  double *domain_size[3];  /* m, initial particle domain edges */
+  double *mass;              /* kg */
+  double *initial_volume;    /* at creation */
+  double *domain_size[3];    /* m, initial particle domain edges */
   double *external_force[3]; /* N, host-supplied, persistent; allocated on
                                 first use (NULL = no external force) */
-  int64_t *id;             /* stable id */
-  int32_t *material;       /* material index */
+  int64_t *id;               /* stable id */
+  int32_t *material;         /* material index */
   /* id -> index; ids are dense 0..next_id-1 (no removal in v0.1). */
   uint32_t *index_of_id;
-  int64_t *block_key;      /* block of each committed position, this step */
+  int64_t *block_key; /* block of each committed position, this step */
   int64_t next_id;
   size_t state_stride; /* doubles of state per point */
   /* Scratch sized with the points (no allocation inside a step). */
@@ -103,7 +103,7 @@ typedef struct gm_worker_scratch {
   uint32_t batch_index[GM_BATCH_SIZE];
   uint32_t identity_rows[GM_BATCH_SIZE]; /* 0, 1, 2, ... */
   double *state_columns[GM_MAX_STATE];
-  double *state_storage; /* GM_MAX_STATE * GM_BATCH_SIZE doubles */
+  double *state_storage;       /* GM_MAX_STATE * GM_BATCH_SIZE doubles */
   struct chunk_gather *gather; /* G2P results of the chunk (g2p.c) */
   /* Sub-batch of one material when a chunk mixes materials. */
   double sub_strain_increment[6][GM_BATCH_SIZE];
@@ -124,10 +124,10 @@ typedef struct gm_worker_scratch {
 /* ----------------------------------------------------------------- domain */
 struct gm_domain {
   gm_domain_def def;
-  int dim;             /* 1 or 2 */
+  int dim; /* 1 or 2 */
   bool axisymmetric;
-  double inv_cell;     /* 1/m */
-  int64_t cells[3];    /* cells per axis */
+  double inv_cell;  /* 1/m */
+  int64_t cells[3]; /* cells per axis */
   gm_grid grid;
   gm_points points;
   gm_material *materials;
@@ -135,17 +135,17 @@ struct gm_domain {
   gm_pool pool;
   gm_worker_scratch *scratch; /* one per worker */
   int worker_count;
-  double time;         /* s */
-  double current_dt;   /* s, dt of the step being taken */
+  double time;       /* s */
+  double current_dt; /* s, dt of the step being taken */
   uint64_t step_count;
   double max_signal_speed; /* m/s, max c_p + max |v_p|, committed state */
   gm_step_hook_fn *hook;
   void *hook_user;
-  bool busy;           /* inside a step: state-changing calls refused */
+  bool busy;            /* inside a step: state-changing calls refused */
   bool velocity_edited; /* host wrote velocities: signal speed is stale */
-  bool in_hook;        /* inside the step hook: edits allowed */
+  bool in_hook;         /* inside the step hook: edits allowed */
   int steps_since_reorder;
-  gm_point_buffers snapshot;  /* committed state saved before dt-halving */
+  gm_point_buffers snapshot; /* committed state saved before dt-halving */
   size_t snapshot_capacity;
   char last_error[GM_ERROR_MESSAGE_SIZE];
 };
@@ -157,8 +157,8 @@ gm_status gm_set_create_error(gm_status status, const char *format, ...)
 gm_status gm_set_error(gm_domain *domain, gm_status status, const char *format,
                        ...) __attribute__((format(printf, 3, 4)));
 /* The same into a per-worker scratch (keeps the lowest point index). */
-void gm_worker_error(gm_worker_scratch *scratch, gm_status status,
-                     size_t index, const char *format, ...)
+void gm_worker_error(gm_worker_scratch *scratch, gm_status status, size_t index,
+                     const char *format, ...)
     __attribute__((format(printf, 4, 5)));
 /* Moves the lowest-index worker error into the domain; GM_OK if none. */
 gm_status gm_collect_worker_errors(gm_domain *domain);
@@ -183,17 +183,17 @@ bool gm_block_key_of(const gm_domain *domain, const double *position_xyz,
                      int64_t *key);
 
 /* Step phases. */
-gm_status gm_grid_build(gm_domain *domain);            /* grid.c */
-gm_status gm_bin_points(gm_domain *domain);            /* bins.c */
-void gm_reorder_points(gm_domain *domain);             /* bins.c */
+gm_status gm_grid_build(gm_domain *domain); /* grid.c */
+gm_status gm_bin_points(gm_domain *domain); /* bins.c */
+void gm_reorder_points(gm_domain *domain);  /* bins.c */
 /* What a P2G pass accumulates (p2g.c). */
 typedef struct gm_p2g_pass {
-  bool mass;            /* nodal mass */
-  bool momentum;        /* nodal momentum */
-  bool forces;          /* internal, body and host forces */
-  int velocity_buffer;  /* buffer whose velocities give the momentum */
-  int stress_buffer;    /* buffer whose stress and volume give forces */
-  bool check_inputs;    /* reject non-finite host-written inputs */
+  bool mass;           /* nodal mass */
+  bool momentum;       /* nodal momentum */
+  bool forces;         /* internal, body and host forces */
+  int velocity_buffer; /* buffer whose velocities give the momentum */
+  int stress_buffer;   /* buffer whose stress and volume give forces */
+  bool check_inputs;   /* reject non-finite host-written inputs */
 } gm_p2g_pass;
 void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass);
 void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
@@ -208,9 +208,9 @@ enum {
 
 /* What a G2P pass does (g2p.c). */
 typedef struct gm_g2p_pass {
-  bool flip_velocity;      /* v_p += dt * sum N a_i  */
-  bool move_points;        /* x_p += dt * sum N v_i (nodal velocity) */
-  bool deform;             /* L from nodal velocity: F, V, stress */
+  bool flip_velocity; /* v_p += dt * sum N a_i  */
+  bool move_points;   /* x_p += dt * sum N v_i (nodal velocity) */
+  bool deform;        /* L from nodal velocity: F, V, stress */
   double dt;
 } gm_g2p_pass;
 void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);

@@ -65,8 +65,7 @@ gm_status gm_domain_add_material(gm_domain *domain, const gm_material_def *def,
                         "gm_material_def.struct_size is %zu, expected %zu",
                         def->struct_size, sizeof(gm_material_def));
   if (!def->update)
-    return gm_set_error(domain, GM_ERR_NULL,
-                        "gm_material_def.update is NULL");
+    return gm_set_error(domain, GM_ERR_NULL, "gm_material_def.update is NULL");
   if (def->state_count > GM_MAX_STATE)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_material_def.state_count is %zu, at most %d",

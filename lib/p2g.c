@@ -62,22 +62,62 @@ static void check_inputs(gm_domain *domain, gm_worker_scratch *scratch,
       double force = v->external_force[c] ? v->external_force[c][p] : 0.0;
       if (isfinite(v->velocity[c][p]) && isfinite(force))
         continue;
-      gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
-                      "step: point id %lld has a non-finite %s (component "
-                      "%d); the step was not taken",
-                      (long long)domain->points.id[p],
-                      isfinite(v->velocity[c][p]) ? "external force"
-                                                  : "velocity",
-                      c);
+      gm_worker_error(
+          scratch, GM_ERR_NOT_FINITE, p,
+          "step: point id %lld has a non-finite %s (component "
+          "%d); the step was not taken",
+          (long long)domain->points.id[p],
+          isfinite(v->velocity[c][p]) ? "external force" : "velocity", c);
     }
   }
 }
 
-/* A block's points into the grid; do_* are compile-time constants in each
- * specialisation below, so each pass kind gets its own tight loop. */
+/* A block's points are first summed into a stack tile of the block's
+ * nodes plus the one-node halo its cells reach (9 x 9 in 2D), where the
+ * four nodes of a cell are at i, i+1, i+T, i+T+1: no neighbour lookups per
+ * point, and pairs of adjacent nodes vectorise. The tile is then added to
+ * the grid once per block. */
+#define TILE       (GM_BLOCK_EDGE_2D + 1)
+#define TILE_NODES (TILE * TILE)
+
+typedef struct scatter_tile {
+  double mass[TILE_NODES];        /* kg */
+  double momentum[2][TILE_NODES]; /* kg m/s */
+  double force[2][TILE_NODES];    /* N */
+} scatter_tile;
+
+/* Adds tile node (tx, ty) of field values to the grid through the links. */
+static void flush_tile(const scatter_view *v, const uint32_t *links,
+                       const scatter_tile *tile, const bool do_mass,
+                       const bool do_momentum, const bool do_forces) {
+  for (int ty = 0; ty < TILE; ty++) {
+    for (int tx = 0; tx < TILE; tx++) {
+      int t = tx + TILE * ty;
+      int over_x = tx / GM_BLOCK_EDGE_2D, over_y = ty / GM_BLOCK_EDGE_2D;
+      uint32_t block = links[over_x + 2 * over_y];
+      if (block == GM_NO_BLOCK)
+        continue; /* past the grid's last node: never reached by points */
+      size_t node = (size_t)block * GM_BLOCK_NODES +
+                    (size_t)(tx % GM_BLOCK_EDGE_2D) +
+                    GM_BLOCK_EDGE_2D * (size_t)(ty % GM_BLOCK_EDGE_2D);
+      if (do_mass)
+        v->grid_mass[node] += tile->mass[t];
+      for (int k = 0; k < 2; k++) {
+        if (do_momentum)
+          v->grid_momentum[k][node] += tile->momentum[k][t];
+        if (do_forces)
+          v->grid_force[k][node] += tile->force[k][t];
+      }
+    }
+  }
+}
+
+/* do_* are compile-time constants in each specialisation below, so each
+ * pass kind gets its own tight loop. */
 static GM_ALWAYS_INLINE void
-scatter_block_2d_kind(const scatter_view *v, uint32_t block, const bool do_mass,
-                      const bool do_momentum, const bool do_forces) {
+scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
+                      const bool do_mass, const bool do_momentum,
+                      const bool do_forces) {
   const double *restrict px = v->position[0], *restrict py = v->position[1];
   const double *restrict vx = v->velocity[0], *restrict vy = v->velocity[1];
   const double *restrict point_mass = v->mass, *restrict volume = v->volume;
@@ -85,43 +125,46 @@ scatter_block_2d_kind(const scatter_view *v, uint32_t block, const bool do_mass,
   const double *restrict szz = v->stress[2], *restrict sxy = v->stress[3];
   const double *restrict fx_ext = v->external_force[0];
   const double *restrict fy_ext = v->external_force[1];
-  double *restrict gm = v->grid_mass;
-  double *restrict gpx = v->grid_momentum[0], *restrict gpy = v->grid_momentum[1];
-  double *restrict gfx = v->grid_force[0], *restrict gfy = v->grid_force[1];
-  const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  double *restrict tm = tile->mass;
+  double *restrict tpx = tile->momentum[0], *restrict tpy = tile->momentum[1];
+  double *restrict tfx = tile->force[0], *restrict tfy = tile->force[1];
   const uint32_t *restrict order = v->order;
-  int64_t mask = ((int64_t)1 << v->shift) - 1;
+  int64_t mask = GM_BLOCK_EDGE_2D - 1;
   double origin_x = v->origin[0], origin_y = v->origin[1];
   double inv_cell = v->inv_cell;
   double gravity_x = v->gravity[0], gravity_y = v->gravity[1];
   bool axisymmetric = v->axisymmetric, has_external = fx_ext != NULL;
-  for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1];
-       k++) {
+  for (int t = 0; t < TILE_NODES; t++) {
+    if (do_mass)
+      tm[t] = 0.0;
+    if (do_momentum)
+      tpx[t] = tpy[t] = 0.0;
+    if (do_forces)
+      tfx[t] = tfy[t] = 0.0;
+  }
+  for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
     size_t p = order[k];
     double wx[2], dx[2], wy[2], dy[2];
     int64_t cx = gm_shape_linear_axis(px[p], origin_x, inv_cell, wx, dx);
     int64_t cy = gm_shape_linear_axis(py[p], origin_y, inv_cell, wy, dy);
-    size_t node[4];
-    gm_cell_nodes_2d(links, v->shift, cx & mask, cy & mask, node);
+    size_t t = (size_t)((cx & mask) + TILE * (cy & mask));
     double m = point_mass[p];
-    double weight[4] = {wx[0] * wy[0], wx[1] * wy[0], wx[0] * wy[1],
-                        wx[1] * wy[1]};
-    if (do_mass)
-      for (int n = 0; n < 4; n++)
-        gm[node[n]] += weight[n] * m;
-    if (do_momentum) {
-      double mvx = m * vx[p], mvy = m * vy[p];
-      for (int n = 0; n < 4; n++) {
-        gpx[node[n]] += weight[n] * mvx;
-        gpy[node[n]] += weight[n] * mvy;
+    for (int b = 0; b < 2; b++) {
+      size_t row = t + (size_t)(TILE * b);
+      if (do_mass) {
+        tm[row] += wx[0] * wy[b] * m;
+        tm[row + 1] += wx[1] * wy[b] * m;
+      }
+      if (do_momentum) {
+        double mvx = m * vx[p] * wy[b], mvy = m * vy[p] * wy[b];
+        tpx[row] += wx[0] * mvx;
+        tpx[row + 1] += wx[1] * mvx;
+        tpy[row] += wx[0] * mvy;
+        tpy[row + 1] += wx[1] * mvy;
       }
     }
     if (!do_forces)
       continue;
-    double grad_x[4] = {dx[0] * wy[0], dx[1] * wy[0], dx[0] * wy[1],
-                        dx[1] * wy[1]};
-    double grad_y[4] = {wx[0] * dy[0], wx[1] * dy[0], wx[0] * dy[1],
-                        wx[1] * dy[1]};
     double V = volume[p]; /* stress times volume: N m */
     double txx = sxx[p] * V, tyy = syy[p] * V, txy = sxy[p] * V;
     double body_x = m * gravity_x, body_y = m * gravity_y;
@@ -132,23 +175,31 @@ scatter_block_2d_kind(const scatter_view *v, uint32_t block, const bool do_mass,
     /* Hoop row of B (002 sec 3): sigma_tt V N_i / x acts radially. */
     if (axisymmetric)
       body_x -= szz[p] * V / px[p];
-    for (int n = 0; n < 4; n++) {
-      gfx[node[n]] += weight[n] * body_x - (txx * grad_x[n] + txy * grad_y[n]);
-      gfy[node[n]] += weight[n] * body_y - (txy * grad_x[n] + tyy * grad_y[n]);
+    for (int b = 0; b < 2; b++) {
+      size_t row = t + (size_t)(TILE * b);
+      for (int a = 0; a < 2; a++) {
+        double weight = wx[a] * wy[b];
+        double grad_x = dx[a] * wy[b], grad_y = wx[a] * dy[b];
+        tfx[row + a] += weight * body_x - (txx * grad_x + txy * grad_y);
+        tfy[row + a] += weight * body_y - (txy * grad_x + tyy * grad_y);
+      }
     }
   }
+  const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  flush_tile(v, links, tile, do_mass, do_momentum, do_forces);
 }
 
 static void scatter_block_2d(const scatter_view *v, const gm_p2g_pass *pass,
                              uint32_t block) {
+  scatter_tile tile;
   if (pass->mass && pass->momentum && pass->forces)
-    scatter_block_2d_kind(v, block, true, true, true);
+    scatter_block_2d_kind(v, block, &tile, true, true, true);
   else if (pass->mass && pass->momentum)
-    scatter_block_2d_kind(v, block, true, true, false);
+    scatter_block_2d_kind(v, block, &tile, true, true, false);
   else if (pass->momentum)
-    scatter_block_2d_kind(v, block, false, true, false);
+    scatter_block_2d_kind(v, block, &tile, false, true, false);
   else
-    scatter_block_2d_kind(v, block, pass->mass, false, pass->forces);
+    scatter_block_2d_kind(v, block, &tile, false, false, true);
 }
 
 static void scatter_block_1d(const scatter_view *v, const gm_p2g_pass *pass,
@@ -161,8 +212,7 @@ static void scatter_block_1d(const scatter_view *v, const gm_p2g_pass *pass,
   double *restrict gfx = v->grid_force[0];
   const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
   int64_t edge = (int64_t)1 << v->shift, mask = edge - 1;
-  for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1];
-       k++) {
+  for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
     size_t p = v->order[k];
     double w[2], d[2];
     int64_t local =
@@ -202,8 +252,7 @@ static void scatter_blocks(void *context, size_t begin, size_t end,
   }
 }
 
-static void clear_blocks(void *context, size_t begin, size_t end,
-                         int worker) {
+static void clear_blocks(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   p2g_context *ctx = context;
   gm_grid *grid = &ctx->domain->grid;

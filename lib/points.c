@@ -44,8 +44,8 @@ gm_status gm_points_reserve(gm_domain *domain, size_t capacity) {
   if (capacity <= old_capacity)
     return GM_OK;
   for (int b = 0; b < 2; b++) {
-    gm_status status = gm_buffers_reserve(domain, &points->buffer[b],
-                                          old_capacity, capacity);
+    gm_status status =
+        gm_buffers_reserve(domain, &points->buffer[b], old_capacity, capacity);
     if (status != GM_OK)
       return status;
   }
@@ -171,7 +171,9 @@ static bool all_finite(const double *values, size_t count) {
   return true;
 }
 
-static const char *axis_name(int k) { return k == 0 ? "x" : k == 1 ? "y" : "z"; }
+static const char *axis_name(int k) {
+  return k == 0 ? "x" : k == 1 ? "y" : "z";
+}
 
 /* Checks point i of def; the message names the point and the field. */
 static gm_status validate_point(gm_domain *domain, const gm_points_def *def,
@@ -271,8 +273,8 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
   static const int stress_voigt[GM_STRESS_STORED] = {GM_XX, GM_YY, GM_ZZ,
                                                      GM_XY};
   for (int k = 0; k < GM_STRESS_STORED; k++)
-    buffer->stress[k][p] = def->stress ? def->stress[i * 6 + stress_voigt[k]]
-                                       : 0.0;
+    buffer->stress[k][p] =
+        def->stress ? def->stress[i * 6 + stress_voigt[k]] : 0.0;
   buffer->deformation[F_XX][p] = 1.0;
   buffer->deformation[F_XY][p] = 0.0;
   buffer->deformation[F_YX][p] = 0.0;
@@ -305,8 +307,7 @@ gm_status gm_domain_add_points(gm_domain *domain, const gm_points_def *def,
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_add_points: count is 0");
   if (!def->position || !def->volume)
-    return gm_set_error(domain, GM_ERR_NULL,
-                        "gm_domain_add_points: %s is NULL",
+    return gm_set_error(domain, GM_ERR_NULL, "gm_domain_add_points: %s is NULL",
                         def->position ? "volume" : "position");
   if (def->material < 0 || def->material >= domain->material_count)
     return gm_set_error(domain, GM_ERR_UNKNOWN_MATERIAL,
@@ -337,7 +338,7 @@ gm_status gm_domain_add_points(gm_domain *domain, const gm_points_def *def,
                           needed);
   }
   for (size_t i = 0; i < def->count; i++)
-    store_point(domain, def,  i,
+    store_point(domain, def, i,
                 def->density ? def->density[i] : material_density);
   if (first_id)
     *first_id = points->next_id;

@@ -17,9 +17,13 @@ const char *gm_strerror(gm_status status) {
   return "unknown status code";
 }
 
-const char *gm_version(void) { return GM_VERSION_STRING; }
+const char *gm_version(void) {
+  return GM_VERSION_STRING;
+}
 
-int gm_version_number(void) { return GM_VERSION_NUMBER; }
+int gm_version_number(void) {
+  return GM_VERSION_NUMBER;
+}
 
 int gm_geometry_dimension(gm_geometry geometry) {
   switch (geometry) {
@@ -45,8 +49,8 @@ gm_status gm_set_error(gm_domain *domain, gm_status status, const char *format,
   return status;
 }
 
-void gm_worker_error(gm_worker_scratch *scratch, gm_status status,
-                     size_t index, const char *format, ...) {
+void gm_worker_error(gm_worker_scratch *scratch, gm_status status, size_t index,
+                     const char *format, ...) {
   if (scratch->error_status != GM_OK && scratch->error_index <= index)
     return;
   scratch->error_status = status;

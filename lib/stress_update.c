@@ -26,8 +26,10 @@ static void prepare_rows(gm_domain *domain, gm_worker_scratch *scratch,
   const double *restrict syy = from->stress[1] + first;
   const double *restrict szz = from->stress[2] + first;
   const double *restrict sxy = from->stress[3] + first;
-  double *restrict rxx = to->stress[0] + first, *restrict ryy = to->stress[1] + first;
-  double *restrict rzz = to->stress[2] + first, *restrict rxy = to->stress[3] + first;
+  double *restrict rxx = to->stress[0] + first, *restrict ryy =
+                                                    to->stress[1] + first;
+  double *restrict rzz = to->stress[2] + first, *restrict rxy =
+                                                    to->stress[3] + first;
   const double *restrict mass = points->mass + first;
   const double *restrict volume = to->volume + first;
   const double *restrict l_xx = gradient[L_XX], *restrict l_xy = gradient[L_XY];
@@ -191,8 +193,8 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
     double *stress[6];
     for (int c = 0; c < 6; c++) {
       strain[c] = scratch->strain_increment[c];
-      stress[c] = c < GM_STRESS_STORED ? next_stress[c] + first
-                                       : scratch->stress[c];
+      stress[c] =
+          c < GM_STRESS_STORED ? next_stress[c] + first : scratch->stress[c];
     }
     call_material(domain, scratch, material[0], first, scratch->identity_rows,
                   count, strain, stress, scratch->density, points->id + first,

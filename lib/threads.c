@@ -7,7 +7,6 @@
 #include "threads.h"
 #include "internal.h"
 
-
 enum { SPIN_ROUNDS = 200000 };
 
 typedef struct worker_arg {
@@ -51,8 +50,8 @@ static void *worker_main(void *argument) {
       return NULL;
     seen = now;
     run_share(pool, worker);
-    if (atomic_fetch_sub_explicit(&pool->remaining, 1,
-                                  memory_order_acq_rel) == 1) {
+    if (atomic_fetch_sub_explicit(&pool->remaining, 1, memory_order_acq_rel) ==
+        1) {
       pthread_mutex_lock(&pool->mutex);
       pthread_cond_signal(&pool->done);
       pthread_mutex_unlock(&pool->mutex);

@@ -6,14 +6,14 @@
  */
 #include "granmpm.h"
 
-int gm_elastic_update(const gm_material_batch *batch, void *user,
-                      char *message, size_t message_size) {
+int gm_elastic_update(const gm_material_batch *batch, void *user, char *message,
+                      size_t message_size) {
   (void)message;
   (void)message_size;
   const gm_elastic_def *elastic = user;
-  double young = elastic->youngs_modulus;     /* Pa */
-  double nu = elastic->poisson_ratio;         /* - */
-  double shear = young / (2.0 * (1.0 + nu)); /* Pa, G = mu */
+  double young = elastic->youngs_modulus;                     /* Pa */
+  double nu = elastic->poisson_ratio;                         /* - */
+  double shear = young / (2.0 * (1.0 + nu));                  /* Pa, G = mu */
   double lame = young * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); /* Pa */
   const double *const *de = batch->strain_increment;
   double *const *s = batch->stress;
