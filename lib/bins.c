@@ -53,33 +53,25 @@ static void scatter_chunks(void *context, size_t begin, size_t end,
 }
 
 /* Block key of every committed position (all inside the grid: positions
- * are validated when added and when moved). */
+ * are validated when added and when moved). Needed only when the keys the
+ * last move pass wrote are stale (after adding points, a failed step or a
+ * reordering). */
 static void key_ranges(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   gm_domain *domain = context;
   gm_points *points = &domain->points;
   const gm_point_buffers *current = &points->buffer[points->cur];
-  const double *restrict x = current->position[0];
-  const double *restrict y = current->position[domain->dim > 1 ? 1 : 0];
-  int64_t *restrict key = points->block_key;
-  double origin_x = domain->def.origin[0], inv_cell = domain->inv_cell;
-  double origin_y = domain->dim > 1 ? domain->def.origin[1] : 0.0;
-  int64_t blocks_x = domain->grid.blocks_per_axis[0];
-  int shift = domain->grid.shift;
-  /* gm_block_key_of's arithmetic, inlined: (int64_t) truncation is floor
-   * for these non-negative cell coordinates. */
-  if (domain->dim == 1) {
-    for (size_t i = begin; i < end; i++)
-      key[i] = (int64_t)((x[i] - origin_x) * inv_cell) >> shift;
-    return;
-  }
+  const double *x = current->position[0];
+  const double *y = current->position[domain->dim > 1 ? 1 : 0];
   for (size_t i = begin; i < end; i++)
-    key[i] = ((int64_t)((y[i] - origin_y) * inv_cell) >> shift) * blocks_x +
-             ((int64_t)((x[i] - origin_x) * inv_cell) >> shift);
+    points->block_key[i] = gm_block_key_inside(
+        &domain->grid, x[i], y[i], domain->def.origin, domain->inv_cell);
 }
 
 gm_status gm_bin_points(gm_domain *domain) {
-  gm_parallel_for(&domain->pool, domain->points.count, key_ranges, domain);
+  if (!domain->points.keys_valid)
+    gm_parallel_for(&domain->pool, domain->points.count, key_ranges, domain);
+  domain->points.keys_valid = false; /* until this step's move pass ends */
   gm_status status = gm_grid_build(domain);
   if (status != GM_OK)
     return status;
@@ -169,4 +161,5 @@ void gm_reorder_points(gm_domain *domain) {
   memcpy(points->material, material_scratch, count * sizeof(int32_t));
   for (size_t k = 0; k < count; k++)
     points->index_of_id[points->id[k]] = (uint32_t)k;
+  points->keys_valid = false; /* recomputed at the next binning */
 }

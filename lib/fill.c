@@ -181,6 +181,7 @@ gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
   if (status != GM_OK) { /* cannot happen after the checks; stay atomic */
     points->count = count_before;
     points->next_id = id_before;
+    points->keys_valid = false;
     gm_recompute_signal_speed(domain);
     return status;
   }

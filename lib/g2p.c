@@ -21,7 +21,10 @@ typedef struct gather_view {
   const double *grid_acceleration[2]; /* m/s^2 */
   const uint32_t *point_block;
   const uint32_t *neighbour;
-  const double *mass; /* kg */
+  const gm_grid *grid;
+  int64_t *block_key;      /* written by the move pass */
+  const double *origin_xy; /* m, the domain origin (not aliased in 1D) */
+  const double *mass;      /* kg */
   const double *initial_volume;
   const int32_t *material;
   double *next_position[2];
@@ -167,8 +170,15 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
     }
     inside = inside && axis_inside;
   }
-  if (inside)
+  if (inside) { /* keys of the moved points, for the next step's binning */
+    const double *x = v->next_position[0] + first;
+    const double *y = v->next_position[v->dim > 1 ? 1 : 0] + first;
+    int64_t *restrict key = v->block_key + first;
+    for (size_t j = 0; j < count; j++)
+      key[j] =
+          gm_block_key_inside(v->grid, x[j], y[j], v->origin_xy, v->inv_cell);
     return;
+  }
   for (size_t p = first; p < first + count; p++) {
     double moved[2] = {v->next_position[0][p],
                        v->dim > 1 ? v->next_position[1][p] : 0.0};
@@ -362,6 +372,9 @@ static void make_view(gm_domain *domain, gather_view *view) {
     view->next_deformation[k] = to->deformation[k];
   }
   view->point_block = points->point_block;
+  view->grid = grid;
+  view->block_key = points->block_key;
+  view->origin_xy = domain->def.origin;
   view->neighbour = grid->neighbour;
   view->mass = points->mass;
   view->initial_volume = points->initial_volume;

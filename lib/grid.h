@@ -74,6 +74,20 @@ static inline void gm_cell_nodes_2d(const uint32_t *links, int shift,
             (size_t)(next_x + edge * next_y);
 }
 
+/* Block key of a position inside the grid (x, y: m; y ignored in 1D).
+ * Truncation is floor here: inside the grid the cell coordinates are >= 0.
+ * The arithmetic matches gm_shape_linear_axis, so the block agrees with
+ * the cell the shape functions use. */
+static inline int64_t gm_block_key_inside(const gm_grid *grid, double x,
+                                          double y, const double *origin,
+                                          double inv_cell) {
+  int64_t block_x = (int64_t)((x - origin[0]) * inv_cell) >> grid->shift;
+  if (grid->dim == 1)
+    return block_x;
+  int64_t block_y = (int64_t)((y - origin[1]) * inv_cell) >> grid->shift;
+  return block_y * grid->blocks_per_axis[0] + block_x;
+}
+
 /* Block index of key this step, or GM_NO_BLOCK. */
 uint32_t gm_grid_find(const gm_grid *grid, int64_t key);
 

@@ -87,7 +87,11 @@ typedef struct gm_points {
   int32_t *material;         /* material index */
   /* id -> index; ids are dense 0..next_id-1 (no removal in v0.1). */
   uint32_t *index_of_id;
-  int64_t *block_key; /* block of each committed position, this step */
+  /* Block of each point: of the committed positions at binning, of the
+   * moved ones after the move pass (right for the next step if it
+   * commits). keys_valid: block_key matches the committed positions. */
+  int64_t *block_key;
+  bool keys_valid;
   int64_t next_id;
   size_t state_stride; /* doubles of state per point */
   /* Scratch sized with the points (no allocation inside a step). */

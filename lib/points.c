@@ -344,6 +344,7 @@ gm_status gm_domain_add_points(gm_domain *domain, const gm_points_def *def,
     *first_id = points->next_id;
   points->count = needed;
   points->next_id += (int64_t)def->count;
+  points->keys_valid = false;
   gm_recompute_signal_speed(domain);
   return GM_OK;
 }

@@ -81,7 +81,8 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
     if (status != GM_OK)
       return status;
     domain->points.cur ^= 1;
-    double wave = 0.0, flow = 0.0; /* m^2/s^2 */
+    domain->points.keys_valid = true; /* the move pass keyed the new state */
+    double wave = 0.0, flow = 0.0;    /* m^2/s^2 */
     for (int w = 0; w < domain->worker_count; w++) {
       gm_worker_scratch *scratch = &domain->scratch[w];
       wave = fmax(wave, scratch->max_wave_speed_squared);
@@ -150,6 +151,7 @@ static gm_status retry_in_halves(gm_domain *domain, double dt,
     domain->time = time + dt; /* exactly the interval asked for */
   if (status != GM_OK) {
     points->cur = cur;
+    points->keys_valid = false;
     gm_buffers_copy(&points->buffer[cur], &domain->snapshot, points->count,
                     points->state_stride);
     domain->time = time;
