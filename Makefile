@@ -49,7 +49,7 @@ distclean:
 
 CLANG_FORMAT ?= clang-format
 FORMAT_FILES = $(wildcard include/*.h lib/*.c lib/*.h lib/materials/*.c \
-	tests/*.c tests/*.h examples/*.c bench/*.c)
+	tests/*.c tests/*.h examples/*.c bench/*.c .ci/*.c)
 format:
 	$(CLANG_FORMAT) -i $(FORMAT_FILES)
 format-check:
