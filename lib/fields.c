@@ -214,6 +214,7 @@ gm_status gm_domain_edit_field(gm_domain *domain, gm_field field,
     return status;
   if (field == GM_FIELD_VELOCITY) /* the stable dt must see the new speeds */
     domain->velocity_edited = true;
+  domain->inputs_edited = true; /* screened for NaN/inf at the next step */
   *data = stored_component(domain, field, component);
   return GM_OK;
 }

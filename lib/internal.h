@@ -147,6 +147,8 @@ struct gm_domain {
   void *hook_user;
   bool busy;            /* inside a step: state-changing calls refused */
   bool velocity_edited; /* host wrote velocities: signal speed is stale */
+  bool inputs_edited;   /* host may have written velocities or external
+                           forces: screen them at the next step */
   bool in_hook;         /* inside the step hook: edits allowed */
   int steps_since_reorder;
   gm_point_buffers snapshot; /* committed state saved before dt-halving */

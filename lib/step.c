@@ -19,7 +19,9 @@ static gm_status collect(gm_domain *domain) {
 
 static gm_status run_usl(gm_domain *domain, double dt, bool modified) {
   int cur = domain->points.cur;
-  gm_p2g_pass scatter = {true, true, true, cur, cur, true};
+  /* Host-written inputs are screened only when the host had the chance to
+   * write them; otherwise they come from a checked step. */
+  gm_p2g_pass scatter = {true, true, true, cur, cur, domain->inputs_edited};
   gm_p2g(domain, &scatter);
   gm_status status = collect(domain);
   if (status != GM_OK)
@@ -44,7 +46,7 @@ static gm_status run_usl(gm_domain *domain, double dt, bool modified) {
 
 static gm_status run_usf(gm_domain *domain, double dt) {
   int cur = domain->points.cur;
-  gm_p2g_pass momentum = {true, true, false, cur, cur, true};
+  gm_p2g_pass momentum = {true, true, false, cur, cur, domain->inputs_edited};
   gm_p2g(domain, &momentum);
   gm_status status = collect(domain);
   if (status != GM_OK)
@@ -82,6 +84,7 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
       return status;
     domain->points.cur ^= 1;
     domain->points.keys_valid = true; /* the move pass keyed the new state */
+    domain->inputs_edited = false;    /* this step screened them */
     double wave = 0.0, flow = 0.0;    /* m^2/s^2 */
     for (int w = 0; w < domain->worker_count; w++) {
       gm_worker_scratch *scratch = &domain->scratch[w];
