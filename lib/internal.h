@@ -152,6 +152,7 @@ struct gm_domain {
   bool in_hook;         /* inside the step hook: edits allowed */
   int steps_since_reorder;
   gm_point_buffers snapshot; /* committed state saved before dt-halving */
+  int retry_depth;           /* nesting of dt-halving retries in a step */
   size_t snapshot_capacity;
   char last_error[GM_ERROR_MESSAGE_SIZE];
 };

@@ -138,11 +138,17 @@ static gm_status advance(gm_domain *domain, double dt, int retries_left,
                          bool allow_reorder);
 
 /* Retries the interval as two halves; restores the snapshot on failure. */
+/* Only the outermost retry saves and restores the snapshot: a nested
+ * retry's failure always propagates up to it, and saving again at a nested
+ * level would overwrite the start of the interval with a mid-interval
+ * state. */
 static gm_status retry_in_halves(gm_domain *domain, double dt,
                                  int retries_left) {
-  if (save_snapshot(domain) != GM_OK)
+  bool outermost = domain->retry_depth == 0;
+  if (outermost && save_snapshot(domain) != GM_OK)
     return gm_set_error(domain, GM_ERR_NO_MEMORY,
                         "step: out of memory for the retry snapshot");
+  domain->retry_depth++;
   gm_points *points = &domain->points;
   double time = domain->time, speed = domain->max_signal_speed;
   uint64_t steps = domain->step_count;
@@ -150,13 +156,15 @@ static gm_status retry_in_halves(gm_domain *domain, double dt,
   gm_status status = advance(domain, 0.5 * dt, retries_left - 1, false);
   if (status == GM_OK)
     status = advance(domain, 0.5 * dt, retries_left - 1, false);
+  domain->retry_depth--;
   if (status == GM_OK)
     domain->time = time + dt; /* exactly the interval asked for */
   if (status != GM_OK) {
     points->cur = cur;
     points->keys_valid = false;
-    gm_buffers_copy(&points->buffer[cur], &domain->snapshot, points->count,
-                    points->state_stride);
+    if (outermost)
+      gm_buffers_copy(&points->buffer[cur], &domain->snapshot, points->count,
+                      points->state_stride);
     domain->time = time;
     domain->max_signal_speed = speed;
     domain->step_count = steps;

@@ -459,6 +459,54 @@ START_TEST(test_recoverable_failure_always) {
 }
 END_TEST
 
+/* Nested retries: the first half of a halved step commits, then the second
+ * half keeps failing through its own halvings. The failed step must still
+ * restore the state from before the whole interval (a regression: a nested
+ * retry used to overwrite the retry snapshot with the mid-interval state). */
+static double nested_full_dt; /* s, the dt of the step under test */
+
+static int fail_after_one_success(const gm_material_batch *batch, void *user,
+                                  char *message, size_t message_size) {
+  (void)user;
+  (void)message;
+  (void)message_size;
+  for (size_t i = 0; i < batch->count; i++)
+    if (batch->state[0][i] >= 1.0 || batch->dt > 0.75 * nested_full_dt)
+      return 1; /* recoverable: the full dt, or anything after a success */
+  for (size_t i = 0; i < batch->count; i++)
+    batch->state[0][i] += 1.0; /* one successful update seen */
+  return 0;
+}
+
+START_TEST(test_nested_retry_failure_restores) {
+  gm_domain_def def = gm_domain_def_default();
+  def.max_retries = 3;
+  gm_domain *domain = test_create_domain(&def);
+  gm_material_def material = gm_material_def_default();
+  material.update = fail_after_one_success;
+  material.state_count = 1;
+  material.p_wave_modulus = 1e6;
+  material.density = 1000.0;
+  int id = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_material(domain, &material, &id));
+  gm_fill_def fill = gm_fill_def_default();
+  fill.material = id;
+  fill.lower[0] = fill.lower[1] = 0.3;
+  fill.upper[0] = fill.upper[1] = 0.6;
+  fill.velocity[0] = 1.0; /* m/s: a committed half step visibly moves */
+  TEST_ASSERT_OK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
+  TEST_ASSERT_OK(domain, gm_domain_stable_dt(domain, &nested_full_dt));
+  snapshot before;
+  snapshot_take(domain, &before);
+  gm_status status = gm_domain_step(domain, nested_full_dt);
+  ck_assert_msg(status == GM_ERR_CALLBACK, "step returned %d (%s)", (int)status,
+                gm_strerror(status));
+  check_unchanged(domain, &before, "nested retry failure");
+  snapshot_free(&before);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 /* -------------------------------------------------------------- (f) hooks */
 
 /* What a hook does and what it saw. */
@@ -663,6 +711,7 @@ static Suite *transaction_suite(void) {
   tcase_add_test(failures, test_recoverable_failure_once);
   tcase_add_test(failures, test_recoverable_failure_time_exact);
   tcase_add_test(failures, test_recoverable_failure_always);
+  tcase_add_test(failures, test_nested_retry_failure_restores);
   suite_add_tcase(suite, failures);
 
   TCase *hooks = tcase_create("hooks");
