@@ -165,7 +165,8 @@ GM_API gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out);
 /** Message of the last failed gm_domain_create() or gm_series_create() on
  * this thread. */
 GM_API const char *gm_last_create_error(void);
-/** Frees the domain and everything it owns. NULL is a no-op. */
+/** Frees the domain and everything it owns. NULL is a no-op, and so is a
+ * call from inside a step hook or material callback of that domain. */
 GM_API void gm_domain_destroy(gm_domain *domain);
 /** Message describing the last error on this domain ("" if none). */
 GM_API const char *gm_domain_last_error(const gm_domain *domain);
@@ -384,8 +385,9 @@ GM_API gm_status gm_domain_view_ids(const gm_domain *domain,
 
 /** Where a step hook is called. */
 typedef enum gm_hook_stage {
-  GM_HOOK_BEFORE_STEP = 0, /* after validation, before any transfer; the hook
-                              may edit velocities and external forces */
+  GM_HOOK_BEFORE_STEP = 0, /* before dt is chosen and checked and before any
+                              transfer; the hook may edit velocities and
+                              external forces (the stable dt sees them) */
   GM_HOOK_AFTER_STEP = 1   /* after the step is committed */
 } gm_hook_stage;
 

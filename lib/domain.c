@@ -189,7 +189,7 @@ static void free_grid(gm_grid *grid) {
 }
 
 void gm_domain_destroy(gm_domain *domain) {
-  if (!domain)
+  if (!domain || domain->busy) /* never free a domain under a running step */
     return;
   gm_pool_stop(&domain->pool);
   gm_points_free(&domain->points);

@@ -5,6 +5,7 @@
  */
 #include "internal.h"
 
+#include <limits.h>
 #include <math.h>
 
 /* Sub-cell index range [first, last) whose centres lie in [lower, upper). */
@@ -149,7 +150,14 @@ gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
   for (int k = 0; k < domain->dim; k++) {
     lattice_range(def->lower[k], def->upper[k], domain->def.origin[k],
                   grid.spacing, &grid.first[k], &grid.last[k]);
-    grid.total *= (size_t)(grid.last[k] - grid.first[k]);
+    size_t sites = (size_t)(grid.last[k] - grid.first[k]);
+    if (sites > (size_t)INT_MAX ||
+        grid.total > (size_t)INT_MAX / (sites ? sites : 1))
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "gm_domain_fill_box: the box holds more than %d "
+                          "lattice sites",
+                          INT_MAX);
+    grid.total *= sites;
   }
   if (grid.total == 0)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,

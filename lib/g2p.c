@@ -196,8 +196,9 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
   }
 }
 
-/* F <- (I + L dt) F and V = det F V0 (004 eq 3.23); det F <= 0 fails. */
-static void deform_chunk(gm_domain *domain, const gather_view *v,
+/* F <- (I + L dt) F and V = det F V0 (004 eq 3.23); det F <= 0 fails the
+ * step (returns false). */
+static bool deform_chunk(gm_domain *domain, const gather_view *v,
                          gm_worker_scratch *scratch, size_t first, size_t count,
                          const chunk_gather *g, double dt) {
   const double *restrict f_xx = v->deformation[F_XX] + first;
@@ -235,7 +236,7 @@ static void deform_chunk(gm_domain *domain, const gather_view *v,
     }
   }
   if (positive)
-    return;
+    return true;
   for (size_t j = 0; j < count; j++) {
     double jacobian = volume[j] / initial_volume[j];
     if (jacobian > 0.0 && jacobian < INFINITY)
@@ -246,6 +247,7 @@ static void deform_chunk(gm_domain *domain, const gather_view *v,
                     (long long)domain->points.id[first + j], jacobian,
                     domain->time + dt);
   }
+  return false;
 }
 
 /* Signal-speed bound of the chunk's new state: the largest c_p^2 and the
@@ -311,8 +313,9 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
       flip_chunk(v, first, count, g, dt);
     if (move)
       move_chunk(domain, v, scratch, first, count, g, dt);
-    if (deform) {
-      deform_chunk(domain, v, scratch, first, count, g, dt);
+    /* A chunk with an inverted point skips its material call: the step
+     * fails anyway, and materials never see a non-positive density. */
+    if (deform && deform_chunk(domain, v, scratch, first, count, g, dt)) {
       const double *gradient[5] = {g->gradient[0], g->gradient[1],
                                    g->gradient[2], g->gradient[3],
                                    g->gradient[4]};

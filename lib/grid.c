@@ -110,20 +110,23 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
   for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++)
     if (!gm_grow(arrays[a], sizeof(double), nodes_old, nodes))
       return false;
-  void *links = grid->neighbour, *keys = grid->block_key,
-       *starts = grid->point_start, *colours = grid->color_block,
-       *counts = grid->chunk_counts;
-  if (!gm_grow(&links, GM_BLOCK_NEIGHBOURS * sizeof(uint32_t), old, capacity) ||
-      !gm_grow(&keys, sizeof(int64_t), old, capacity) ||
-      !gm_grow(&starts, sizeof(uint32_t), old + 1, capacity + 1) ||
-      !gm_grow(&colours, sizeof(uint32_t), old, capacity) ||
-      !gm_grow(&counts, GM_BIN_CHUNKS * sizeof(uint32_t), old, capacity))
-    return false;
-  grid->neighbour = links;
-  grid->block_key = keys;
-  grid->point_start = starts;
-  grid->color_block = colours;
-  grid->chunk_counts = counts;
+  /* Each array is stored back as soon as it has grown: gm_grow frees the
+   * old one, so a later failure must not leave a stale pointer behind. */
+  struct {
+    void **array;
+    size_t element, old_count, new_count;
+  } links[] = {
+      {(void **)&grid->neighbour, GM_BLOCK_NEIGHBOURS * sizeof(uint32_t), old,
+       capacity},
+      {(void **)&grid->block_key, sizeof(int64_t), old, capacity},
+      {(void **)&grid->point_start, sizeof(uint32_t), old + 1, capacity + 1},
+      {(void **)&grid->color_block, sizeof(uint32_t), old, capacity},
+      {(void **)&grid->chunk_counts, GM_BIN_CHUNKS * sizeof(uint32_t), old,
+       capacity}};
+  for (size_t a = 0; a < sizeof links / sizeof links[0]; a++)
+    if (!gm_grow(links[a].array, links[a].element, links[a].old_count,
+                 links[a].new_count))
+      return false;
   grid->block_capacity = capacity;
   return true;
 }

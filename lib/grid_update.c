@@ -60,9 +60,7 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
       double old_velocity[2] = {0.0, 0.0};
       for (int k = 0; k < dim; k++) {
         double *motion = &grid->momentum[k][node];
-        old_velocity[k] = ctx->mode == GM_GRID_FULL_FROM_VELOCITY
-                              ? *motion
-                              : *motion * inverse_mass;
+        old_velocity[k] = *motion * inverse_mass;
         if (ctx->mode == GM_GRID_VELOCITY_ONLY) {
           *motion = old_velocity[k];
           continue;

@@ -205,13 +205,8 @@ typedef struct gm_p2g_pass {
 void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass);
 void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
 /* Grid update modes: momentum -> velocity only; momentum and force ->
- * updated velocity and acceleration; the same when the momentum arrays
- * already hold velocities (USF's second update). */
-enum {
-  GM_GRID_VELOCITY_ONLY = 0,
-  GM_GRID_FULL = 1,
-  GM_GRID_FULL_FROM_VELOCITY = 2
-};
+ * updated velocity and acceleration. */
+enum { GM_GRID_VELOCITY_ONLY = 0, GM_GRID_FULL = 1 };
 
 /* What a G2P pass does (g2p.c). */
 typedef struct gm_g2p_pass {

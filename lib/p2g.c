@@ -196,10 +196,12 @@ static void scatter_block_2d(const scatter_view *v, const gm_p2g_pass *pass,
     scatter_block_2d_kind(v, block, &tile, true, true, true);
   else if (pass->mass && pass->momentum)
     scatter_block_2d_kind(v, block, &tile, true, true, false);
+  else if (pass->momentum && pass->forces)
+    scatter_block_2d_kind(v, block, &tile, false, true, true);
   else if (pass->momentum)
     scatter_block_2d_kind(v, block, &tile, false, true, false);
   else
-    scatter_block_2d_kind(v, block, &tile, false, false, true);
+    scatter_block_2d_kind(v, block, &tile, pass->mass, false, pass->forces);
 }
 
 static void scatter_block_1d(const scatter_view *v, const gm_p2g_pass *pass,

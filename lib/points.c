@@ -83,17 +83,24 @@ gm_status gm_points_need_external_force(gm_domain *domain) {
 gm_status gm_points_restride_state(gm_domain *domain, size_t stride) {
   gm_points *points = &domain->points;
   size_t old_stride = points->state_stride;
+  /* Both pools are allocated before either is touched: a failure leaves
+   * the committed state exactly as it was. */
+  double *widened[2];
+  for (int b = 0; b < 2; b++)
+    widened[b] = gm_calloc(points->capacity ? points->capacity : 1,
+                           stride * sizeof(double));
+  if (!widened[0] || !widened[1]) {
+    gm_free(widened[0]);
+    gm_free(widened[1]);
+    return gm_set_error(domain, GM_ERR_NO_MEMORY, "state pool: out of memory");
+  }
   for (int b = 0; b < 2; b++) {
-    double *widened = gm_calloc(points->capacity ? points->capacity : 1,
-                                stride * sizeof(double));
-    if (!widened)
-      return gm_set_error(domain, GM_ERR_NO_MEMORY,
-                          "state pool: out of memory");
     for (size_t i = 0; i < points->count; i++)
       for (size_t k = 0; k < old_stride; k++)
-        widened[i * stride + k] = points->buffer[b].state[i * old_stride + k];
+        widened[b][i * stride + k] =
+            points->buffer[b].state[i * old_stride + k];
     gm_free(points->buffer[b].state);
-    points->buffer[b].state = widened;
+    points->buffer[b].state = widened[b];
   }
   points->state_stride = stride;
   /* The retry snapshot is re-made with the new stride when next needed. */

@@ -56,9 +56,12 @@ static gm_status run_usf(gm_domain *domain, double dt) {
   gm_g2p(domain, &stress);
   if ((status = collect(domain)) != GM_OK)
     return status;
-  gm_p2g_pass forces = {false, false, true, cur, cur ^ 1, false};
+  /* Momentum is scattered again with the forces: the first update turned
+   * it into wall-constrained velocities, and the walls' acceleration
+   * correction -v/dt needs the unconstrained ones. */
+  gm_p2g_pass forces = {false, true, true, cur, cur ^ 1, false};
   gm_p2g(domain, &forces);
-  gm_grid_update(domain, dt, GM_GRID_FULL_FROM_VELOCITY);
+  gm_grid_update(domain, dt, GM_GRID_FULL);
   gm_g2p_pass motion = {true, true, false, dt};
   gm_g2p(domain, &motion);
   return collect(domain);
@@ -199,11 +202,6 @@ static int run_hook(gm_domain *domain, gm_hook_stage stage) {
 }
 
 static gm_status choose_dt(gm_domain *domain, double *dt) {
-  if (isnan(*dt) || isinf(*dt))
-    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
-                        "gm_domain_step: dt is %g s, must be finite (<= 0 "
-                        "means the stable dt)",
-                        *dt);
   if (domain->points.count == 0) {
     if (*dt <= 0.0)
       return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
@@ -235,9 +233,11 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
     return gm_set_error(domain, GM_ERR_BUSY,
                         "gm_domain_step: called during a step (from a hook "
                         "or callback)");
-  gm_status status = choose_dt(domain, &dt);
-  if (status != GM_OK)
-    return status;
+  if (isnan(dt) || isinf(dt))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_step: dt is %g s, must be finite (<= 0 "
+                        "means the stable dt)",
+                        dt);
   domain->busy = true;
   if (run_hook(domain, GM_HOOK_BEFORE_STEP) != 0) {
     domain->busy = false;
@@ -245,6 +245,12 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
                         "gm_domain_step: the step hook cancelled the step at "
                         "t = %g s",
                         domain->time);
+  }
+  /* After the hook: velocities it edited count for the stable dt. */
+  gm_status status = choose_dt(domain, &dt);
+  if (status != GM_OK) {
+    domain->busy = false;
+    return status;
   }
   status = advance(domain, dt, domain->def.max_retries, true);
   if (status == GM_OK)

@@ -5,20 +5,27 @@
  * per-step work arrays reach their size), further steps of a scene whose
  * occupied region stays the same must not allocate at all, with one or two
  * workers and with each update scheme. Also checks that every allocation is
- * freed by gm_domain_destroy (the counts balance).
+ * freed by gm_domain_destroy (the counts balance), and that running out of
+ * memory in the middle of a step or of a material registration fails
+ * cleanly without changing the domain.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "test_util.h"
 
 static atomic_long allocations; /* calls to the hook's malloc */
 static atomic_long releases;    /* calls to the hook's free (non-NULL) */
+static atomic_long fail_countdown = -1; /* >= 0: that many more succeed */
 
 static void *counting_malloc(size_t size, void *user) {
   (void)user;
+  if (atomic_load(&fail_countdown) >= 0 &&
+      atomic_fetch_sub(&fail_countdown, 1) == 0)
+    return NULL; /* the injected out-of-memory */
   atomic_fetch_add(&allocations, 1);
   return malloc(size);
 }
@@ -81,11 +88,117 @@ START_TEST(test_no_allocation_after_warm_up) {
 }
 END_TEST
 
+/* Out of memory at every allocation of a step that must grow the grid (new
+ * points in far blocks): the step either succeeds or fails with
+ * GM_ERR_NO_MEMORY leaving the positions as they were, and the next step
+ * works. (Regression: a half-grown grid kept a freed pointer; ASan in CI
+ * reports such a use-after-free.) */
+START_TEST(test_out_of_memory_while_growing_the_grid) {
+  install_counting_allocator();
+  for (long failing = 0; failing < 40; failing++) {
+    gm_domain_def def = gm_domain_def_default();
+    def.extent[0] = def.extent[1] = 10.0;
+    def.cell_size = 0.1;
+    gm_domain *domain = test_create_domain(&def);
+    int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+    double position[2 * 21], volume[21];
+    for (int i = 0; i < 21; i++) { /* one point, then 20 in far blocks */
+      position[2 * i] = i == 0 ? 0.05 : 0.05 + 0.8 * ((i - 1) % 10);
+      position[2 * i + 1] = i == 0 ? 0.05 : 5.0 + 0.8 * ((i - 1) / 10);
+      volume[i] = 0.01;
+    }
+    gm_points_def points = gm_points_def_default();
+    points.material = material;
+    points.count = 1;
+    points.position = position;
+    points.volume = volume;
+    TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-5));
+    points.count = 20;
+    points.position = position + 2;
+    points.volume = volume + 1;
+    TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+    double before[42], after[42];
+    TEST_ASSERT_OK(domain,
+                   gm_domain_get_field(domain, GM_FIELD_POSITION, before, 42));
+    atomic_store(&fail_countdown, failing);
+    gm_status status = gm_domain_step(domain, 1e-5);
+    atomic_store(&fail_countdown, -1);
+    ck_assert_msg(status == GM_OK || status == GM_ERR_NO_MEMORY,
+                  "allocation %ld failing: step returned %d", failing,
+                  (int)status);
+    if (status != GM_OK) {
+      TEST_ASSERT_OK(domain,
+                     gm_domain_get_field(domain, GM_FIELD_POSITION, after, 42));
+      ck_assert_msg(memcmp(before, after, sizeof before) == 0,
+                    "allocation %ld failing: positions changed", failing);
+    }
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-5));
+    gm_domain_destroy(domain);
+  }
+  ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
+}
+END_TEST
+
+/* A material with one state variable that it reports as its stress. */
+static int state_as_stress(const gm_material_batch *batch, void *user,
+                           char *message, size_t message_size) {
+  (void)user;
+  (void)message;
+  (void)message_size;
+  for (size_t i = 0; i < batch->count; i++)
+    batch->stress[GM_XX][i] = batch->state[0][i];
+  return 0;
+}
+
+/* Out of memory while a second material widens the state pool: the call
+ * fails with GM_ERR_NO_MEMORY and the first material's state is intact.
+ * (Regression: one pool was widened before the other failed.) */
+START_TEST(test_out_of_memory_while_widening_state) {
+  install_counting_allocator();
+  for (long failing = 0; failing < 6; failing++) {
+    gm_domain_def def = gm_domain_def_default();
+    gm_domain *domain = test_create_domain(&def);
+    gm_material_def material = gm_material_def_default();
+    material.update = state_as_stress;
+    material.state_count = 1;
+    const double seven = 7.0;
+    material.initial_state = &seven;
+    material.p_wave_modulus = 1e6;
+    material.density = 1000.0;
+    int first = -1, second = -1;
+    TEST_ASSERT_OK(domain, gm_domain_add_material(domain, &material, &first));
+    const double lower[3] = {0.2, 0.2, 0.0}, upper[3] = {0.6, 0.6, 0.0};
+    size_t count = test_fill_box(domain, first, lower, upper, 2, NULL);
+    material.state_count = 2;
+    material.initial_state = NULL;
+    atomic_store(&fail_countdown, failing);
+    gm_status status = gm_domain_add_material(domain, &material, &second);
+    atomic_store(&fail_countdown, -1);
+    ck_assert(status == GM_OK || status == GM_ERR_NO_MEMORY);
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-6));
+    double *stress = malloc(count * 6 * sizeof(double));
+    ck_assert_ptr_nonnull(stress);
+    TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_STRESS, stress,
+                                               count * 6));
+    for (size_t i = 0; i < count; i++)
+      ck_assert_msg(stress[i * 6 + GM_XX] == 7.0,
+                    "allocation %ld failing: point %zu state became %g",
+                    failing, i, stress[i * 6 + GM_XX]);
+    free(stress);
+    gm_domain_destroy(domain);
+  }
+  ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
+}
+END_TEST
+
 int main(void) {
   Suite *suite = suite_create("allocation");
   TCase *tcase = tcase_create("steady_state");
   tcase_set_timeout(tcase, 60);
   tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 6);
+  tcase_add_test(tcase, test_out_of_memory_while_growing_the_grid);
+  tcase_add_test(tcase, test_out_of_memory_while_widening_state);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
