@@ -22,9 +22,10 @@
 #else
 #define GM_ALWAYS_INLINE inline
 #endif
-#define GM_PI            3.14159265358979323846
-#define GM_MAX_STATE     64
-#define GM_MAX_MATERIALS 256
+#define GM_PI                  3.14159265358979323846
+#define GM_MAX_STATE           64
+#define GM_MAX_MATERIALS       256
+#define GM_MAX_PARAMETER_BYTES 256
 /* Points handed to a material callback at once: large enough to amortise
  * the call, small enough that the batch buffers stay in L1/L2. */
 #define GM_BATCH_SIZE 128
@@ -49,10 +50,12 @@ typedef struct gm_material {
   void *user;
   size_t state_count;
   double initial_state[GM_MAX_STATE];
-  double p_wave_modulus;  /* Pa, K + 4G/3 bound for the stable dt */
-  double density;         /* kg/m^3, default for new points */
-  gm_elastic_def elastic; /* parameters of the built-in elastic material */
-  bool builtin_elastic;   /* user == &elastic (re-aimed when moved) */
+  double p_wave_modulus; /* Pa, K + 4G/3 bound for the stable dt */
+  double density;        /* kg/m^3, default for new points */
+  /* Parameters of a built-in material, owned by the domain; `user` points
+   * here (re-aimed whenever the material array moves). */
+  _Alignas(max_align_t) unsigned char parameters[GM_MAX_PARAMETER_BYTES];
+  bool builtin;
 } gm_material;
 
 /* ---------------------------------------------------------------- points */
@@ -170,6 +173,40 @@ void gm_worker_error(gm_worker_scratch *scratch, gm_status status, size_t index,
 /* Moves the lowest-index worker error into the domain; GM_OK if none. */
 gm_status gm_collect_worker_errors(gm_domain *domain);
 void gm_clear_worker_errors(gm_domain *domain);
+
+/* A built-in material (written against the public callback interface):
+ * its parameters are copied into the domain and passed to update as
+ * `user` (materials.c). */
+typedef struct gm_builtin_material {
+  const char *def_name; /* the public def struct, for messages */
+  const char *name;
+  gm_material_update_fn *update;
+  const void *parameters; /* copied, at most GM_MAX_PARAMETER_BYTES */
+  size_t parameter_size;
+  size_t state_count;
+  const double *initial_state; /* state_count values, NULL = zeros */
+  double p_wave_modulus;       /* Pa, K + 4G/3 */
+  double density;              /* kg/m^3 */
+} gm_builtin_material;
+gm_status gm_add_builtin_material(gm_domain *domain,
+                                  const gm_builtin_material *spec,
+                                  int *material_id);
+/* Common checks of an add function's arguments (NULL, busy, struct_size);
+ * `what` names the function, `def_name` the struct in messages. */
+gm_status gm_check_material_call(gm_domain *domain, const void *def,
+                                 size_t struct_size, size_t expected_size,
+                                 const int *material_id, const char *what,
+                                 const char *def_name);
+/* Young's modulus finite > 0 and Poisson ratio in (-1, 0.5); sets the
+ * message naming def_name's fields. */
+gm_status gm_check_elastic_constants(gm_domain *domain, const char *def_name,
+                                     double youngs_modulus,
+                                     double poisson_ratio);
+/* value finite and > 0 (or >= 0 when zero_allowed); message names
+ * def_name.field and the unit. */
+gm_status gm_check_positive(gm_domain *domain, const char *def_name,
+                            const char *field, double value, const char *unit,
+                            bool zero_allowed);
 
 /* Point storage (points.c). */
 gm_status gm_points_reserve(gm_domain *domain, size_t capacity);

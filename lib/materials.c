@@ -36,8 +36,8 @@ static gm_status append_material(gm_domain *domain, const gm_material *source,
   domain->materials = materials;
   /* Built-in materials point at their own parameters: re-aim after a move. */
   for (size_t m = 0; m < old_count; m++)
-    if (domain->materials[m].builtin_elastic)
-      domain->materials[m].user = &domain->materials[m].elastic;
+    if (domain->materials[m].builtin)
+      domain->materials[m].user = domain->materials[m].parameters;
   if (source->state_count > domain->points.state_stride) {
     gm_status status = gm_points_restride_state(domain, source->state_count);
     if (status != GM_OK)
@@ -94,51 +94,103 @@ gm_status gm_domain_add_material(gm_domain *domain, const gm_material_def *def,
   return append_material(domain, &material, material_id);
 }
 
-gm_status gm_domain_add_elastic(gm_domain *domain, const gm_elastic_def *def,
-                                int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
+gm_status gm_check_material_call(gm_domain *domain, const void *def,
+                                 size_t struct_size, size_t expected_size,
+                                 const int *material_id, const char *what,
+                                 const char *def_name) {
   if (!def || !material_id)
-    return gm_set_error(domain, GM_ERR_NULL,
-                        "gm_domain_add_elastic: %s is NULL",
+    return gm_set_error(domain, GM_ERR_NULL, "%s: %s is NULL", what,
                         def ? "material_id" : "def");
   if (domain->busy)
-    return gm_set_error(domain, GM_ERR_BUSY,
-                        "gm_domain_add_elastic: called during a step");
-  if (def->struct_size < sizeof(gm_elastic_def))
+    return gm_set_error(domain, GM_ERR_BUSY, "%s: called during a step", what);
+  if (struct_size < expected_size)
     return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
-                        "gm_elastic_def.struct_size is %zu, expected %zu",
-                        def->struct_size, sizeof(gm_elastic_def));
-  double young = def->youngs_modulus, nu = def->poisson_ratio;
-  if (!(young > 0.0) || !isfinite(young))
+                        "%s.struct_size is %zu, expected %zu: initialise with "
+                        "%s_default()",
+                        def_name, struct_size, expected_size, def_name);
+  return GM_OK;
+}
+
+gm_status gm_check_positive(gm_domain *domain, const char *def_name,
+                            const char *field, double value, const char *unit,
+                            bool zero_allowed) {
+  bool valid = isfinite(value) && (zero_allowed ? value >= 0.0 : value > 0.0);
+  if (valid)
+    return GM_OK;
+  return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                      "%s.%s is %g %s, must be finite and %s", def_name, field,
+                      value, unit, zero_allowed ? ">= 0" : "> 0");
+}
+
+gm_status gm_check_elastic_constants(gm_domain *domain, const char *def_name,
+                                     double youngs_modulus,
+                                     double poisson_ratio) {
+  gm_status status = gm_check_positive(domain, def_name, "youngs_modulus",
+                                       youngs_modulus, "Pa", false);
+  if (status != GM_OK)
+    return status;
+  if (!(poisson_ratio > -1.0 && poisson_ratio < 0.5))
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
-                        "gm_elastic_def.youngs_modulus is %g Pa, must be "
-                        "finite and > 0",
-                        young);
-  if (!(nu > -1.0 && nu < 0.5))
+                        "%s.poisson_ratio is %g, must be in (-1, 0.5)",
+                        def_name, poisson_ratio);
+  return GM_OK;
+}
+
+gm_status gm_add_builtin_material(gm_domain *domain,
+                                  const gm_builtin_material *spec,
+                                  int *material_id) {
+  if (spec->parameter_size > GM_MAX_PARAMETER_BYTES ||
+      spec->state_count > GM_MAX_STATE)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
-                        "gm_elastic_def.poisson_ratio is %g, must be in "
-                        "(-1, 0.5)",
-                        nu);
-  /* Constrained (P-wave) modulus M = K + 4G/3 = E(1-nu)/((1+nu)(1-2nu)). */
-  double p_wave = young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+                        "%s: built-in parameters too large", spec->name);
   gm_status status =
-      check_common(domain, "gm_elastic_def", p_wave, def->density);
+      check_common(domain, spec->name, spec->p_wave_modulus, spec->density);
   if (status != GM_OK)
     return status;
   gm_material material;
   memset(&material, 0, sizeof material);
-  snprintf(material.name, sizeof material.name, "%s",
-           def->name ? def->name : "elastic");
-  material.update = gm_elastic_update;
-  material.elastic = *def;
-  material.elastic.name = NULL; /* the copy in material.name is used */
-  material.p_wave_modulus = p_wave;
-  material.density = def->density;
-  material.builtin_elastic = true;
+  snprintf(material.name, sizeof material.name, "%s", spec->name);
+  material.update = spec->update;
+  memcpy(material.parameters, spec->parameters, spec->parameter_size);
+  material.builtin = true;
+  material.state_count = spec->state_count;
+  for (size_t k = 0; k < spec->state_count; k++)
+    material.initial_state[k] =
+        spec->initial_state ? spec->initial_state[k] : 0.0;
+  material.p_wave_modulus = spec->p_wave_modulus;
+  material.density = spec->density;
   status = append_material(domain, &material, material_id);
   if (status == GM_OK) /* user points at the domain's own copy */
     domain->materials[*material_id].user =
-        &domain->materials[*material_id].elastic;
+        domain->materials[*material_id].parameters;
   return status;
+}
+
+gm_status gm_domain_add_elastic(gm_domain *domain, const gm_elastic_def *def,
+                                int *material_id) {
+  if (!domain)
+    return GM_ERR_NULL;
+  gm_status status = gm_check_material_call(
+      domain, def, def ? def->struct_size : 0, sizeof(gm_elastic_def),
+      material_id, "gm_domain_add_elastic", "gm_elastic_def");
+  if (status != GM_OK)
+    return status;
+  status = gm_check_elastic_constants(domain, "gm_elastic_def",
+                                      def->youngs_modulus, def->poisson_ratio);
+  if (status != GM_OK)
+    return status;
+  double young = def->youngs_modulus, nu = def->poisson_ratio;
+  /* Constrained (P-wave) modulus M = K + 4G/3 = E(1-nu)/((1+nu)(1-2nu)). */
+  gm_elastic_def parameters = *def;
+  parameters.name = NULL; /* the domain keeps its own copy of the name */
+  gm_builtin_material spec;
+  memset(&spec, 0, sizeof spec);
+  spec.def_name = "gm_elastic_def";
+  spec.name = def->name ? def->name : "elastic";
+  spec.update = gm_elastic_update;
+  spec.parameters = &parameters;
+  spec.parameter_size = sizeof parameters;
+  spec.p_wave_modulus = young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  spec.density = def->density;
+  return gm_add_builtin_material(domain, &spec, material_id);
 }
