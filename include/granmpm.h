@@ -266,6 +266,54 @@ GM_API gm_status gm_domain_add_elastic(gm_domain *domain,
 GM_API int gm_elastic_update(const gm_material_batch *batch, void *user,
                              char *message, size_t message_size);
 
+/* ------------------------------------------------------------------ walls */
+
+/** A rigid planar wall with Coulomb friction, enforced on grid nodes (any
+ * normal: inclined chutes, hopper walls, or a box face made frictional).
+ * Nodes on or behind the plane that carry mass and move into it have
+ * their normal velocity removed (the wall pushes, never pulls) and their
+ * tangential velocity reduced by at most mu times the normal velocity
+ * change: they stick when that is enough (mu_static), otherwise slide
+ * with mu_kinetic. See gm_walls(3). */
+typedef struct gm_wall_def {
+  size_t struct_size;
+  double point[3];         /* m, any point of the plane */
+  double normal[3];        /* pointing into the material side; normalised */
+  double friction_static;  /* mu_s >= 0 */
+  double friction_kinetic; /* mu_k, 0 <= mu_k <= mu_s */
+} gm_wall_def;
+
+static inline gm_wall_def gm_wall_def_default(void) {
+  gm_wall_def def = {0};
+  def.struct_size = sizeof(gm_wall_def);
+  def.normal[1] = 1.0;
+  return def;
+}
+
+/** Adds a wall; *wall_id receives its id (0, 1, ...). At most 64 walls. */
+GM_API gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
+                                    int *wall_id);
+
+/** Force the wall exerted on the material during the last committed step
+ * (N; per unit thickness in plane strain, per unit area in 1D, the whole
+ * ring in axisymmetry), as a vector and split into its normal part (>= 0,
+ * pushing along the wall normal) and its tangential (friction) part. */
+typedef struct gm_wall_force {
+  size_t struct_size;
+  double force[3];   /* N */
+  double normal;     /* N, force . normal */
+  double tangential; /* N, |force - normal * n| */
+} gm_wall_force;
+
+static inline gm_wall_force gm_wall_force_default(void) {
+  gm_wall_force force = {0};
+  force.struct_size = sizeof(gm_wall_force);
+  return force;
+}
+
+GM_API gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
+                                          gm_wall_force *force);
+
 /* ----------------------------------------------------------------- points */
 
 /* Per-point arrays are interleaved: position[i*dim + k], dim from

@@ -73,6 +73,8 @@ gm_status gm_bin_points(gm_domain *domain) {
     gm_parallel_for(&domain->pool, domain->points.count, key_ranges, domain);
   domain->points.keys_valid = false; /* until this step's move pass ends */
   gm_status status = gm_grid_build(domain);
+  if (status == GM_OK)
+    status = gm_walls_reserve(domain);
   if (status != GM_OK)
     return status;
   gm_grid *grid = &domain->grid;

@@ -182,6 +182,7 @@ static void free_grid(gm_grid *grid) {
   gm_free(grid->hash_key);
   gm_free(grid->hash_value);
   gm_free(grid->mass);
+  gm_free(grid->wall_force);
   for (int k = 0; k < 2; k++) {
     gm_free(grid->momentum[k]);
     gm_free(grid->force[k]);

@@ -44,6 +44,11 @@ typedef struct gm_grid {
   double *mass;        /* kg */
   double *momentum[2]; /* kg m/s; velocity (m/s) after the grid update */
   double *force[2];    /* N; acceleration (m/s^2) after the grid update */
+  /* Wall forces per block (N): block_capacity * wall_stride * 2 values,
+   * summed in block order after the update (deterministic). */
+  double *wall_force;
+  size_t wall_force_capacity; /* doubles allocated */
+  int wall_stride;
 } gm_grid;
 
 /* Colour of a block for the parallel scatter: blocks of one colour are two

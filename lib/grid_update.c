@@ -4,7 +4,8 @@
  * conditions. After a condition changes a nodal velocity, the acceleration
  * is recomputed as (v_new - v_old)/dt so particle (FLIP) velocities and
  * nodal velocities agree on walls. The momentum arrays are overwritten with
- * velocities and the force arrays with accelerations, in place.
+ * velocities and the force arrays with accelerations, in place. Planar
+ * walls (walls.c) act after the box faces, on nodes near them.
  */
 #include "internal.h"
 
@@ -37,6 +38,30 @@ static void constrained_components(const gm_domain *domain, int64_t ix,
     fixed[0] = true;
 }
 
+/* The planar walls (walls.c) on one node with mass; the acceleration is
+ * made consistent with the constrained velocity again. */
+static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
+                        int64_t iy, const double old_velocity[2],
+                        double *block_force) {
+  gm_domain *domain = ctx->domain;
+  gm_grid *grid = &domain->grid;
+  int dim = domain->dim;
+  double h = domain->def.cell_size;
+  double position[2] = {domain->def.origin[0] + (double)ix * h,
+                        dim > 1 ? domain->def.origin[1] + (double)iy * h : 0.0};
+  double velocity[2] = {grid->momentum[0][node],
+                        dim > 1 ? grid->momentum[1][node] : 0.0};
+  bool full = ctx->mode == GM_GRID_FULL;
+  if (!gm_walls_contact(domain, position, velocity, full ? block_force : NULL,
+                        grid->mass[node] / ctx->dt))
+    return;
+  for (int k = 0; k < dim; k++) {
+    grid->momentum[k][node] = velocity[k];
+    if (full)
+      grid->force[k][node] = (velocity[k] - old_velocity[k]) / ctx->dt;
+  }
+}
+
 static void update_blocks(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   update_context *ctx = context;
@@ -53,6 +78,15 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
     bool block_on_wall = base_x == 0 || base_y == 0 ||
                          base_x + edge > domain->cells[0] ||
                          (dim > 1 && base_y + edge > domain->cells[1]);
+    bool near_walls =
+        domain->wall_count > 0 && gm_walls_near_block(domain, base_x, base_y);
+    double *block_force = NULL;
+    if (domain->wall_count > 0) { /* this block's share of the wall forces */
+      block_force = grid->wall_force + b * (size_t)grid->wall_stride * 2;
+      if (ctx->mode == GM_GRID_FULL)
+        for (int w = 0; w < 2 * domain->wall_count; w++)
+          block_force[w] = 0.0;
+    }
     for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
       size_t node = b * GM_BLOCK_NODES + local;
       double mass = grid->mass[node];
@@ -69,19 +103,23 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
         grid->force[k][node] = acceleration;
         *motion = old_velocity[k] + acceleration * dt;
       }
-      if (!block_on_wall)
+      if (!block_on_wall && !near_walls)
         continue;
       int64_t ix = base_x + (int64_t)(local & (size_t)(edge - 1));
       int64_t iy = dim > 1 ? base_y + (int64_t)(local >> shift) : 0;
-      bool fixed[2];
-      constrained_components(domain, ix, iy, fixed);
-      for (int k = 0; k < dim; k++) {
-        if (!fixed[k])
-          continue;
-        grid->momentum[k][node] = 0.0;
-        if (ctx->mode != GM_GRID_VELOCITY_ONLY)
-          grid->force[k][node] = -old_velocity[k] / dt;
+      if (block_on_wall) {
+        bool fixed[2];
+        constrained_components(domain, ix, iy, fixed);
+        for (int k = 0; k < dim; k++) {
+          if (!fixed[k])
+            continue;
+          grid->momentum[k][node] = 0.0;
+          if (ctx->mode != GM_GRID_VELOCITY_ONLY)
+            grid->force[k][node] = -old_velocity[k] / dt;
+        }
       }
+      if (near_walls && mass > 0.0)
+        apply_walls(ctx, node, ix, iy, old_velocity, block_force);
     }
   }
 }

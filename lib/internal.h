@@ -26,6 +26,7 @@
 #define GM_MAX_STATE           64
 #define GM_MAX_MATERIALS       256
 #define GM_MAX_PARAMETER_BYTES 256
+#define GM_MAX_WALLS           64
 /* Points handed to a material callback at once: large enough to amortise
  * the call, small enough that the batch buffers stay in L1/L2. */
 #define GM_BATCH_SIZE 128
@@ -102,6 +103,14 @@ typedef struct gm_points {
   uint32_t *order;       /* point indices grouped by block */
 } gm_points;
 
+/* ------------------------------------------------------------------ walls */
+typedef struct gm_wall {
+  double point[2];         /* m, on the plane */
+  double normal[2];        /* unit, into the material */
+  double friction_static;  /* mu_s */
+  double friction_kinetic; /* mu_k */
+} gm_wall;
+
 /* ------------------------------------------------------------- per worker */
 typedef struct gm_worker_scratch {
   double strain_increment[6][GM_BATCH_SIZE]; /* yz, zx stay zero */
@@ -146,6 +155,9 @@ struct gm_domain {
   double current_dt; /* s, dt of the step being taken */
   uint64_t step_count;
   double max_signal_speed; /* m/s, max c_p + max |v_p|, committed state */
+  gm_wall walls[GM_MAX_WALLS];
+  int wall_count;
+  double wall_force[GM_MAX_WALLS][2]; /* N, last committed step */
   gm_step_hook_fn *hook;
   void *hook_user;
   bool busy;            /* inside a step: state-changing calls refused */
@@ -262,6 +274,21 @@ size_t gm_chunk_gather_size(void); /* bytes of a worker's G2P chunk buffer */
 void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                             size_t first, size_t count, double dt,
                             const double *const velocity_gradient[5]);
+
+/* Walls (walls.c). Contact of one node with the walls: `velocity` (m/s)
+ * is the node's updated velocity, changed in place; returns true if a wall
+ * acted. If block_force is not NULL, mass/dt times each wall's velocity
+ * change (N) is added to block_force[2 w], [2 w + 1]. */
+bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
+                      double velocity[2], double *block_force,
+                      double mass_over_dt);
+/* Sizes the per-block wall-force partial sums for the current walls. */
+gm_status gm_walls_reserve(gm_domain *domain);
+/* Does any wall reach into the block with lower corner node (ix, iy)? */
+bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
+                         int64_t base_y);
+/* Sums the per-block wall forces of the last step (block order). */
+void gm_walls_commit_forces(gm_domain *domain);
 
 /* Stable dt (stable_dt.c). */
 /* max c_p + max |v_p| (m/s) of the committed state, recomputed. */

@@ -87,8 +87,10 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
       return status;
     domain->points.cur ^= 1;
     domain->points.keys_valid = true; /* the move pass keyed the new state */
-    domain->inputs_edited = false;    /* this step screened them */
-    double wave = 0.0, flow = 0.0;    /* m^2/s^2 */
+    if (domain->wall_count > 0)
+      gm_walls_commit_forces(domain);
+    domain->inputs_edited = false; /* this step screened them */
+    double wave = 0.0, flow = 0.0; /* m^2/s^2 */
     for (int w = 0; w < domain->worker_count; w++) {
       gm_worker_scratch *scratch = &domain->scratch[w];
       wave = fmax(wave, scratch->max_wave_speed_squared);

@@ -1,0 +1,314 @@
+/*
+ * mohr_coulomb.c - built-in Mohr-Coulomb material with the Bagnold rate term
+ * (000 sec 2.2 and 4.2, eqs 16-17): elastic predictor, then a return mapping
+ * in principal stresses (the method of de Souza Neto, Peric & Owen,
+ * "Computational methods for plasticity", sec 8.2, for perfect plasticity).
+ *
+ * Principal stresses are sorted sigma_1 >= sigma_2 >= sigma_3, tension
+ * positive. Eq 16, written for tension positive (the paper's sigma_1 is the
+ * most compressive stress, compression positive), is linear in them:
+ *   f = n . sigma - 2 c cos(phi),  n = (1 + sin phi, 0, -(1 - sin phi)),
+ * with the rate-dependent cohesion c = eta gammadot^2 (Pa). The potential
+ * eq 17 has the flow direction b = (1 + sin psi, 0, -(1 - sin psi)). A
+ * return along the elastic image D b of the flow direction is exact in one
+ * step because f is linear and the model is perfectly plastic:
+ *   main plane  sigma = sigma_tr - dl D b,  dl = f(sigma_tr) / (n . D b);
+ *   edges       when that breaks the ordering: sigma_1 = sigma_2 (triaxial
+ *               compression edge) or sigma_2 = sigma_3 (triaxial extension
+ *               edge), two planes active, a 2x2 solve for dl_a, dl_b >= 0;
+ *   apex        when no edge return is admissible (tension beyond the apex):
+ *               hydrostatic stress c cot(phi), the tension cut-off.
+ * The returned principal values go back along the trial eigenvectors, so
+ * the principal directions are those of the trial stress.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#include "internal.h"
+#include "materials/principal.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <string.h>
+
+/* Constants of one update call. */
+typedef struct mc_constants {
+  double shear;         /* G, Pa */
+  double lame;          /* lambda, Pa */
+  double sin_friction;  /* sin(phi) */
+  double cos_friction;  /* cos(phi) */
+  double sin_dilation;  /* sin(psi) */
+  double yield_offset;  /* 2 c cos(phi), Pa, this point's rate term */
+} mc_constants;
+
+/* One yield plane over the sorted principal stresses: f = normal . sigma -
+ * yield_offset, flow direction `flow` (eq 17), its elastic image D flow. */
+typedef struct mc_plane {
+  double normal[3];       /* - */
+  double elastic_flow[3]; /* Pa per unit plastic multiplier */
+} mc_plane;
+
+/* The plane on which principal stress `major` plays sigma_1 and `minor`
+ * plays sigma_3 (main plane: 0, 2). */
+static mc_plane make_plane(const mc_constants *k, int major, int minor) {
+  mc_plane plane;
+  double flow[3] = {0.0, 0.0, 0.0};
+  memset(plane.normal, 0, sizeof plane.normal);
+  plane.normal[major] = 1.0 + k->sin_friction;
+  plane.normal[minor] = -(1.0 - k->sin_friction);
+  flow[major] = 1.0 + k->sin_dilation;
+  flow[minor] = -(1.0 - k->sin_dilation);
+  /* Isotropic elasticity in principal space: D b = 2 G b + lambda tr(b) 1. */
+  double trace = flow[0] + flow[1] + flow[2];
+  for (int i = 0; i < 3; i++)
+    plane.elastic_flow[i] = 2.0 * k->shear * flow[i] + k->lame * trace;
+  return plane;
+}
+
+static double dot3(const double a[3], const double b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static double plane_value(const mc_plane *plane, const mc_constants *k,
+                          const double sigma[3]) {
+  return dot3(plane->normal, sigma) - k->yield_offset;
+}
+
+/* Return to the main plane; false if the result breaks the ordering. */
+static bool return_to_main_plane(const mc_constants *k, const double trial[3],
+                                 double out[3]) {
+  mc_plane main = make_plane(k, 0, 2);
+  double multiplier = plane_value(&main, k, trial) /
+                      dot3(main.normal, main.elastic_flow);
+  for (int i = 0; i < 3; i++)
+    out[i] = trial[i] - multiplier * main.elastic_flow[i];
+  return out[0] >= out[1] && out[1] >= out[2];
+}
+
+/* Return to the edge where the main plane meets the plane (major, minor):
+ * (1, 2) is the triaxial compression edge sigma_1 = sigma_2, (0, 1) the
+ * triaxial extension edge sigma_2 = sigma_3. False unless both plastic
+ * multipliers are >= 0 and the edge point is ordered (not past the apex). */
+static bool return_to_edge(const mc_constants *k, const double trial[3],
+                           int major, int minor, double out[3]) {
+  mc_plane a = make_plane(k, 0, 2), b = make_plane(k, major, minor);
+  double aa = dot3(a.normal, a.elastic_flow), ab = dot3(a.normal, b.elastic_flow);
+  double ba = dot3(b.normal, a.elastic_flow), bb = dot3(b.normal, b.elastic_flow);
+  double fa = plane_value(&a, k, trial), fb = plane_value(&b, k, trial);
+  double determinant = aa * bb - ab * ba;
+  if (!(determinant > 0.0))
+    return false;
+  double multiplier_a = (fa * bb - ab * fb) / determinant;
+  double multiplier_b = (aa * fb - ba * fa) / determinant;
+  if (multiplier_a < 0.0 || multiplier_b < 0.0)
+    return false;
+  for (int i = 0; i < 3; i++)
+    out[i] = trial[i] - multiplier_a * a.elastic_flow[i] -
+             multiplier_b * b.elastic_flow[i];
+  /* Both planes hold, so the edge pair is equal up to round-off: make it
+   * exact so the ordering test below sees the edge itself. */
+  int pair_low = major == 1 ? 0 : 1; /* first index of the equal pair */
+  double edge = 0.5 * (out[pair_low] + out[pair_low + 1]);
+  out[pair_low] = out[pair_low + 1] = edge;
+  return out[0] >= out[2];
+}
+
+/* Principal stresses after the return (sorted trial in, result out). */
+static void return_principal(const mc_constants *k, const double trial[3],
+                             double out[3]) {
+  if (return_to_main_plane(k, trial, out))
+    return;
+  /* The main-plane result tells which ordering it broke: sigma_2 > sigma_1
+   * points to the compression edge, otherwise the extension edge. */
+  bool compression_first = out[1] > out[0];
+  int first_major = compression_first ? 1 : 0;
+  int first_minor = compression_first ? 2 : 1;
+  if (return_to_edge(k, trial, first_major, first_minor, out))
+    return;
+  if (return_to_edge(k, trial, compression_first ? 0 : 1,
+                     compression_first ? 1 : 2, out))
+    return;
+  /* Apex: f = 2 sigma sin(phi) - 2 c cos(phi) = 0 at sigma_i = sigma. */
+  double apex = k->yield_offset / (2.0 * k->sin_friction);
+  out[0] = out[1] = out[2] = apex;
+}
+
+/* Shear rate gammadot = sqrt(2 d':d') (1/s) of the step, d' the deviatoric
+ * rate of deformation: in simple shear dv_x/dy = r it gives r, the "rate of
+ * simple shear" of eq 16. Zero for dt <= 0 (no rate is defined). */
+static double shear_rate(const double increment[6], double dt) {
+  if (!(dt > 0.0))
+    return 0.0;
+  double mean = (increment[GM_XX] + increment[GM_YY] + increment[GM_ZZ]) / 3.0;
+  double contraction = 0.0; /* d':d' dt^2, shear terms counted twice */
+  for (int c = GM_XX; c <= GM_ZZ; c++)
+    contraction += (increment[c] - mean) * (increment[c] - mean);
+  for (int c = GM_XY; c <= GM_ZX; c++)
+    contraction += 2.0 * increment[c] * increment[c];
+  return sqrt(2.0 * contraction) / dt;
+}
+
+/* Plastic shear strain of a return: the deviatoric plastic strain is
+ * dev(sigma_tr - sigma)/(2G) (same principal axes); measure sqrt(2 e:e). */
+static double plastic_shear_strain(const double trial[3], const double out[3],
+                                   double shear) {
+  double drop[3], mean = 0.0;
+  for (int i = 0; i < 3; i++) {
+    drop[i] = trial[i] - out[i];
+    mean += drop[i] / 3.0;
+  }
+  double contraction = 0.0;
+  for (int i = 0; i < 3; i++)
+    contraction += (drop[i] - mean) * (drop[i] - mean);
+  return sqrt(2.0 * contraction) / (2.0 * shear);
+}
+
+/* Elastic trial stress: the same arithmetic as gm_elastic_update, so a
+ * point that stays elastic ends bit-identical to the elastic model. */
+static void elastic_trial(const mc_constants *k, const double increment[6],
+                          double stress[6]) {
+  double volumetric = increment[GM_XX] + increment[GM_YY] + increment[GM_ZZ];
+  double lame_term = k->lame * volumetric;
+  for (int c = GM_XX; c <= GM_ZZ; c++)
+    stress[c] += lame_term + 2.0 * k->shear * increment[c];
+  for (int c = GM_XY; c <= GM_ZX; c++)
+    stress[c] += 2.0 * k->shear * increment[c];
+}
+
+static bool all_finite(const double values[6]) {
+  for (int c = 0; c < 6; c++)
+    if (!isfinite(values[c]))
+      return false;
+  return true;
+}
+
+/* Updates one point's stress (Pa, in place) and accumulated plastic shear
+ * strain; false if the trial stress is not finite. */
+static bool update_point(mc_constants *k, double eta, double dt,
+                         const double increment[6], double stress[6],
+                         double *plastic_shear) {
+  elastic_trial(k, increment, stress);
+  gm_principal trial;
+  if (!all_finite(stress) || gm_principal_decompose(stress, &trial) != 0)
+    return false;
+  double rate = shear_rate(increment, dt);
+  k->yield_offset = 2.0 * eta * rate * rate * k->cos_friction; /* eq 16 */
+  mc_plane main = make_plane(k, 0, 2);
+  if (plane_value(&main, k, trial.value) <= 0.0)
+    return true; /* elastic: the trial stress is the answer, untouched */
+  double returned[3], drop[3], correction[6];
+  return_principal(k, trial.value, returned);
+  *plastic_shear += plastic_shear_strain(trial.value, returned, k->shear);
+  if (returned[0] == returned[2]) { /* apex: purely hydrostatic */
+    for (int c = 0; c < 6; c++)
+      stress[c] = c <= GM_ZZ ? returned[0] : 0.0;
+    return true;
+  }
+  /* sigma = sigma_tr - sum_k (trial_k - returned_k) v_k v_k: only the
+   * principal values change, the eigenvectors stay. */
+  for (int i = 0; i < 3; i++)
+    drop[i] = trial.value[i] - returned[i];
+  gm_principal_compose(&trial, drop, correction);
+  for (int c = 0; c < 6; c++)
+    stress[c] -= correction[c];
+  return true;
+}
+
+int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
+                           char *message, size_t message_size) {
+  const gm_mohr_coulomb_def *def = user;
+  double young = def->youngs_modulus; /* Pa */
+  double nu = def->poisson_ratio;     /* - */
+  mc_constants k;
+  k.shear = young / (2.0 * (1.0 + nu));
+  k.lame = young * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  k.sin_friction = sin(def->friction_angle);
+  k.cos_friction = cos(def->friction_angle);
+  k.sin_dilation = sin(def->dilation_angle);
+  k.yield_offset = 0.0;
+  if (batch->state_count < GM_MOHR_COULOMB_STATE_COUNT) {
+    if (message && message_size > 0)
+      snprintf(message, message_size,
+               "mohr_coulomb: batch has %zu state variables, needs %d",
+               batch->state_count, GM_MOHR_COULOMB_STATE_COUNT);
+    return -1;
+  }
+  double *plastic_shear = batch->state[GM_MOHR_COULOMB_PLASTIC_SHEAR_STRAIN];
+  for (size_t i = 0; i < batch->count; i++) {
+    double increment[6], stress[6];
+    for (int c = 0; c < 6; c++) {
+      increment[c] = batch->strain_increment[c][i];
+      stress[c] = batch->stress[c][i];
+    }
+    if (!update_point(&k, def->bagnold_viscosity, batch->dt, increment, stress,
+                      &plastic_shear[i])) {
+      if (message && message_size > 0)
+        snprintf(message, message_size,
+                 "mohr_coulomb: point %lld: trial stress is not finite",
+                 batch->point_id ? (long long)batch->point_id[i]
+                                 : (long long)i);
+      return -1;
+    }
+    for (int c = 0; c < 6; c++)
+      batch->stress[c][i] = stress[c];
+  }
+  return 0;
+}
+
+/* Validates the Mohr-Coulomb specific fields (angles in rad). */
+static gm_status check_parameters(gm_domain *domain,
+                                  const gm_mohr_coulomb_def *def) {
+  static const char *def_name = "gm_mohr_coulomb_def";
+  gm_status status = gm_check_elastic_constants(
+      domain, def_name, def->youngs_modulus, def->poisson_ratio);
+  if (status == GM_OK)
+    status = gm_check_positive(domain, def_name, "density", def->density,
+                               "kg/m^3", false);
+  if (status != GM_OK)
+    return status;
+  double phi = def->friction_angle, psi = def->dilation_angle;
+  if (!(phi > 0.0 && phi < 0.5 * GM_PI))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s.friction_angle is %g rad, must be in (0, pi/2) "
+                        "rad",
+                        def_name, phi);
+  if (!(psi >= 0.0 && psi <= phi))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s.dilation_angle is %g rad, must be in [0, "
+                        "friction_angle = %g] rad",
+                        def_name, psi, phi);
+  return gm_check_positive(domain, def_name, "bagnold_viscosity",
+                           def->bagnold_viscosity, "Pa s^2", true);
+}
+
+gm_status gm_domain_add_mohr_coulomb(gm_domain *domain,
+                                     const gm_mohr_coulomb_def *def,
+                                     int *material_id) {
+  if (!domain)
+    return GM_ERR_NULL;
+  gm_status status = gm_check_material_call(
+      domain, def, def ? def->struct_size : 0, sizeof(gm_mohr_coulomb_def),
+      material_id, "gm_domain_add_mohr_coulomb", "gm_mohr_coulomb_def");
+  if (status != GM_OK)
+    return status;
+  status = check_parameters(domain, def);
+  if (status != GM_OK)
+    return status;
+  double young = def->youngs_modulus, nu = def->poisson_ratio;
+  gm_mohr_coulomb_def parameters = *def;
+  parameters.name = NULL; /* the domain keeps its own copy of the name */
+  gm_builtin_material spec;
+  memset(&spec, 0, sizeof spec);
+  spec.def_name = "gm_mohr_coulomb_def";
+  spec.name = def->name ? def->name : "mohr_coulomb";
+  spec.update = gm_mohr_coulomb_update;
+  spec.parameters = &parameters;
+  spec.parameter_size = sizeof parameters;
+  spec.state_count = GM_MOHR_COULOMB_STATE_COUNT;
+  spec.initial_state = NULL; /* no plastic shear strain yet */
+  /* The rate term raises strength, not stiffness: the P-wave modulus
+   * M = K + 4G/3 = E(1-nu)/((1+nu)(1-2nu)) bounds the wave speed. */
+  spec.p_wave_modulus = young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  spec.density = def->density;
+  return gm_add_builtin_material(domain, &spec, material_id);
+}

@@ -1,0 +1,196 @@
+/*
+ * walls.c - rigid planar walls with Coulomb friction, enforced on grid
+ * nodes (004 sec 3.3.2 and algorithm 3.1; the nodal contact of 002 sec
+ * 4.2 without its penalty regularisation).
+ *
+ * A node on or behind a wall plane that moves into it (v.n < 0) has its
+ * normal velocity removed: that change dv_n = -v.n is the wall's normal
+ * impulse per unit nodal mass. Friction can then remove up to mu dv_n of
+ * the tangential velocity: if the tangential speed is at most mu_s dv_n
+ * the node sticks, otherwise it slides and loses mu_k dv_n of it (Coulomb:
+ * tangential impulse <= mu times normal impulse). Nodes moving away from
+ * the wall are free, so material can leave it. We work with the impulse
+ * rather than 002's penalty-regularised tangential force because it needs
+ * no penalty parameter and is exact for a node that sticks.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <string.h>
+
+gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
+                             int *wall_id) {
+  if (!domain)
+    return GM_ERR_NULL;
+  if (!def || !wall_id)
+    return gm_set_error(domain, GM_ERR_NULL, "gm_domain_add_wall: %s is NULL",
+                        def ? "wall_id" : "def");
+  if (domain->busy)
+    return gm_set_error(domain, GM_ERR_BUSY,
+                        "gm_domain_add_wall: called during a step");
+  if (def->struct_size < sizeof(gm_wall_def))
+    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
+                        "gm_wall_def.struct_size is %zu, expected %zu",
+                        def->struct_size, sizeof(gm_wall_def));
+  if (domain->wall_count >= GM_MAX_WALLS)
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_add_wall: at most %d walls", GM_MAX_WALLS);
+  double length_squared = 0.0;
+  for (int k = 0; k < 3; k++) {
+    if (!isfinite(def->point[k]) || !isfinite(def->normal[k]))
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "gm_wall_def.point[%d] / normal[%d] must be finite",
+                          k, k);
+    if (k >= domain->dim && def->normal[k] != 0.0)
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "gm_wall_def.normal[%d] is %g but must be 0 in a "
+                          "%dD geometry",
+                          k, def->normal[k], domain->dim);
+    length_squared += def->normal[k] * def->normal[k];
+  }
+  if (!(length_squared > 0.0))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_wall_def.normal is the zero vector");
+  double mu_s = def->friction_static, mu_k = def->friction_kinetic;
+  if (!(mu_s >= 0.0 && isfinite(mu_s)) || !(mu_k >= 0.0 && mu_k <= mu_s))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_wall_def: friction_static = %g and "
+                        "friction_kinetic = %g must satisfy 0 <= kinetic <= "
+                        "static",
+                        mu_s, mu_k);
+  gm_wall *wall = &domain->walls[domain->wall_count];
+  double inverse_length = 1.0 / sqrt(length_squared);
+  for (int k = 0; k < 2; k++) {
+    wall->point[k] = def->point[k];
+    wall->normal[k] = def->normal[k] * inverse_length;
+  }
+  wall->friction_static = mu_s;
+  wall->friction_kinetic = mu_k;
+  domain->wall_force[domain->wall_count][0] = 0.0;
+  domain->wall_force[domain->wall_count][1] = 0.0;
+  *wall_id = domain->wall_count++;
+  return GM_OK;
+}
+
+gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
+                                   gm_wall_force *force) {
+  if (!domain)
+    return GM_ERR_NULL;
+  gm_domain *mutable_domain = (gm_domain *)domain; /* last_error only */
+  if (!force)
+    return gm_set_error(mutable_domain, GM_ERR_NULL,
+                        "gm_domain_get_wall_force: force is NULL");
+  if (force->struct_size < sizeof(gm_wall_force))
+    return gm_set_error(mutable_domain, GM_ERR_STRUCT_SIZE,
+                        "gm_wall_force.struct_size is %zu, expected %zu",
+                        force->struct_size, sizeof(gm_wall_force));
+  if (wall_id < 0 || wall_id >= domain->wall_count)
+    return gm_set_error(mutable_domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_get_wall_force: wall %d is unknown (%d "
+                        "walls)",
+                        wall_id, domain->wall_count);
+  const gm_wall *wall = &domain->walls[wall_id];
+  gm_wall_force result = gm_wall_force_default();
+  result.force[0] = domain->wall_force[wall_id][0];
+  result.force[1] = domain->wall_force[wall_id][1];
+  result.normal =
+      result.force[0] * wall->normal[0] + result.force[1] * wall->normal[1];
+  double tangential[2] = {result.force[0] - result.normal * wall->normal[0],
+                          result.force[1] - result.normal * wall->normal[1]};
+  result.tangential = hypot(tangential[0], tangential[1]);
+  *force = result;
+  return GM_OK;
+}
+
+bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
+                         int64_t base_y) {
+  double h = domain->def.cell_size;
+  int64_t edge = (int64_t)1 << domain->grid.shift;
+  int corners = domain->dim > 1 ? 4 : 2;
+  for (int w = 0; w < domain->wall_count; w++) {
+    const gm_wall *wall = &domain->walls[w];
+    for (int c = 0; c < corners; c++) {
+      double x = domain->def.origin[0] + (double)(base_x + (c & 1) * edge) * h;
+      double y = domain->dim > 1 ? domain->def.origin[1] +
+                                       (double)(base_y + (c >> 1) * edge) * h
+                                 : wall->point[1];
+      double distance = (x - wall->point[0]) * wall->normal[0] +
+                        (y - wall->point[1]) * wall->normal[1];
+      if (distance <= 0.0)
+        return true;
+    }
+  }
+  return false;
+}
+
+/* One wall against one node velocity; returns whether it acted. */
+static bool contact_one(const gm_wall *wall, double velocity[2]) {
+  double normal_speed =
+      velocity[0] * wall->normal[0] + velocity[1] * wall->normal[1];
+  if (normal_speed >= 0.0)
+    return false;                       /* at rest on, or leaving, the wall */
+  double normal_change = -normal_speed; /* m/s, the normal impulse / mass */
+  double tangent[2] = {velocity[0] - normal_speed * wall->normal[0],
+                       velocity[1] - normal_speed * wall->normal[1]};
+  double tangential_speed = hypot(tangent[0], tangent[1]);
+  double keep = 0.0; /* fraction of the tangential velocity kept */
+  if (tangential_speed > wall->friction_static * normal_change)
+    keep = 1.0 - wall->friction_kinetic * normal_change / tangential_speed;
+  velocity[0] = keep * tangent[0];
+  velocity[1] = keep * tangent[1];
+  return true;
+}
+
+bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
+                      double velocity[2], double *block_force,
+                      double mass_over_dt) {
+  bool acted = false;
+  for (int w = 0; w < domain->wall_count; w++) {
+    const gm_wall *wall = &domain->walls[w];
+    double distance = (node_position[0] - wall->point[0]) * wall->normal[0] +
+                      (node_position[1] - wall->point[1]) * wall->normal[1];
+    if (distance > 0.0)
+      continue; /* the node is in front of this wall */
+    double before[2] = {velocity[0], velocity[1]};
+    if (!contact_one(wall, velocity))
+      continue;
+    acted = true;
+    if (block_force) { /* force on the material: m dv / dt */
+      block_force[2 * w] += mass_over_dt * (velocity[0] - before[0]);
+      block_force[2 * w + 1] += mass_over_dt * (velocity[1] - before[1]);
+    }
+  }
+  return acted;
+}
+
+gm_status gm_walls_reserve(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  size_t needed =
+      grid->block_capacity * (size_t)domain->wall_count * 2; /* doubles */
+  if (domain->wall_count == 0 || (needed <= grid->wall_force_capacity &&
+                                  grid->wall_stride == domain->wall_count))
+    return GM_OK;
+  double *partial = gm_calloc(needed, sizeof(double));
+  if (!partial)
+    return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                        "walls: out of memory for the force report");
+  gm_free(grid->wall_force);
+  grid->wall_force = partial;
+  grid->wall_force_capacity = needed;
+  grid->wall_stride = domain->wall_count;
+  return GM_OK;
+}
+
+void gm_walls_commit_forces(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  for (int w = 0; w < domain->wall_count; w++) {
+    double sum[2] = {0.0, 0.0};
+    for (size_t b = 0; b < grid->block_count; b++)
+      for (int k = 0; k < 2; k++)
+        sum[k] +=
+            grid->wall_force[(b * (size_t)grid->wall_stride + (size_t)w) * 2 +
+                             (size_t)k];
+    domain->wall_force[w][0] = sum[0];
+    domain->wall_force[w][1] = sum[1];
+  }
+}

@@ -1,0 +1,281 @@
+/*
+ * test_friction.c - a block on an incline with a Coulomb wall
+ * (references.md, "Block sliding on an incline"; design.md validation
+ * table): at rest when tan(theta) < mu, otherwise its centre of mass
+ * moves s = 1/2 g (sin(theta) - mu cos(theta)) t^2 down the slope.
+ *
+ * As in the papers, the slope is modelled as a horizontal floor with
+ * gravity rotated by theta: g = g (sin(theta), -cos(theta)). The floor is a
+ * planar wall (gm_domain_add_wall) on a grid line, normal +y, with
+ * mu_s = mu_k = mu. Two angles each side of mu = 0.4 (21.8 degrees):
+ * 10 and 15 degrees stick, 30 and 35 degrees slide. MUSL and USF in all
+ * cases; USL only for the blocks at rest: a sliding block's front points
+ * enter empty cells, where USL fails (a documented limitation, see
+ * gm_domain_step(3)), so USL sliding is not asserted here.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test_util.h"
+
+static const double PI = 3.14159265358979323846;
+static const double GRAVITY = 9.81; /* m/s^2 */
+static const double MU = 0.4;       /* wall friction coefficient */
+static const double CELL = 0.025;   /* m */
+static const double DURATION = 0.4; /* s simulated */
+static const double FLOOR_Y = 0.1;  /* m, on a grid line (4 cells up) */
+static const double BLOCK_W = 0.2;  /* m */
+static const double BLOCK_H = 0.1;  /* m */
+
+static const gm_update_scheme schemes[3] = {GM_SCHEME_USL, GM_SCHEME_MUSL,
+                                            GM_SCHEME_USF};
+static const double angles_degrees[4] = {10.0, 15.0, 30.0, 35.0};
+
+/* Stiff enough that the block is nearly rigid (wave speed ~ 100 m/s), so
+ * its centre of mass follows the rigid-block law. */
+static const double DENSITY = 2000.0; /* kg/m^3 */
+static const double POISSON = 0.3;
+static int add_block_material(gm_domain *domain) {
+  return test_add_elastic(domain, 2e7, POISSON, DENSITY);
+}
+
+/* The block as explicit points, 2 x 2 per cell, already carrying the
+ * stress of its own weight on the wall: sigma_yy = -rho g cos(theta) times
+ * the depth below the top, sigma_zz = nu sigma_yy (plane strain), free
+ * sides (sigma_xx = 0). Starting unstressed would make it bounce on the
+ * wall, and friction follows the normal force, bounces included. */
+static void add_geostatic_block(gm_domain *domain, int material, double theta) {
+  enum { PER_AXIS = 2 };
+  int columns = (int)lround(BLOCK_W / CELL) * PER_AXIS;
+  int rows = (int)lround(BLOCK_H / CELL) * PER_AXIS;
+  size_t count = (size_t)(columns * rows);
+  double spacing = CELL / PER_AXIS; /* m */
+  double *position = malloc(count * 2 * sizeof(double));
+  double *volume = malloc(count * sizeof(double));
+  double *stress = calloc(count * 6, sizeof(double));
+  ck_assert(position && volume && stress);
+  for (int j = 0; j < rows; j++) {
+    for (int i = 0; i < columns; i++) {
+      size_t p = (size_t)(j * columns + i);
+      position[2 * p] = 0.1 + (i + 0.5) * spacing;
+      position[2 * p + 1] = FLOOR_Y + (j + 0.5) * spacing;
+      volume[p] = spacing * spacing;
+      double depth = FLOOR_Y + BLOCK_H - position[2 * p + 1]; /* m */
+      stress[6 * p + GM_YY] = -DENSITY * GRAVITY * cos(theta) * depth;
+      stress[6 * p + GM_ZZ] = POISSON * stress[6 * p + GM_YY];
+    }
+  }
+  gm_points_def points = gm_points_def_default();
+  points.count = count;
+  points.material = material;
+  points.position = position;
+  points.volume = volume;
+  points.stress = stress;
+  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  free(position);
+  free(volume);
+  free(stress);
+}
+
+static double centre_along(const gm_domain *domain, const double direction[2]) {
+  gm_summary summary = gm_summary_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &summary));
+  return summary.centre_of_mass[0] * direction[0] +
+         summary.centre_of_mass[1] * direction[1];
+}
+
+/* Runs for `duration`; returns the time-averaged normal force of the wall
+ * (N): sum of force * dt over the steps, divided by the duration. */
+static double run(gm_domain *domain, int wall_id, double duration) {
+  double time = 0.0, normal_impulse = 0.0;
+  while (time < duration) {
+    double dt = 0.0;
+    TEST_ASSERT_OK(domain, gm_domain_stable_dt(domain, &dt));
+    if (time + dt > duration)
+      dt = duration - time;
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, dt));
+    gm_wall_force force = gm_wall_force_default();
+    TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, wall_id, &force));
+    normal_impulse += force.normal * dt;
+    time += dt;
+  }
+  return normal_impulse / duration;
+}
+
+/* Expected slide (m) after t; 0 when friction holds the block. */
+static double expected_slide(double theta, double t) {
+  double acceleration = GRAVITY * (sin(theta) - MU * cos(theta));
+  return acceleration > 0.0 ? 0.5 * acceleration * t * t : 0.0;
+}
+
+/* The slide the block would make without friction, for scale. */
+static double frictionless_slide(double theta, double t) {
+  return 0.5 * GRAVITY * sin(theta) * t * t;
+}
+
+START_TEST(test_rotated_gravity_incline) {
+  gm_update_scheme scheme = schemes[_i % 3];
+  double theta = angles_degrees[_i / 3] * PI / 180.0;
+  if (scheme == GM_SCHEME_USL && tan(theta) > MU)
+    return; /* see the file comment: USL sliding is not asserted */
+  gm_domain_def def = gm_domain_def_default();
+  def.scheme = scheme;
+  def.cell_size = CELL;
+  def.extent[0] = 1.0;
+  def.extent[1] = 0.5;
+  def.gravity[0] = GRAVITY * sin(theta);
+  def.gravity[1] = -GRAVITY * cos(theta);
+  gm_domain *domain = test_create_domain(&def);
+  gm_wall_def wall = gm_wall_def_default();
+  wall.point[1] = FLOOR_Y;
+  wall.normal[1] = 1.0;
+  wall.friction_static = wall.friction_kinetic = MU;
+  int wall_id = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &wall_id));
+  int material = add_block_material(domain);
+  add_geostatic_block(domain, material, theta);
+  const double downslope[2] = {1.0, 0.0};
+  double start = centre_along(domain, downslope);
+  double mean_normal = run(domain, wall_id, DURATION);
+  double slide = centre_along(domain, downslope) - start;
+  double expected = expected_slide(theta, DURATION);
+  double scale = frictionless_slide(theta, DURATION); /* 0.19-0.42 m */
+  if (expected > 0.0) {
+    /* 2 % (design.md); measured within 0.3 %. */
+    ck_assert_msg(fabs(slide - expected) < 0.02 * expected,
+                  "%s, %.0f deg: slid %.6f m, expected %.6f m",
+                  test_scheme_name(scheme), angles_degrees[_i / 3], slide,
+                  expected);
+  } else {
+    /* At rest: the elastic settling and the contact of the block's edge
+     * nodes, which carry little normal load and can slip in a step, let
+     * the centre creep by < 1 % of the frictionless slide (measured
+     * 0.3-0.8 % with MUSL and USF, 0 with USL). */
+    ck_assert_msg(fabs(slide) < 0.01 * scale,
+                  "%s, %.0f deg: slid %.6f m of a frictionless %.6f m, "
+                  "should stay at rest",
+                  test_scheme_name(scheme), angles_degrees[_i / 3], slide,
+                  scale);
+  }
+  /* On average the wall carries the block's weight component normal to
+   * it (the block neither leaves nor enters the wall): within 1 %
+   * (measured < 0.7 %; the residual is the start-up transient). */
+  gm_summary summary = gm_summary_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &summary));
+  double weight_normal = summary.mass * GRAVITY * cos(theta);
+  ck_assert_msg(fabs(mean_normal - weight_normal) < 0.01 * weight_normal,
+                "%s: mean wall normal force %g N, weight component %g N",
+                test_scheme_name(scheme), mean_normal, weight_normal);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
+/* A wall not aligned with the grid: slope theta as a tilted plane under
+ * vertical gravity. The nodes behind the plane form a staircase. A block
+ * below the friction angle must stay at rest here too (< 1 % of the
+ * frictionless slide). (Sliding along a tilted plane is not asserted: the
+ * staircase lets the block ride off the plane and slide ~25 % too far at
+ * 30 degrees; see the closing note of the walls work.) */
+START_TEST(test_tilted_wall_holds_block) {
+  double theta = angles_degrees[_i] * PI / 180.0; /* 10 and 15 degrees */
+  gm_domain_def def = gm_domain_def_default();
+  def.scheme = GM_SCHEME_MUSL;
+  def.cell_size = CELL;
+  def.extent[0] = 1.2;
+  def.extent[1] = 1.0;
+  def.gravity[1] = -GRAVITY;
+  gm_domain *domain = test_create_domain(&def);
+  const double normal[2] = {sin(theta), cos(theta)};   /* into the block */
+  const double tangent[2] = {cos(theta), -sin(theta)}; /* downslope */
+  const double origin[2] = {0.05, 0.85};               /* m, on the plane */
+  gm_wall_def wall = gm_wall_def_default();
+  wall.point[0] = origin[0];
+  wall.point[1] = origin[1];
+  wall.normal[0] = normal[0];
+  wall.normal[1] = normal[1];
+  wall.friction_static = wall.friction_kinetic = MU;
+  int wall_id = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &wall_id));
+  int material = add_block_material(domain);
+  enum { COLUMNS = 16, ROWS = 8 };
+  const double spacing = CELL / 2; /* m */
+  double position[2 * COLUMNS * ROWS], volume[COLUMNS * ROWS];
+  double stress[6 * COLUMNS * ROWS] = {0};
+  for (int j = 0; j < ROWS; j++) {
+    for (int i = 0; i < COLUMNS; i++) {
+      int p = j * COLUMNS + i;
+      double along = 0.1 + (i + 0.5) * spacing, up = (j + 0.5) * spacing;
+      position[2 * p] = origin[0] + along * tangent[0] + up * normal[0];
+      position[2 * p + 1] = origin[1] + along * tangent[1] + up * normal[1];
+      volume[p] = spacing * spacing;
+      /* Weight carried normal to the plane: sigma = s_nn n n^T. */
+      double s_nn = -DENSITY * GRAVITY * cos(theta) * (ROWS * spacing - up);
+      stress[6 * p + GM_XX] = s_nn * normal[0] * normal[0];
+      stress[6 * p + GM_YY] = s_nn * normal[1] * normal[1];
+      stress[6 * p + GM_XY] = s_nn * normal[0] * normal[1];
+      stress[6 * p + GM_ZZ] = POISSON * s_nn;
+    }
+  }
+  gm_points_def points = gm_points_def_default();
+  points.count = COLUMNS * ROWS;
+  points.material = material;
+  points.position = position;
+  points.volume = volume;
+  points.stress = stress;
+  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  double start = centre_along(domain, tangent);
+  run(domain, wall_id, DURATION);
+  double slide = centre_along(domain, tangent) - start;
+  double scale = frictionless_slide(theta, DURATION);
+  ck_assert_msg(fabs(slide) < 0.01 * scale,
+                "%.0f deg tilted wall: slid %.6f m of a frictionless %.6f m",
+                angles_degrees[_i], slide, scale);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
+START_TEST(test_wall_arguments) {
+  gm_domain_def def = gm_domain_def_default();
+  gm_domain *domain = test_create_domain(&def);
+  gm_wall_def wall = gm_wall_def_default();
+  int id = -1;
+  wall.friction_static = 0.2;
+  wall.friction_kinetic = 0.3; /* kinetic above static: refused */
+  ck_assert_int_eq(gm_domain_add_wall(domain, &wall, &id),
+                   GM_ERR_INVALID_ARGUMENT);
+  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "friction"));
+  wall = gm_wall_def_default();
+  wall.normal[1] = 0.0; /* zero normal */
+  ck_assert_int_eq(gm_domain_add_wall(domain, &wall, &id),
+                   GM_ERR_INVALID_ARGUMENT);
+  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "normal"));
+  wall = gm_wall_def_default();
+  wall.normal[2] = 1.0; /* out of plane in 2D */
+  ck_assert_int_eq(gm_domain_add_wall(domain, &wall, &id),
+                   GM_ERR_INVALID_ARGUMENT);
+  ck_assert_int_eq(gm_domain_add_wall(domain, NULL, &id), GM_ERR_NULL);
+  gm_wall_force force = gm_wall_force_default();
+  ck_assert_int_eq(gm_domain_get_wall_force(domain, 0, &force),
+                   GM_ERR_INVALID_ARGUMENT); /* no wall yet */
+  wall = gm_wall_def_default();
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &id));
+  ck_assert_int_eq(id, 0);
+  TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, 0, &force));
+  ck_assert(force.normal == 0.0 && force.tangential == 0.0);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
+int main(void) {
+  Suite *suite = suite_create("friction");
+  TCase *tcase = tcase_create("incline");
+  tcase_set_timeout(tcase, 120);
+  tcase_add_loop_test(tcase, test_rotated_gravity_incline, 0, 12);
+  tcase_add_loop_test(tcase, test_tilted_wall_holds_block, 0, 2);
+  tcase_add_test(tcase, test_wall_arguments);
+  suite_add_tcase(suite, tcase);
+  return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}
