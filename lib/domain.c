@@ -193,6 +193,7 @@ void gm_domain_destroy(gm_domain *domain) {
   if (!domain || domain->busy) /* never free a domain under a running step */
     return;
   gm_pool_stop(&domain->pool);
+  gm_sources_free(domain);
   gm_points_free(&domain->points);
   gm_buffers_free(&domain->snapshot);
   free_grid(&domain->grid);

@@ -245,6 +245,8 @@ gm_status gm_domain_get_summary(const gm_domain *domain, gm_summary *summary) {
   double first_moment[3] = {0.0, 0.0, 0.0}; /* kg m */
   /* Sum in id order so the totals do not depend on the point order. */
   for (int64_t id = 0; id < points->next_id; id++) {
+    if (points->index_of_id[id] == GM_REMOVED_POINT)
+      continue;
     size_t i = (size_t)points->index_of_id[id];
     double mass = points->mass[i];
     totals.mass += mass;

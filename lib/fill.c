@@ -186,11 +186,8 @@ gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
     status = add_slab(domain, def, &grid, begin, end, density, arrays, NULL);
   }
   gm_free(arrays);
-  if (status != GM_OK) { /* cannot happen after the checks; stay atomic */
-    points->count = count_before;
-    points->next_id = id_before;
-    points->keys_valid = false;
-    gm_recompute_signal_speed(domain);
+  if (status != GM_OK) { /* out of memory for the id map: stay atomic */
+    gm_points_truncate(domain, count_before, id_before);
     return status;
   }
   if (first_id)

@@ -18,6 +18,7 @@ typedef struct gather_view {
   const double *velocity[2]; /* m/s, committed */
   const double *deformation[GM_F_STORED];
   const double *grid_velocity[2];     /* m/s */
+  const double *grid_mass;            /* kg */
   const double *grid_acceleration[2]; /* m/s^2 */
   const uint32_t *point_block;
   const uint32_t *neighbour;
@@ -65,6 +66,7 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
   const double *restrict gvy = v->grid_velocity[1];
   const double *restrict gax = v->grid_acceleration[0];
   const double *restrict gay = v->grid_acceleration[1];
+  const double *restrict gm = v->grid_mass;
   double origin_x = v->origin[0], origin_y = v->origin[1];
   double inv_cell = v->inv_cell;
   int shift = v->shift;
@@ -85,8 +87,10 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
     double grad_y[4] = {wx[0] * dy[0], wx[1] * dy[0], wx[0] * dy[1],
                         wx[1] * dy[1]};
     double ax = 0, ay = 0, vx = 0, vy = 0, lxx = 0, lxy = 0, lyx = 0, lyy = 0;
+    double empty_x = 0, empty_y = 0; /* gradient sum of massless nodes */
     for (int n = 0; n < 4; n++) {
       double nvx = gvx[node[n]], nvy = gvy[node[n]];
+      double empty = gm[node[n]] == 0.0 ? 1.0 : 0.0;
       ax += weight[n] * gax[node[n]];
       ay += weight[n] * gay[node[n]];
       vx += weight[n] * nvx;
@@ -95,7 +99,17 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
       lxy += nvx * grad_y[n];
       lyx += nvy * grad_x[n];
       lyy += nvy * grad_y[n];
+      empty_x += empty * grad_x[n];
+      empty_y += empty * grad_y[n];
     }
+    /* A point exactly on a cell edge has zero weight, hence possibly no
+     * mass, on the nodes across it; their velocity is undefined (stored as
+     * 0) yet their gradient is not zero. Give them the point's own
+     * interpolated velocity, which removes the spurious gradient. */
+    lxx += vx * empty_x;
+    lxy += vx * empty_y;
+    lyx += vy * empty_x;
+    lyy += vy * empty_y;
     out->acceleration[0][j] = ax;
     out->acceleration[1][j] = ay;
     out->velocity[0][j] = vx;
@@ -124,13 +138,15 @@ static void gather_chunk_1d(const gather_view *v, size_t first, size_t count,
     size_t node[2] = {(size_t)links[0] * GM_BLOCK_NODES + (size_t)local,
                       (size_t)links[next >> v->shift] * GM_BLOCK_NODES +
                           (size_t)(next & mask)};
-    double acceleration = 0.0, velocity = 0.0, gradient = 0.0;
+    double acceleration = 0.0, velocity = 0.0, gradient = 0.0, empty = 0.0;
     for (int a = 0; a < 2; a++) {
       double nodal = v->grid_velocity[0][node[a]];
       acceleration += w[a] * v->grid_acceleration[0][node[a]];
       velocity += w[a] * nodal;
       gradient += nodal * d[a];
+      empty += v->grid_mass[node[a]] == 0.0 ? d[a] : 0.0;
     }
+    gradient += velocity * empty; /* see gather_chunk_2d */
     out->acceleration[0][j] = acceleration;
     out->velocity[0][j] = velocity;
     out->gradient[0][j] = gradient;
@@ -366,6 +382,7 @@ static void make_view(gm_domain *domain, gather_view *view) {
     view->next_position[k] = to->position[c];
     view->next_velocity[k] = to->velocity[c];
     view->grid_velocity[k] = grid->momentum[c]; /* velocity by now */
+    view->grid_mass = grid->mass;
     view->grid_acceleration[k] = grid->force[c];
     view->origin[k] = domain->def.origin[c];
     view->cells[k] = (double)domain->cells[k];

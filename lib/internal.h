@@ -27,6 +27,8 @@
 #define GM_MAX_MATERIALS       256
 #define GM_MAX_PARAMETER_BYTES 256
 #define GM_MAX_WALLS           64
+#define GM_MAX_SOURCES         64
+#define GM_REMOVED_POINT       UINT32_MAX
 /* Points handed to a material callback at once: large enough to amortise
  * the call, small enough that the batch buffers stay in L1/L2. */
 #define GM_BATCH_SIZE 128
@@ -89,8 +91,10 @@ typedef struct gm_points {
                                 first use (NULL = no external force) */
   int64_t *id;               /* stable id */
   int32_t *material;         /* material index */
-  /* id -> index; ids are dense 0..next_id-1 (no removal in v0.1). */
+  /* id -> index for ids 0..next_id-1; GM_REMOVED_POINT once a sink has
+   * removed the point (ids are never reused). */
   uint32_t *index_of_id;
+  size_t id_capacity;
   /* Block of each point: of the committed positions at binning, of the
    * moved ones after the move pass (right for the next step if it
    * commits). keys_valid: block_key matches the committed positions. */
@@ -110,6 +114,27 @@ typedef struct gm_wall {
   double friction_static;  /* mu_s */
   double friction_kinetic; /* mu_k */
 } gm_wall;
+
+/* ------------------------------------------------------ sources and sinks */
+typedef struct gm_source {
+  int material;
+  size_t count;         /* points per injection */
+  double *position;     /* m, count * dim, owned */
+  double velocity[2];   /* m/s */
+  double point_size;    /* m */
+  double density;       /* kg/m^3 */
+  double next_time;     /* s, next injection; INFINITY when done */
+  double period;        /* s, 0 = once */
+  int injections_left;  /* -1 = no limit */
+  double injected_mass; /* kg */
+  uint64_t injected_points;
+} gm_source;
+
+typedef struct gm_sink {
+  double lower[2], upper[2]; /* m */
+  double removed_mass;       /* kg */
+  uint64_t removed_points;
+} gm_sink;
 
 /* ------------------------------------------------------------- per worker */
 typedef struct gm_worker_scratch {
@@ -158,6 +183,10 @@ struct gm_domain {
   gm_wall walls[GM_MAX_WALLS];
   int wall_count;
   double wall_force[GM_MAX_WALLS][2]; /* N, last committed step */
+  gm_source sources[GM_MAX_SOURCES];
+  int source_count;
+  gm_sink sinks[GM_MAX_SOURCES];
+  int sink_count;
   gm_step_hook_fn *hook;
   void *hook_user;
   bool busy;            /* inside a step: state-changing calls refused */
@@ -223,6 +252,14 @@ gm_status gm_check_positive(gm_domain *domain, const char *def_name,
 /* Point storage (points.c). */
 gm_status gm_points_reserve(gm_domain *domain, size_t capacity);
 void gm_points_free(gm_points *points);
+/* gm_domain_add_points without the busy check (sources inject mid-step). */
+gm_status gm_points_append(gm_domain *domain, const gm_points_def *def,
+                           int64_t *first_id);
+/* Removes the points whose flag is nonzero (flags: one per point),
+ * keeping the order of the others (removal.c). */
+void gm_points_remove(gm_domain *domain, const uint32_t *flags);
+/* Drops the points added after `count` and the ids after `next_id`. */
+void gm_points_truncate(gm_domain *domain, size_t count, int64_t next_id);
 /* Widens the per-point state pool to stride doubles. */
 gm_status gm_points_restride_state(gm_domain *domain, size_t stride);
 /* Sizes one buffer set for capacity points (keeps contents). */
@@ -289,6 +326,20 @@ bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
                          int64_t base_y);
 /* Sums the per-block wall forces of the last step (block order). */
 void gm_walls_commit_forces(gm_domain *domain);
+
+/* Sources and sinks (sources.c). The sources' state before an injection,
+ * to undo it when the step then fails. */
+typedef struct gm_injection_undo {
+  size_t count;    /* points before */
+  int64_t next_id; /* ids before */
+  gm_source sources[GM_MAX_SOURCES];
+} gm_injection_undo;
+/* Injects every due source (time <= domain->time); fills undo. */
+gm_status gm_sources_inject(gm_domain *domain, gm_injection_undo *undo);
+void gm_sources_undo(gm_domain *domain, const gm_injection_undo *undo);
+/* Removes the committed points inside sinks (cannot fail). */
+void gm_sinks_remove(gm_domain *domain);
+void gm_sources_free(gm_domain *domain);
 
 /* Stable dt (stable_dt.c). */
 /* max c_p + max |v_p| (m/s) of the committed state, recomputed. */

@@ -58,7 +58,6 @@ gm_status gm_points_reserve(gm_domain *domain, size_t capacity) {
   }
   GROW(points->id, sizeof(int64_t));
   GROW(points->material, sizeof(int32_t));
-  GROW(points->index_of_id, sizeof(uint32_t));
   GROW(points->block_key, sizeof(int64_t));
   GROW(points->point_block, sizeof(uint32_t));
   GROW(points->order, sizeof(uint32_t));
@@ -296,6 +295,22 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
   points->index_of_id[points->next_id + (int64_t)i] = (uint32_t)p;
 }
 
+/* Room in the id -> index map for `extra` more ids. */
+static bool reserve_ids(gm_points *points, size_t extra) {
+  size_t needed = (size_t)points->next_id + extra;
+  if (needed <= points->id_capacity)
+    return true;
+  size_t capacity = points->id_capacity + points->id_capacity / 2;
+  if (capacity < needed)
+    capacity = needed;
+  void *map = points->index_of_id;
+  if (!gm_grow(&map, sizeof(uint32_t), points->id_capacity, capacity))
+    return false;
+  points->index_of_id = map;
+  points->id_capacity = capacity;
+  return true;
+}
+
 gm_status gm_domain_add_points(gm_domain *domain, const gm_points_def *def,
                                int64_t *first_id) {
   if (!domain)
@@ -306,6 +321,11 @@ gm_status gm_domain_add_points(gm_domain *domain, const gm_points_def *def,
   if (domain->busy)
     return gm_set_error(domain, GM_ERR_BUSY,
                         "gm_domain_add_points: called during a step");
+  return gm_points_append(domain, def, first_id);
+}
+
+gm_status gm_points_append(gm_domain *domain, const gm_points_def *def,
+                           int64_t *first_id) {
   if (def->struct_size < sizeof(gm_points_def))
     return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
                         "gm_points_def.struct_size is %zu, expected %zu",
@@ -344,6 +364,9 @@ gm_status gm_domain_add_points(gm_domain *domain, const gm_points_def *def,
                           "gm_domain_add_points: out of memory for %zu points",
                           needed);
   }
+  if (!reserve_ids(points, def->count))
+    return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                        "gm_domain_add_points: out of memory for the id map");
   for (size_t i = 0; i < def->count; i++)
     store_point(domain, def, i,
                 def->density ? def->density[i] : material_density);
@@ -370,6 +393,11 @@ gm_status gm_domain_point_index(const gm_domain *domain, int64_t id,
   if (id < 0 || id >= domain->points.next_id)
     return gm_set_error((gm_domain *)domain, GM_ERR_UNKNOWN_POINT,
                         "gm_domain_point_index: no point with id %lld",
+                        (long long)id);
+  if (domain->points.index_of_id[id] == GM_REMOVED_POINT)
+    return gm_set_error((gm_domain *)domain, GM_ERR_UNKNOWN_POINT,
+                        "gm_domain_point_index: point id %lld was removed "
+                        "(it entered a sink)",
                         (long long)id);
   *index = (size_t)domain->points.index_of_id[id];
   return GM_OK;

@@ -248,15 +248,22 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
                         "t = %g s",
                         domain->time);
   }
-  /* After the hook: velocities it edited count for the stable dt. */
-  gm_status status = choose_dt(domain, &dt);
+  /* Sources inject now; the injection is undone if the step fails. */
+  gm_injection_undo undo;
+  gm_status status = gm_sources_inject(domain, &undo);
+  /* After the hook and the injection: velocities the hook edited and the
+   * new points count for the stable dt. */
+  if (status == GM_OK)
+    status = choose_dt(domain, &dt);
+  if (status == GM_OK)
+    status = advance(domain, dt, domain->def.max_retries, true);
   if (status != GM_OK) {
+    gm_sources_undo(domain, &undo);
     domain->busy = false;
     return status;
   }
-  status = advance(domain, dt, domain->def.max_retries, true);
-  if (status == GM_OK)
-    run_hook(domain, GM_HOOK_AFTER_STEP);
+  gm_sinks_remove(domain);
+  run_hook(domain, GM_HOOK_AFTER_STEP);
   domain->busy = false;
   return status;
 }
