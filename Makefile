@@ -48,7 +48,8 @@ distclean:
 	rm -rf $(BUILD) out
 
 CLANG_FORMAT ?= clang-format
-FORMAT_FILES = $(wildcard include/*.h lib/*.c lib/*.h lib/materials/*.c \
+FORMAT_FILES = $(wildcard include/*.h include/granmpm/*.h lib/*.c lib/*.h \
+	lib/materials/*.c lib/materials/*.h \
 	tests/*.c tests/*.h examples/*.c bench/*.c .ci/*.c)
 format:
 	$(CLANG_FORMAT) -i $(FORMAT_FILES)

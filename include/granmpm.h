@@ -580,6 +580,12 @@ typedef struct gm_allocator {
  * default). Call before creating any domain; not thread-safe. */
 GM_API gm_status gm_set_allocator(const gm_allocator *allocator);
 
+/* ------------------------------------------------- built-in material models */
+/* Each written against the public gm_material_update_fn interface. */
+#include "granmpm/filling.h"
+#include "granmpm/mohr_coulomb.h"
+#include "granmpm/perzyna.h"
+
 #ifdef __cplusplus
 }
 #endif

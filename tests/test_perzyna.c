@@ -8,7 +8,8 @@
  *  - trial states inside the cone are updated elastically, untouched;
  *  - as the fluidity gamma grows (viscosity -> 0) q/p tends to m with the
  *    bound derived below;
- *  - under steady simple shear the stationary q is m p (1 + (rate/gamma)^(1/N));
+ *  - under steady simple shear the stationary q is m p (1 +
+ * (rate/gamma)^(1/N));
  *  - an iteration limit that is too small gives a recoverable code > 0;
  *  - invalid parameters are rejected, naming the field.
  * Notation: p = -tr(sigma)/3, s = sigma + p I, q = sqrt(3/2 s:s),
@@ -67,8 +68,7 @@ static int run_point(const gm_perzyna_def *def, double dt, double stress[6],
   batch.state = state_pointers;
   batch.state_count = 1;
   batch.point_id = &id;
-  int result =
-      gm_perzyna_update(&batch, (void *)def, message, message_size);
+  int result = gm_perzyna_update(&batch, (void *)def, message, message_size);
   for (int c = 0; c < 6; c++)
     stress[c] = stress_column[c][0];
   *state = state_column[0];
@@ -76,12 +76,11 @@ static int run_point(const gm_perzyna_def *def, double dt, double stress[6],
 }
 
 /* Same, failing the test on a non-zero return. */
-static void update_point(const gm_perzyna_def *def, double dt,
-                         double stress[6], const double increment[6],
-                         double *state) {
+static void update_point(const gm_perzyna_def *def, double dt, double stress[6],
+                         const double increment[6], double *state) {
   char message[256] = "";
-  int result = run_point(def, dt, stress, increment, state, message,
-                         sizeof message);
+  int result =
+      run_point(def, dt, stress, increment, state, message, sizeof message);
   ck_assert_msg(result == 0, "update returned %d: %s", result, message);
 }
 
@@ -140,8 +139,8 @@ static void random_case(lcg *random, gm_perzyna_def *def, double sigma[6],
   def->fluidity = lcg_log_uniform(random, 0.1, 1e4);
   double pressure = lcg_log_uniform(random, 1e3, 1e5);
   for (int c = 0; c < 6; c++) {
-    sigma[c] = lcg_uniform(random, -0.8, 0.8) * pressure -
-               (c < 3 ? pressure : 0.0);
+    sigma[c] =
+        lcg_uniform(random, -0.8, 0.8) * pressure - (c < 3 ? pressure : 0.0);
     increment[c] = lcg_uniform(random, -2e-3, 2e-3);
   }
 }
@@ -255,8 +254,8 @@ START_TEST(test_elastic_inside_cone) {
     /* Deviator components up to 0.1 p: q <= sqrt(3/2 * 9) 0.1 p < m p/2. */
     double sigma[6], increment[6], expected[6];
     for (int c = 0; c < 6; c++) {
-      sigma[c] = lcg_uniform(&random, -0.1, 0.1) * pressure -
-                 (c < 3 ? pressure : 0.0);
+      sigma[c] =
+          lcg_uniform(&random, -0.1, 0.1) * pressure - (c < 3 ? pressure : 0.0);
       increment[c] = lcg_uniform(&random, -1e-5, 1e-5) * pressure / 1e4;
     }
     elastic_trial(&def, sigma, increment, expected);
@@ -321,8 +320,7 @@ START_TEST(test_rate_independent_limit) {
     ck_assert(excess <= previous);
     previous = excess;
   }
-  ck_assert_msg(previous <= 1e-3 * m, "q/p - m = %g at gamma = 1e12",
-                previous);
+  ck_assert_msg(previous <= 1e-3 * m, "q/p - m = %g at gamma = 1e12", previous);
 }
 END_TEST
 
@@ -340,8 +338,8 @@ START_TEST(test_stationary_simple_shear) {
   gm_perzyna_def def = gm_perzyna_def_default();
   def.exponent = exponent;
   def.friction_angle = 0.5235987755982988; /* 30 deg */
-  double dt = 1e-4, shear_rate = 10.0;      /* s, 1/s */
-  double pressure = 1e4;                    /* Pa */
+  double dt = 1e-4, shear_rate = 10.0;     /* s, 1/s */
+  double pressure = 1e4;                   /* Pa */
   double sigma[6] = {-pressure, -pressure, -pressure, 0.0, 0.0, 0.0};
   double increment[6] = {0.0, 0.0, 0.0, shear_rate * dt, 0.0, 0.0};
   double state = 0.0, state_step = 0.0;
@@ -352,8 +350,8 @@ START_TEST(test_stationary_simple_shear) {
   }
   double m = slope_of(def.friction_angle);
   double equivalent_rate = 2.0 * shear_rate / sqrt(3.0); /* 1/s */
-  double expected =
-      m * pressure * (1.0 + pow(equivalent_rate / def.fluidity, 1.0 / exponent));
+  double expected = m * pressure *
+                    (1.0 + pow(equivalent_rate / def.fluidity, 1.0 / exponent));
   double q = mises_of(sigma);
   ck_assert_msg(fabs(q - expected) <= 1e-10 * expected, "q %.17g vs %.17g", q,
                 expected);
@@ -375,8 +373,8 @@ START_TEST(test_iteration_limit_is_recoverable) {
   double increment[6] = {-2e-2, 1e-2, 1e-2, 0.0, 0.0, 0.0};
   double state = 0.0;
   char message[256] = "";
-  int result =
-      run_point(&def, RANDOM_DT, sigma, increment, &state, message, sizeof message);
+  int result = run_point(&def, RANDOM_DT, sigma, increment, &state, message,
+                         sizeof message);
   ck_assert_int_gt(result, 0);
   ck_assert_msg(strstr(message, "point 42") != NULL, "message: %s", message);
 }
@@ -406,7 +404,8 @@ START_TEST(test_registration) {
   invalid[6].field = "reference_stress", invalid[6].def.reference_stress = -1;
   invalid[7].field = "max_iterations", invalid[7].def.max_iterations = 0;
   for (int k = 0; k < 8; k++) {
-    gm_status status = gm_domain_add_perzyna(domain, &invalid[k].def, &material);
+    gm_status status =
+        gm_domain_add_perzyna(domain, &invalid[k].def, &material);
     ck_assert_int_eq(status, GM_ERR_INVALID_ARGUMENT);
     ck_assert_msg(strstr(gm_domain_last_error(domain), invalid[k].field),
                   "%s: %s", invalid[k].field, gm_domain_last_error(domain));

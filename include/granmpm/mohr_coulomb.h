@@ -73,8 +73,9 @@ GM_API gm_status gm_domain_add_mohr_coulomb(gm_domain *domain,
                                             int *material_id);
 
 /** The update itself, for users composing materials: `user` must point to a
- * valid gm_mohr_coulomb_def; the batch needs state_count >= 1. Returns 0, or
- * < 0 for a non-finite trial stress (message names the point). */
+ * valid gm_mohr_coulomb_def; the batch needs state_count >= 1 (state[0] is
+ * the plastic shear strain). Returns 0, or < 0 (fatal, message names the
+ * point or the cause) for a non-finite trial stress or a missing state. */
 GM_API int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
                                   char *message, size_t message_size);
 

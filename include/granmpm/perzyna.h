@@ -31,17 +31,17 @@
 enum { GM_PERZYNA_STATE_COUNT = 1 };
 
 typedef struct gm_perzyna_def {
-  size_t struct_size;    /* set by gm_perzyna_def_default() */
-  const char *name;      /* copied; for messages and VTU */
-  double youngs_modulus; /* E, Pa, > 0 */
-  double poisson_ratio;  /* nu, -1 < nu < 0.5 */
-  double density;        /* kg/m^3, > 0, default for new points */
-  double friction_angle; /* phi, rad, 0 < phi < pi/2 (sets m above) */
-  double fluidity;       /* gamma of eq 18 ("viscosity parameter"), 1/s,
-                            > 0; the viscosity is 1/gamma, so gamma -> inf
-                            is the rate-independent Drucker-Prager limit */
-  double exponent;       /* N of Phi, > 0 (the paper uses N = 1); 0.1..10
-                            is the useful range (N = 1 has a closed form) */
+  size_t struct_size;      /* set by gm_perzyna_def_default() */
+  const char *name;        /* copied; for messages and VTU */
+  double youngs_modulus;   /* E, Pa, > 0 */
+  double poisson_ratio;    /* nu, -1 < nu < 0.5 */
+  double density;          /* kg/m^3, > 0, default for new points */
+  double friction_angle;   /* phi, rad, 0 < phi < pi/2 (sets m above) */
+  double fluidity;         /* gamma of eq 18 ("viscosity parameter"), 1/s,
+                              > 0; the viscosity is 1/gamma, so gamma -> inf
+                              is the rate-independent Drucker-Prager limit */
+  double exponent;         /* N of Phi, > 0 (the paper uses N = 1); 0.1..10
+                              is the useful range (N = 1 has a closed form) */
   double reference_stress; /* Pa, >= 0: sigma_n = max(m p, this); 0 = the
                               paper's normalisation by m p */
   int max_iterations;      /* Newton/bisection iterations for N != 1, 1..1000;

@@ -33,12 +33,12 @@
 
 /* Constants of one update call. */
 typedef struct mc_constants {
-  double shear;         /* G, Pa */
-  double lame;          /* lambda, Pa */
-  double sin_friction;  /* sin(phi) */
-  double cos_friction;  /* cos(phi) */
-  double sin_dilation;  /* sin(psi) */
-  double yield_offset;  /* 2 c cos(phi), Pa, this point's rate term */
+  double shear;        /* G, Pa */
+  double lame;         /* lambda, Pa */
+  double sin_friction; /* sin(phi) */
+  double cos_friction; /* cos(phi) */
+  double sin_dilation; /* sin(psi) */
+  double yield_offset; /* 2 c cos(phi), Pa, this point's rate term */
 } mc_constants;
 
 /* One yield plane over the sorted principal stresses: f = normal . sigma -
@@ -78,8 +78,8 @@ static double plane_value(const mc_plane *plane, const mc_constants *k,
 static bool return_to_main_plane(const mc_constants *k, const double trial[3],
                                  double out[3]) {
   mc_plane main = make_plane(k, 0, 2);
-  double multiplier = plane_value(&main, k, trial) /
-                      dot3(main.normal, main.elastic_flow);
+  double multiplier =
+      plane_value(&main, k, trial) / dot3(main.normal, main.elastic_flow);
   for (int i = 0; i < 3; i++)
     out[i] = trial[i] - multiplier * main.elastic_flow[i];
   return out[0] >= out[1] && out[1] >= out[2];
@@ -92,8 +92,10 @@ static bool return_to_main_plane(const mc_constants *k, const double trial[3],
 static bool return_to_edge(const mc_constants *k, const double trial[3],
                            int major, int minor, double out[3]) {
   mc_plane a = make_plane(k, 0, 2), b = make_plane(k, major, minor);
-  double aa = dot3(a.normal, a.elastic_flow), ab = dot3(a.normal, b.elastic_flow);
-  double ba = dot3(b.normal, a.elastic_flow), bb = dot3(b.normal, b.elastic_flow);
+  double aa = dot3(a.normal, a.elastic_flow),
+         ab = dot3(a.normal, b.elastic_flow);
+  double ba = dot3(b.normal, a.elastic_flow),
+         bb = dot3(b.normal, b.elastic_flow);
   double fa = plane_value(&a, k, trial), fb = plane_value(&b, k, trial);
   double determinant = aa * bb - ab * ba;
   if (!(determinant > 0.0))

@@ -218,10 +218,10 @@ static gm_status perzyna_check(gm_domain *domain, const gm_perzyna_def *def) {
   gm_status status = gm_check_elastic_constants(
       domain, name, def->youngs_modulus, def->poisson_ratio);
   if (status == GM_OK)
-    status = gm_check_positive(domain, name, "density", def->density,
-                               "kg/m^3", false);
-  if (status == GM_OK && !(def->friction_angle > 0.0 &&
-                           def->friction_angle < PERZYNA_HALF_PI))
+    status = gm_check_positive(domain, name, "density", def->density, "kg/m^3",
+                               false);
+  if (status == GM_OK &&
+      !(def->friction_angle > 0.0 && def->friction_angle < PERZYNA_HALF_PI))
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "%s.friction_angle is %g rad, must be in (0, pi/2) "
                         "radians",

@@ -46,7 +46,8 @@ static int negligible(double apq, double app, double aqq) {
   return fabs(app) + scaled == fabs(app) && fabs(aqq) + scaled == fabs(aqq);
 }
 
-static void sort_descending(double value[3], double v[3][3], gm_principal *out) {
+static void sort_descending(double value[3], double v[3][3],
+                            gm_principal *out) {
   int order[3] = {0, 1, 2};
   for (int i = 0; i < 2; i++)
     for (int j = i + 1; j < 3; j++)
