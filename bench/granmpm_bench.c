@@ -43,19 +43,30 @@
 #include <time.h>
 #include <unistd.h>
 
+/* The block's material: the material's own cost shows next to the grid
+ * transfers when the same scene runs with a plasticity model. */
+typedef enum bench_material {
+  MATERIAL_ELASTIC,
+  MATERIAL_MOHR_COULOMB,
+  MATERIAL_DRUCKER_PRAGER
+} bench_material;
+
 typedef struct bench_case {
   const char *name;
   double target_points;
   double box_scale; /* box size / compact box size, per axis */
   bool quick;       /* part of --quick */
+  bench_material material;
 } bench_case;
 
 /* In increasing size order. */
 static const bench_case bench_cases[] = {
-    {"block-1e4", 1e4, 1.0, true},
-    {"block-1e5", 1e5, 1.0, true},
-    {"empty-1e5", 1e5, 10.0, true},
-    {"block-1e6", 1e6, 1.0, false},
+    {"block-1e4", 1e4, 1.0, true, MATERIAL_ELASTIC},
+    {"block-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC},
+    {"empty-1e5", 1e5, 10.0, true, MATERIAL_ELASTIC},
+    {"mohr-coulomb-1e5", 1e5, 1.0, true, MATERIAL_MOHR_COULOMB},
+    {"drucker-prager-1e5", 1e5, 1.0, true, MATERIAL_DRUCKER_PRAGER},
+    {"block-1e6", 1e6, 1.0, false, MATERIAL_ELASTIC},
 };
 enum { CASE_COUNT = sizeof bench_cases / sizeof bench_cases[0] };
 static const int worker_counts[] = {1, 2};
@@ -123,6 +134,37 @@ static int report_failure(const gm_domain *domain, const char *call,
       return report_failure(domain, #call, check_status_);                     \
   } while (0)
 
+/* The case's material, with the same elastic constants for every model
+ * (friction angle 30 degrees, no dilation, no rate term for the plastic
+ * ones: the block yields near its base and corners). */
+static gm_status add_material(gm_domain *domain, bench_material kind,
+                              int *material) {
+  const double friction_angle = 30.0 * 3.14159265358979323846 / 180.0;
+  if (kind == MATERIAL_MOHR_COULOMB) {
+    gm_mohr_coulomb_def def = gm_mohr_coulomb_def_default();
+    def.youngs_modulus = youngs_modulus;
+    def.poisson_ratio = poisson_ratio;
+    def.density = block_density;
+    def.friction_angle = friction_angle;
+    def.dilation_angle = 0.0;
+    def.bagnold_viscosity = 0.0;
+    return gm_domain_add_mohr_coulomb(domain, &def, material);
+  }
+  if (kind == MATERIAL_DRUCKER_PRAGER) {
+    gm_drucker_prager_def def = gm_drucker_prager_def_default();
+    def.youngs_modulus = youngs_modulus;
+    def.poisson_ratio = poisson_ratio;
+    def.density = block_density;
+    def.friction_angle = friction_angle;
+    return gm_domain_add_drucker_prager(domain, &def, material);
+  }
+  gm_elastic_def def = gm_elastic_def_default();
+  def.youngs_modulus = youngs_modulus;
+  def.poisson_ratio = poisson_ratio;
+  def.density = block_density;
+  return gm_domain_add_elastic(domain, &def, material);
+}
+
 /* Creates the domain and the block for one case. */
 static int build_scene(const bench_case *scene, int workers,
                        gm_domain **domain) {
@@ -143,12 +185,8 @@ static int build_scene(const bench_case *scene, int workers,
   def.worker_count = workers;
   CHECK(*domain, gm_domain_create(&def, domain));
 
-  gm_elastic_def elastic = gm_elastic_def_default();
-  elastic.youngs_modulus = youngs_modulus;
-  elastic.poisson_ratio = poisson_ratio;
-  elastic.density = block_density;
   int material = -1;
-  CHECK(*domain, gm_domain_add_elastic(*domain, &elastic, &material));
+  CHECK(*domain, add_material(*domain, scene->material, &material));
 
   gm_fill_def fill = gm_fill_def_default();
   fill.material = material;

@@ -582,9 +582,12 @@ GM_API gm_status gm_set_allocator(const gm_allocator *allocator);
 
 /* ------------------------------------------------- built-in material models */
 /* Each written against the public gm_material_update_fn interface. */
+#include "granmpm/drucker_prager.h"
 #include "granmpm/filling.h"
 #include "granmpm/mohr_coulomb.h"
 #include "granmpm/perzyna.h"
+#include "granmpm/stress_free.h"
+#include "granmpm/von_mises.h"
 
 #ifdef __cplusplus
 }

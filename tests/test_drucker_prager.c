@@ -90,8 +90,8 @@ static gm_drucker_prager_def dp_def(double friction_angle) {
 
 static void run_dp(test_points *points, gm_drucker_prager_def *def) {
   char message[128] = "";
-  int result = gm_drucker_prager_update(&points->batch, def, message,
-                                        sizeof message);
+  int result =
+      gm_drucker_prager_update(&points->batch, def, message, sizeof message);
   ck_assert_msg(result == 0, "update returned %d: %s", result, message);
 }
 
@@ -109,9 +109,9 @@ static double pressure_of(const double sigma[6]) {
 static double equivalent_of(const double sigma[6]) {
   double p = pressure_of(sigma);
   double sxx = sigma[0] + p, syy = sigma[1] + p, szz = sigma[2] + p;
-  double ss = sxx * sxx + syy * syy + szz * szz +
-              2.0 * (sigma[3] * sigma[3] + sigma[4] * sigma[4] +
-                     sigma[5] * sigma[5]);
+  double ss =
+      sxx * sxx + syy * syy + szz * szz +
+      2.0 * (sigma[3] * sigma[3] + sigma[4] * sigma[4] + sigma[5] * sigma[5]);
   return sqrt(1.5 * ss);
 }
 
@@ -249,8 +249,8 @@ static void check_random_point(const test_points *before,
     double increment = after->plastic[i] - before->plastic[i];
     double expected = equivalent_of(trial) / (3.0 * shear_modulus);
     ck_assert_msg(fabs(increment - expected) <= 1e-14 + 1e-12 * expected,
-                  "apex point %zu plastic strain %g, expected %g", i,
-                  increment, expected);
+                  "apex point %zu plastic strain %g, expected %g", i, increment,
+                  expected);
     for (int c = 0; c < 6; c++)
       ck_assert_msg(after->stress[c][i] == 0.0,
                     "tension point %zu component %d is %g", i, c,
@@ -312,9 +312,8 @@ static double triaxial_step(test_points *point, gm_drucker_prager_def *def,
     double r_zz = point->stress[GM_ZZ][0] + confinement;
     if (fmax(fabs(r), fabs(r_zz)) < 1e-9 * confinement)
       return x;
-    double slope = iteration == 0 || x == x_prev
-                       ? lateral_stiffness
-                       : (r - r_prev) / (x - x_prev);
+    double slope = iteration == 0 || x == x_prev ? lateral_stiffness
+                                                 : (r - r_prev) / (x - x_prev);
     if (!(fabs(slope) > 1e-3 * lateral_stiffness))
       slope = lateral_stiffness; /* flat secant: fall back to elastic */
     x_prev = x;
@@ -386,12 +385,12 @@ typedef struct bad_parameter {
 } bad_parameter;
 
 static const bad_parameter BAD_PARAMETERS[] = {
-    {"youngs_modulus", 0, 0.0},    {"youngs_modulus", 0, -1e6},
-    {"youngs_modulus", 0, NAN},    {"poisson_ratio", 1, 0.5},
-    {"poisson_ratio", 1, -1.0},    {"density", 2, 0.0},
-    {"density", 2, INFINITY},      {"friction_angle", 3, 0.0},
-    {"friction_angle", 3, -0.1},   {"friction_angle", 3, 1.5707963267948966},
-    {"friction_angle", 3, 2.0},    {"friction_angle", 3, NAN},
+    {"youngs_modulus", 0, 0.0},  {"youngs_modulus", 0, -1e6},
+    {"youngs_modulus", 0, NAN},  {"poisson_ratio", 1, 0.5},
+    {"poisson_ratio", 1, -1.0},  {"density", 2, 0.0},
+    {"density", 2, INFINITY},    {"friction_angle", 3, 0.0},
+    {"friction_angle", 3, -0.1}, {"friction_angle", 3, 1.5707963267948966},
+    {"friction_angle", 3, 2.0},  {"friction_angle", 3, NAN},
 };
 
 START_TEST(test_invalid_parameters) {
@@ -418,8 +417,7 @@ START_TEST(test_valid_registration) {
   gm_domain *domain = test_create_domain(&domain_def);
   gm_drucker_prager_def def = gm_drucker_prager_def_default();
   int material = -1;
-  TEST_ASSERT_OK(domain,
-                 gm_domain_add_drucker_prager(domain, &def, &material));
+  TEST_ASSERT_OK(domain, gm_domain_add_drucker_prager(domain, &def, &material));
   ck_assert_int_eq(material, 0);
   def.struct_size = 8;
   ck_assert_int_eq(gm_domain_add_drucker_prager(domain, &def, &material),

@@ -21,9 +21,9 @@
 
 /* Stress of point i of a batch split into pressure (Pa) and deviator (Pa). */
 typedef struct gm_stress_split {
-  double pressure;     /* p, compression positive */
-  double deviator[6];  /* s, Voigt order */
-  double equivalent;   /* q = sqrt(3/2 s:s) */
+  double pressure;    /* p, compression positive */
+  double deviator[6]; /* s, Voigt order */
+  double equivalent;  /* q = sqrt(3/2 s:s) */
 } gm_stress_split;
 
 static inline gm_stress_split gm_split_stress(double *const stress[6],
