@@ -294,10 +294,11 @@ static inline gm_wall_def gm_wall_def_default(void) {
 GM_API gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
                                     int *wall_id);
 
-/** Force the wall exerted on the material during the last committed step
- * (N; per unit thickness in plane strain, per unit area in 1D, the whole
- * ring in axisymmetry), as a vector and split into its normal part (>= 0,
- * pushing along the wall normal) and its tangential (friction) part. */
+/** Force the wall exerted on the material during the last successful
+ * gm_domain_step() call, averaged over its dt (N; per unit thickness in
+ * plane strain, per unit area in 1D, the whole ring in axisymmetry), as a
+ * vector and split into its normal part (>= 0, pushing along the wall
+ * normal) and its tangential (friction) part. */
 typedef struct gm_wall_force {
   size_t struct_size;
   double force[3];   /* N */

@@ -182,7 +182,8 @@ struct gm_domain {
   double max_signal_speed; /* m/s, max c_p + max |v_p|, committed state */
   gm_wall walls[GM_MAX_WALLS];
   int wall_count;
-  double wall_force[GM_MAX_WALLS][2]; /* N, last committed step */
+  double wall_force[GM_MAX_WALLS][2];   /* N, last gm_domain_step call */
+  double wall_impulse[GM_MAX_WALLS][2]; /* N s, of the call in progress */
   gm_source sources[GM_MAX_SOURCES];
   int source_count;
   gm_sink sinks[GM_MAX_SOURCES];
@@ -324,8 +325,9 @@ gm_status gm_walls_reserve(gm_domain *domain);
 /* Does any wall reach into the block with lower corner node (ix, iy)? */
 bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
                          int64_t base_y);
-/* Sums the per-block wall forces of the last step (block order). */
-void gm_walls_commit_forces(gm_domain *domain);
+/* Adds the committed sub-step's wall forces (summed per block in block
+ * order) times dt to the impulse of the gm_domain_step call in progress. */
+void gm_walls_add_impulse(gm_domain *domain, double dt);
 
 /* Sources and sinks (sources.c). The sources' state before an injection,
  * to undo it when the step then fails. */

@@ -234,17 +234,27 @@ gm_status gm_sources_inject(gm_domain *domain, gm_injection_undo *undo) {
          (size_t)domain->source_count * sizeof(gm_source));
   for (int s = 0; s < domain->source_count; s++) {
     gm_source *source = &domain->sources[s];
-    while (source->injections_left != 0 && source->next_time <= domain->time) {
-      gm_status status = inject(domain, source);
-      if (status != GM_OK) {
-        gm_sources_undo(domain, undo);
-        return status;
-      }
-      if (source->injections_left > 0)
-        source->injections_left--;
-      source->next_time =
-          source->period > 0.0 ? source->next_time + source->period : INFINITY;
+    if (source->injections_left == 0 || source->next_time > domain->time)
+      continue;
+    /* At most one injection per source and step, at the same positions:
+     * periods missed (a step longer than the period, or a source added
+     * late) are skipped, not stacked on top of each other. */
+    gm_status status = inject(domain, source);
+    if (status != GM_OK) {
+      gm_sources_undo(domain, undo);
+      return status;
     }
+    if (source->injections_left > 0)
+      source->injections_left--;
+    double next = INFINITY;
+    if (source->period > 0.0) {
+      double missed =
+          floor((domain->time - source->next_time) / source->period);
+      next = source->next_time + (missed + 1.0) * source->period;
+      if (!(next > domain->time)) /* a period below the clock's resolution */
+        next = INFINITY;
+    }
+    source->next_time = next;
   }
   return GM_OK;
 }

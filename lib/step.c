@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 /* Physical re-sorting of points every this many steps (amortised cost). */
 #define GM_REORDER_INTERVAL 16
@@ -88,7 +89,7 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
     domain->points.cur ^= 1;
     domain->points.keys_valid = true; /* the move pass keyed the new state */
     if (domain->wall_count > 0)
-      gm_walls_commit_forces(domain);
+      gm_walls_add_impulse(domain, dt);
     domain->inputs_edited = false; /* this step screened them */
     double wave = 0.0, flow = 0.0; /* m^2/s^2 */
     for (int w = 0; w < domain->worker_count; w++) {
@@ -248,6 +249,7 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
                         "t = %g s",
                         domain->time);
   }
+  memset(domain->wall_impulse, 0, sizeof domain->wall_impulse);
   /* Sources inject now; the injection is undone if the step fails. */
   gm_injection_undo undo;
   gm_status status = gm_sources_inject(domain, &undo);
@@ -262,6 +264,11 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
     domain->busy = false;
     return status;
   }
+  /* The wall forces reported for this call: the impulse of its committed
+   * sub-steps over the whole interval (a failed call reports none). */
+  for (int w = 0; w < domain->wall_count; w++)
+    for (int k = 0; k < 2; k++)
+      domain->wall_force[w][k] = domain->wall_impulse[w][k] / dt;
   gm_sinks_remove(domain);
   run_hook(domain, GM_HOOK_AFTER_STEP);
   domain->busy = false;

@@ -181,7 +181,7 @@ gm_status gm_walls_reserve(gm_domain *domain) {
   return GM_OK;
 }
 
-void gm_walls_commit_forces(gm_domain *domain) {
+void gm_walls_add_impulse(gm_domain *domain, double dt) {
   gm_grid *grid = &domain->grid;
   for (int w = 0; w < domain->wall_count; w++) {
     double sum[2] = {0.0, 0.0};
@@ -190,7 +190,7 @@ void gm_walls_commit_forces(gm_domain *domain) {
         sum[k] +=
             grid->wall_force[(b * (size_t)grid->wall_stride + (size_t)w) * 2 +
                              (size_t)k];
-    domain->wall_force[w][0] = sum[0];
-    domain->wall_force[w][1] = sum[1];
+    domain->wall_impulse[w][0] += sum[0] * dt;
+    domain->wall_impulse[w][1] += sum[1] * dt;
   }
 }

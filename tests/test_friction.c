@@ -266,6 +266,27 @@ START_TEST(test_wall_arguments) {
   TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, 0, &force));
   ck_assert(force.normal == 0.0 && force.tangential == 0.0);
   gm_domain_destroy(domain);
+
+  /* The report belongs to the last successful step: a failed one keeps
+   * it (here a block resting on the default wall at y = 0 under gravity,
+   * then a refused over-long step). */
+  def.refuse_unstable_dt = 1;
+  def.gravity[1] = -GRAVITY;
+  domain = test_create_domain(&def);
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &id));
+  int material = add_block_material(domain);
+  const double lower[3] = {0.2, 0.0, 0.0}, upper[3] = {0.6, 0.2, 0.0};
+  test_fill_box(domain, material, lower, upper, 2, NULL);
+  for (int step = 0; step < 20; step++)
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, 0.0));
+  gm_wall_force before = gm_wall_force_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, id, &before));
+  ck_assert(before.normal > 0.0);
+  ck_assert_int_eq(gm_domain_step(domain, 1.0), GM_ERR_UNSTABLE_DT);
+  gm_wall_force after = gm_wall_force_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, id, &after));
+  ck_assert(memcmp(&before, &after, sizeof before) == 0);
+  gm_domain_destroy(domain);
 }
 END_TEST
 
