@@ -15,9 +15,10 @@
 #include <string.h>
 
 #include "granmpm/drucker_prager.h"
+#include "test_batch.h"
 #include "test_util.h"
 
-enum { RANDOM_POINTS = 8192, MAX_POINTS = RANDOM_POINTS };
+enum { RANDOM_POINTS = MAX_POINTS };
 
 static const double YOUNGS = 1e6;   /* Pa */
 static const double POISSON = 0.3;  /* - */
@@ -25,59 +26,6 @@ static const double DENSITY = 1500; /* kg/m^3 */
 static const double PI = 3.14159265358979323846;
 
 /* ------------------------------------------------------------ batch setup */
-
-/* Storage for a hand-built batch of up to MAX_POINTS points. */
-typedef struct test_points {
-  double strain[6][MAX_POINTS]; /* - , tensor shear components */
-  double stress[6][MAX_POINTS]; /* Pa */
-  double density[MAX_POINTS];   /* kg/m^3 */
-  double plastic[MAX_POINTS];   /* state 0: equivalent plastic strain */
-  int64_t id[MAX_POINTS];
-  double *state_columns[1];
-  gm_material_batch batch;
-} test_points;
-
-static test_points *test_points_create(size_t count) {
-  test_points *points = calloc(1, sizeof *points);
-  ck_assert_ptr_nonnull(points);
-  ck_assert_uint_le(count, MAX_POINTS);
-  gm_material_batch *batch = &points->batch;
-  batch->struct_size = sizeof *batch;
-  batch->count = count;
-  batch->geometry = GM_GEOMETRY_PLANE_STRAIN;
-  batch->dt = 1e-4; /* s; the model does not use it */
-  for (int c = 0; c < 6; c++) {
-    batch->strain_increment[c] = points->strain[c];
-    batch->stress[c] = points->stress[c];
-  }
-  for (size_t i = 0; i < count; i++) {
-    points->density[i] = DENSITY;
-    points->id[i] = (int64_t)i;
-  }
-  batch->density = points->density;
-  points->state_columns[0] = points->plastic;
-  batch->state = points->state_columns;
-  batch->state_count = GM_DRUCKER_PRAGER_STATE_COUNT;
-  batch->point_id = points->id;
-  return points;
-}
-
-/* A copy whose batch points at the copy's own arrays. */
-static test_points *test_points_clone(const test_points *source) {
-  test_points *copy = malloc(sizeof *copy);
-  ck_assert_ptr_nonnull(copy);
-  memcpy(copy, source, sizeof *copy);
-  gm_material_batch *batch = &copy->batch;
-  for (int c = 0; c < 6; c++) {
-    batch->strain_increment[c] = copy->strain[c];
-    batch->stress[c] = copy->stress[c];
-  }
-  batch->density = copy->density;
-  copy->state_columns[0] = copy->plastic;
-  batch->state = copy->state_columns;
-  batch->point_id = copy->id;
-  return copy;
-}
 
 static gm_drucker_prager_def dp_def(double friction_angle) {
   gm_drucker_prager_def def = gm_drucker_prager_def_default();
@@ -100,24 +48,6 @@ static void run_dp(test_points *points, gm_drucker_prager_def *def) {
 static double slope_m(double friction_angle) {
   double s = sin(friction_angle);
   return 18.0 * s / (9.0 - s * s);
-}
-
-static double pressure_of(const double sigma[6]) {
-  return -(sigma[0] + sigma[1] + sigma[2]) / 3.0;
-}
-
-static double equivalent_of(const double sigma[6]) {
-  double p = pressure_of(sigma);
-  double sxx = sigma[0] + p, syy = sigma[1] + p, szz = sigma[2] + p;
-  double ss =
-      sxx * sxx + syy * syy + szz * szz +
-      2.0 * (sigma[3] * sigma[3] + sigma[4] * sigma[4] + sigma[5] * sigma[5]);
-  return sqrt(1.5 * ss);
-}
-
-static void point_stress(const test_points *points, size_t i, double out[6]) {
-  for (int c = 0; c < 6; c++)
-    out[c] = points->stress[c][i];
 }
 
 /* Elastic strain of a stress change (isotropic compliance), tensor shear. */
@@ -262,7 +192,8 @@ static void check_random_point(const test_points *before,
 START_TEST(test_random_trial_states) {
   double phi = (20.0 + 10.0 * _i) * PI / 180.0;
   double m = slope_m(phi);
-  test_points *before = test_points_create(RANDOM_POINTS);
+  test_points *before =
+      test_points_create(RANDOM_POINTS, GM_DRUCKER_PRAGER_STATE_COUNT, DENSITY);
   fill_random(before, RANDOM_POINTS, 12345u + (uint64_t)_i);
   test_points *after = test_points_clone(before);
   double(*trial)[MAX_POINTS] = malloc(6 * sizeof *trial);
@@ -333,7 +264,8 @@ START_TEST(test_triaxial_compression) {
   const int steps = 800;
   /* Elastic until q = E |eps_a| reaches q_y: q = m (p0 + q/3). */
   double q_yield = m * confinement / (1.0 - m / 3.0);
-  test_points *point = test_points_create(1);
+  test_points *point =
+      test_points_create(1, GM_DRUCKER_PRAGER_STATE_COUNT, DENSITY);
   for (int c = 0; c < 3; c++)
     point->stress[c][0] = -confinement;
   gm_drucker_prager_def def = dp_def(phi);

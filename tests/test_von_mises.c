@@ -14,9 +14,10 @@
 #include <string.h>
 
 #include "granmpm/von_mises.h"
+#include "test_batch.h"
 #include "test_util.h"
 
-enum { RANDOM_POINTS = 8192, MAX_POINTS = RANDOM_POINTS };
+enum { RANDOM_POINTS = MAX_POINTS };
 
 /* The steel of 001 sec 5.3.1. */
 static const double YOUNGS = 2e11;      /* Pa */
@@ -25,59 +26,6 @@ static const double DENSITY = 7800;     /* kg/m^3 */
 static const double YIELD_STRESS = 2e7; /* Pa */
 
 /* ------------------------------------------------------------ batch setup */
-
-/* Storage for a hand-built batch of up to MAX_POINTS points. */
-typedef struct test_points {
-  double strain[6][MAX_POINTS]; /* - , tensor shear components */
-  double stress[6][MAX_POINTS]; /* Pa */
-  double density[MAX_POINTS];   /* kg/m^3 */
-  double plastic[MAX_POINTS];   /* state 0: equivalent plastic strain */
-  int64_t id[MAX_POINTS];
-  double *state_columns[1];
-  gm_material_batch batch;
-} test_points;
-
-static test_points *test_points_create(size_t count) {
-  test_points *points = calloc(1, sizeof *points);
-  ck_assert_ptr_nonnull(points);
-  ck_assert_uint_le(count, MAX_POINTS);
-  gm_material_batch *batch = &points->batch;
-  batch->struct_size = sizeof *batch;
-  batch->count = count;
-  batch->geometry = GM_GEOMETRY_PLANE_STRAIN;
-  batch->dt = 1e-4; /* s; the model does not use it */
-  for (int c = 0; c < 6; c++) {
-    batch->strain_increment[c] = points->strain[c];
-    batch->stress[c] = points->stress[c];
-  }
-  for (size_t i = 0; i < count; i++) {
-    points->density[i] = DENSITY;
-    points->id[i] = (int64_t)i;
-  }
-  batch->density = points->density;
-  points->state_columns[0] = points->plastic;
-  batch->state = points->state_columns;
-  batch->state_count = GM_VON_MISES_STATE_COUNT;
-  batch->point_id = points->id;
-  return points;
-}
-
-/* A copy whose batch points at the copy's own arrays. */
-static test_points *test_points_clone(const test_points *source) {
-  test_points *copy = malloc(sizeof *copy);
-  ck_assert_ptr_nonnull(copy);
-  memcpy(copy, source, sizeof *copy);
-  gm_material_batch *batch = &copy->batch;
-  for (int c = 0; c < 6; c++) {
-    batch->strain_increment[c] = copy->strain[c];
-    batch->stress[c] = copy->stress[c];
-  }
-  batch->density = copy->density;
-  copy->state_columns[0] = copy->plastic;
-  batch->state = copy->state_columns;
-  batch->point_id = copy->id;
-  return copy;
-}
 
 static gm_von_mises_def vm_def(void) {
   gm_von_mises_def def = gm_von_mises_def_default();
@@ -96,24 +44,6 @@ static void run_vm(test_points *points, gm_von_mises_def *def) {
 }
 
 /* ------------------------------------------------------------- invariants */
-
-static double pressure_of(const double sigma[6]) {
-  return -(sigma[0] + sigma[1] + sigma[2]) / 3.0;
-}
-
-static double equivalent_of(const double sigma[6]) {
-  double p = pressure_of(sigma);
-  double sxx = sigma[0] + p, syy = sigma[1] + p, szz = sigma[2] + p;
-  double ss =
-      sxx * sxx + syy * syy + szz * szz +
-      2.0 * (sigma[3] * sigma[3] + sigma[4] * sigma[4] + sigma[5] * sigma[5]);
-  return sqrt(1.5 * ss);
-}
-
-static void point_stress(const test_points *points, size_t i, double out[6]) {
-  for (int c = 0; c < 6; c++)
-    out[c] = points->stress[c][i];
-}
 
 /* Elastic strain of a stress change (isotropic compliance), tensor shear. */
 static void elastic_strain(const double stress_change[6], double out[6]) {
@@ -214,7 +144,8 @@ static void check_plastic_return(const test_points *before,
 }
 
 START_TEST(test_random_trial_states) {
-  test_points *before = test_points_create(RANDOM_POINTS);
+  test_points *before =
+      test_points_create(RANDOM_POINTS, GM_VON_MISES_STATE_COUNT, DENSITY);
   fill_random(before, RANDOM_POINTS, 777u);
   test_points *after = test_points_clone(before);
   double(*trial)[MAX_POINTS] = malloc(6 * sizeof *trial);
@@ -285,7 +216,7 @@ static double uniaxial_step(test_points *point, gm_von_mises_def *def,
 START_TEST(test_uniaxial_plateau) {
   double axial = _i == 0 ? 1e-6 : -1e-6; /* strain per step */
   const int steps = 300; /* yield at 100 steps: E 1e-4 = sigma_y */
-  test_points *point = test_points_create(1);
+  test_points *point = test_points_create(1, GM_VON_MISES_STATE_COUNT, DENSITY);
   gm_von_mises_def def = vm_def();
   double lateral = -POISSON * axial, plastic_before_last = 0.0;
   int first_plastic_step = -1;
