@@ -315,6 +315,47 @@ static inline gm_wall_force gm_wall_force_default(void) {
 GM_API gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
                                           gm_wall_force *force);
 
+/* ------------------------------------------------------ rigid obstacles */
+
+/** Rigid material points: a retaining wall, a load-cell plate, a moving
+ * tool. Points of a rigid material move with its prescribed velocity and
+ * carry no stress; the grid nodes they touch take that velocity (no-slip)
+ * for the deformable material, and the library reports the force the
+ * material exerts on them (the impact force of 000 sec 4.4). See
+ * gm_rigid(3). */
+typedef struct gm_rigid_def {
+  size_t struct_size;
+  const char *name;   /* copied */
+  double density;     /* kg/m^3, > 0: gives the points a mass (reported) */
+  double velocity[3]; /* m/s, prescribed; change with
+                         gm_domain_set_rigid_velocity() */
+} gm_rigid_def;
+
+static inline gm_rigid_def gm_rigid_def_default(void) {
+  gm_rigid_def def = {0};
+  def.struct_size = sizeof(gm_rigid_def);
+  def.name = "rigid";
+  def.density = 1000.0;
+  return def;
+}
+
+/** Registers a rigid material; add its points with gm_domain_add_points()
+ * or gm_domain_fill_box() as for any material. */
+GM_API gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
+                                     int *material_id);
+
+/** Sets the prescribed velocity (m/s, dim components used) of a rigid
+ * material from the next step on. */
+GM_API gm_status gm_domain_set_rigid_velocity(gm_domain *domain,
+                                              int material_id,
+                                              const double velocity[3]);
+
+/** Force (N, units as gm_domain_get_wall_force) the deformable material
+ * exerted on the rigid material's points during the last successful
+ * gm_domain_step() call, averaged over its dt. */
+GM_API gm_status gm_domain_get_rigid_force(const gm_domain *domain,
+                                           int material_id, double force[3]);
+
 /* ------------------------------------------------------ sources and sinks */
 
 /** A source injects `count` points of a material at fixed positions, once

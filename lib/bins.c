@@ -75,6 +75,8 @@ gm_status gm_bin_points(gm_domain *domain) {
   gm_status status = gm_grid_build(domain);
   if (status == GM_OK)
     status = gm_walls_reserve(domain);
+  if (status == GM_OK)
+    status = gm_rigid_reserve(domain);
   if (status != GM_OK)
     return status;
   gm_grid *grid = &domain->grid;

@@ -183,6 +183,9 @@ static void free_grid(gm_grid *grid) {
   gm_free(grid->hash_value);
   gm_free(grid->mass);
   gm_free(grid->wall_force);
+  gm_free(grid->rigid_material);
+  gm_free(grid->rigid_impulse[0]);
+  gm_free(grid->rigid_impulse[1]);
   for (int k = 0; k < 2; k++) {
     gm_free(grid->momentum[k]);
     gm_free(grid->force[k]);

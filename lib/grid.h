@@ -47,6 +47,12 @@ typedef struct gm_grid {
   /* Wall forces per block (N): block_capacity * wall_stride * 2 values,
    * summed in block order after the update (deterministic). */
   double *wall_force;
+  /* Rigid materials (only when the domain has one): per node, the rigid
+   * material + 1 touching it (0 = none) and the node's impulse (N s) on
+   * it this step. Sized like the node fields. */
+  int32_t *rigid_material;
+  double *rigid_impulse[2];
+  size_t rigid_capacity;      /* nodes allocated */
   size_t wall_force_capacity; /* doubles allocated */
   int wall_stride;
 } gm_grid;

@@ -103,7 +103,8 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
         grid->force[k][node] = acceleration;
         *motion = old_velocity[k] + acceleration * dt;
       }
-      if (!block_on_wall && !near_walls)
+      bool rigid = domain->rigid_count > 0 && grid->rigid_material[node] != 0;
+      if (!block_on_wall && !near_walls && !rigid)
         continue;
       int64_t ix = base_x + (int64_t)(local & (size_t)(edge - 1));
       int64_t iy = dim > 1 ? base_y + (int64_t)(local >> shift) : 0;
@@ -120,6 +121,9 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
       }
       if (near_walls && mass > 0.0)
         apply_walls(ctx, node, ix, iy, old_velocity, block_force);
+      if (rigid) /* last: a rigid body overrides walls where they meet */
+        gm_rigid_constrain_node(domain, node, old_velocity, dt,
+                                ctx->mode == GM_GRID_FULL);
     }
   }
 }

@@ -59,6 +59,13 @@ typedef struct gm_material {
    * here (re-aimed whenever the material array moves). */
   _Alignas(max_align_t) unsigned char parameters[GM_MAX_PARAMETER_BYTES];
   bool builtin;
+  /* Rigid material (rigid.c): prescribed velocity, and the force the
+   * deformable material exerted on it (impulse of the call in progress,
+   * force of the last successful call). */
+  bool rigid;
+  double rigid_velocity[2]; /* m/s */
+  double rigid_impulse[2];  /* N s */
+  double rigid_force[2];    /* N */
 } gm_material;
 
 /* ---------------------------------------------------------------- points */
@@ -184,6 +191,7 @@ struct gm_domain {
   int wall_count;
   double wall_force[GM_MAX_WALLS][2];   /* N, last gm_domain_step call */
   double wall_impulse[GM_MAX_WALLS][2]; /* N s, of the call in progress */
+  int rigid_count; /* rigid materials; 0 = no rigid machinery runs */
   gm_source sources[GM_MAX_SOURCES];
   int source_count;
   gm_sink sinks[GM_MAX_SOURCES];
@@ -322,6 +330,22 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
                       double mass_over_dt);
 /* Sizes the per-block wall-force partial sums for the current walls. */
 gm_status gm_walls_reserve(gm_domain *domain);
+
+/* Rigid points (rigid.c). After the mass P2G: marks the nodes each rigid
+ * point touches with its material (grid->rigid_material, 0 = none,
+ * material + 1 otherwise). */
+void gm_rigid_mark_nodes(gm_domain *domain);
+/* Grid update of one node touched by a rigid material: its velocity
+ * becomes the prescribed one; in FULL mode the acceleration follows and
+ * the node's impulse on the rigid body is stored for gm_rigid_add_impulse. */
+void gm_rigid_constrain_node(gm_domain *domain, size_t node,
+                             const double old_velocity[2], double dt,
+                             bool full);
+/* Adds the committed sub-step's impulses on each rigid material. */
+void gm_rigid_add_impulse(gm_domain *domain);
+/* Rigid points of the new (spare) buffer get their prescribed velocity. */
+void gm_rigid_set_point_velocities(gm_domain *domain);
+gm_status gm_rigid_reserve(gm_domain *domain);
 /* Does any wall reach into the block with lower corner node (ix, iy)? */
 bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
                          int64_t base_y);

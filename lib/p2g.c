@@ -31,6 +31,10 @@ typedef struct scatter_view {
   double gravity[2]; /* m/s^2 */
   int shift;
   bool axisymmetric;
+  /* Rigid points (rigid.c) take no part in the transfers. */
+  bool skip_rigid;
+  const int32_t *material;
+  bool rigid[GM_MAX_MATERIALS];
 } scatter_view;
 
 typedef struct p2g_context {
@@ -144,6 +148,8 @@ scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
   }
   for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
     size_t p = order[k];
+    if (v->skip_rigid && v->rigid[v->material[p]])
+      continue; /* rigid points take no part (rigid.c) */
     double wx[2], dx[2], wy[2], dy[2];
     int64_t cx = gm_shape_linear_axis(px[p], origin_x, inv_cell, wx, dx);
     int64_t cy = gm_shape_linear_axis(py[p], origin_y, inv_cell, wy, dy);
@@ -216,6 +222,8 @@ static void scatter_block_1d(const scatter_view *v, const gm_p2g_pass *pass,
   int64_t edge = (int64_t)1 << v->shift, mask = edge - 1;
   for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
     size_t p = v->order[k];
+    if (v->skip_rigid && v->rigid[v->material[p]])
+      continue; /* rigid points take no part (rigid.c) */
     double w[2], d[2];
     int64_t local =
         gm_shape_linear_axis(px[p], v->origin[0], v->inv_cell, w, d) & mask;
@@ -300,6 +308,10 @@ static void make_view(gm_domain *domain, const gm_p2g_pass *pass,
   view->inv_cell = domain->inv_cell;
   view->shift = grid->shift;
   view->axisymmetric = domain->axisymmetric;
+  view->skip_rigid = domain->rigid_count > 0;
+  view->material = points->material;
+  for (int m = 0; m < domain->material_count; m++)
+    view->rigid[m] = domain->materials[m].rigid;
 }
 
 void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass) {
@@ -315,4 +327,6 @@ void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass) {
     ctx.blocks = grid->color_block + first;
     gm_parallel_for(&domain->pool, count, scatter_blocks, &ctx);
   }
+  if (pass->mass && domain->rigid_count > 0) /* once per step */
+    gm_rigid_mark_nodes(domain);
 }

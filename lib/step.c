@@ -86,6 +86,10 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
                    : run_usl(domain, dt, domain->def.scheme == GM_SCHEME_MUSL);
     if (status != GM_OK)
       return status;
+    if (domain->rigid_count > 0) { /* prescribed, not FLIP, velocities */
+      gm_rigid_set_point_velocities(domain);
+      gm_rigid_add_impulse(domain);
+    }
     domain->points.cur ^= 1;
     domain->points.keys_valid = true; /* the move pass keyed the new state */
     if (domain->wall_count > 0)
@@ -250,6 +254,9 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
                         domain->time);
   }
   memset(domain->wall_impulse, 0, sizeof domain->wall_impulse);
+  for (int m = 0; m < domain->material_count; m++)
+    domain->materials[m].rigid_impulse[0] =
+        domain->materials[m].rigid_impulse[1] = 0.0;
   /* Sources inject now; the injection is undone if the step fails. */
   gm_injection_undo undo;
   gm_status status = gm_sources_inject(domain, &undo);
@@ -269,6 +276,10 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
   for (int w = 0; w < domain->wall_count; w++)
     for (int k = 0; k < 2; k++)
       domain->wall_force[w][k] = domain->wall_impulse[w][k] / dt;
+  for (int m = 0; m < domain->material_count; m++)
+    for (int k = 0; k < 2; k++)
+      domain->materials[m].rigid_force[k] =
+          domain->materials[m].rigid_impulse[k] / dt;
   gm_sinks_remove(domain);
   run_hook(domain, GM_HOOK_AFTER_STEP);
   domain->busy = false;

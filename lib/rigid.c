@@ -1,0 +1,233 @@
+/*
+ * rigid.c - rigid material points with a prescribed velocity (a retaining
+ * wall, a load-cell plate, a moving tool; the impact problem of 000 sec
+ * 4.4). Rigid points do not take part in the transfers of the deformable
+ * material: instead, every grid node they touch (nonzero shape function)
+ * takes their velocity, a no-slip contact enforced on nodes like the box
+ * walls. The velocity change this imposes on a node, times its (deformable)
+ * mass, is the impulse exchanged with the rigid body; its sum over a step,
+ * divided by dt, is the reported force. The rigid points themselves move
+ * with the prescribed velocity (their nodes all carry it, so the usual
+ * G2P moves them exactly) and keep zero stress.
+ */
+#include "internal.h"
+#include "shape_linear.h"
+
+#include <math.h>
+#include <string.h>
+
+/* The rigid material's update: no stress, whatever the kinematics. */
+static int rigid_update(const gm_material_batch *batch, void *user,
+                        char *message, size_t message_size) {
+  (void)user;
+  (void)message;
+  (void)message_size;
+  for (int c = 0; c < 6; c++)
+    for (size_t i = 0; i < batch->count; i++)
+      batch->stress[c][i] = 0.0;
+  return 0;
+}
+
+gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
+                              int *material_id) {
+  if (!domain)
+    return GM_ERR_NULL;
+  gm_status status = gm_check_material_call(
+      domain, def, def ? def->struct_size : 0, sizeof(gm_rigid_def),
+      material_id, "gm_domain_add_rigid", "gm_rigid_def");
+  if (status != GM_OK)
+    return status;
+  for (int k = 0; k < domain->dim; k++)
+    if (!isfinite(def->velocity[k]))
+      return gm_set_error(domain, GM_ERR_NOT_FINITE,
+                          "gm_rigid_def.velocity[%d] is not finite", k);
+  gm_builtin_material spec;
+  memset(&spec, 0, sizeof spec);
+  spec.def_name = "gm_rigid_def";
+  spec.name = def->name ? def->name : "rigid";
+  spec.update = rigid_update;
+  /* Rigid points carry no waves; the stable dt is set by the deformable
+   * material (and every point's own speed), so a token modulus. */
+  spec.p_wave_modulus = 1e-300;
+  spec.density = def->density;
+  status = gm_add_builtin_material(domain, &spec, material_id);
+  if (status != GM_OK)
+    return status;
+  gm_material *material = &domain->materials[*material_id];
+  material->rigid = true;
+  for (int k = 0; k < 2; k++)
+    material->rigid_velocity[k] = k < domain->dim ? def->velocity[k] : 0.0;
+  domain->rigid_count++;
+  return GM_OK;
+}
+
+static gm_material *rigid_material(gm_domain *domain, int material_id,
+                                   const char *what) {
+  if (material_id < 0 || material_id >= domain->material_count ||
+      !domain->materials[material_id].rigid) {
+    gm_set_error(domain, GM_ERR_UNKNOWN_MATERIAL,
+                 "%s: material %d is not a rigid material", what, material_id);
+    return NULL;
+  }
+  return &domain->materials[material_id];
+}
+
+gm_status gm_domain_set_rigid_velocity(gm_domain *domain, int material_id,
+                                       const double velocity[3]) {
+  if (!domain)
+    return GM_ERR_NULL;
+  if (!velocity)
+    return gm_set_error(domain, GM_ERR_NULL,
+                        "gm_domain_set_rigid_velocity: velocity is NULL");
+  if (domain->busy && !domain->in_hook)
+    return gm_set_error(domain, GM_ERR_BUSY,
+                        "gm_domain_set_rigid_velocity: called during a step");
+  gm_material *material =
+      rigid_material(domain, material_id, "gm_domain_set_rigid_velocity");
+  if (!material)
+    return GM_ERR_UNKNOWN_MATERIAL;
+  for (int k = 0; k < domain->dim; k++)
+    if (!isfinite(velocity[k]))
+      return gm_set_error(domain, GM_ERR_NOT_FINITE,
+                          "gm_domain_set_rigid_velocity: velocity[%d] is not "
+                          "finite",
+                          k);
+  for (int k = 0; k < domain->dim; k++)
+    material->rigid_velocity[k] = velocity[k];
+  return GM_OK;
+}
+
+gm_status gm_domain_get_rigid_force(const gm_domain *domain, int material_id,
+                                    double force[3]) {
+  if (!domain)
+    return GM_ERR_NULL;
+  gm_domain *mutable_domain = (gm_domain *)domain; /* last_error only */
+  if (!force)
+    return gm_set_error(mutable_domain, GM_ERR_NULL,
+                        "gm_domain_get_rigid_force: force is NULL");
+  const gm_material *material =
+      rigid_material(mutable_domain, material_id, "gm_domain_get_rigid_force");
+  if (!material)
+    return GM_ERR_UNKNOWN_MATERIAL;
+  force[0] = material->rigid_force[0];
+  force[1] = material->rigid_force[1];
+  force[2] = 0.0;
+  return GM_OK;
+}
+
+gm_status gm_rigid_reserve(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  size_t nodes = grid->block_capacity * GM_BLOCK_NODES;
+  if (domain->rigid_count == 0 || nodes <= grid->rigid_capacity)
+    return GM_OK;
+  int32_t *marks = gm_calloc(nodes, sizeof(int32_t));
+  double *impulse_x = gm_calloc(nodes, sizeof(double));
+  double *impulse_y = gm_calloc(nodes, sizeof(double));
+  if (!marks || !impulse_x || !impulse_y) {
+    gm_free(marks);
+    gm_free(impulse_x);
+    gm_free(impulse_y);
+    return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                        "rigid points: out of memory for %zu nodes", nodes);
+  }
+  gm_free(grid->rigid_material);
+  gm_free(grid->rigid_impulse[0]);
+  gm_free(grid->rigid_impulse[1]);
+  grid->rigid_material = marks;
+  grid->rigid_impulse[0] = impulse_x;
+  grid->rigid_impulse[1] = impulse_y;
+  grid->rigid_capacity = nodes;
+  return GM_OK;
+}
+
+/* Marks the nodes of one rigid point (those with a nonzero weight). */
+static void mark_point(gm_domain *domain, size_t p, int32_t mark) {
+  gm_grid *grid = &domain->grid;
+  const gm_point_buffers *current = &domain->points.buffer[domain->points.cur];
+  const uint32_t *links =
+      grid->neighbour +
+      (size_t)domain->points.point_block[p] * GM_BLOCK_NEIGHBOURS;
+  int shift = grid->shift;
+  int64_t edge = (int64_t)1 << shift, mask = edge - 1;
+  double wx[2], dx[2], wy[2] = {1.0, 0.0}, dy[2];
+  int64_t cx =
+      gm_shape_linear_axis(current->position[0][p], domain->def.origin[0],
+                           domain->inv_cell, wx, dx) &
+      mask;
+  int64_t cy = 0;
+  if (domain->dim > 1)
+    cy = gm_shape_linear_axis(current->position[1][p], domain->def.origin[1],
+                              domain->inv_cell, wy, dy) &
+         mask;
+  for (int b = 0; b < (domain->dim > 1 ? 2 : 1); b++) {
+    for (int a = 0; a < 2; a++) {
+      if (wx[a] * wy[b] == 0.0)
+        continue; /* the point does not reach this node */
+      int64_t nx = cx + a, ny = cy + b;
+      int neighbour = (int)(nx >> shift) + 2 * (int)(ny >> shift);
+      size_t node = (size_t)links[neighbour] * GM_BLOCK_NODES +
+                    (size_t)((nx & mask) + edge * (ny & mask));
+      grid->rigid_material[node] = mark;
+    }
+  }
+}
+
+void gm_rigid_mark_nodes(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  size_t nodes = grid->block_count * GM_BLOCK_NODES;
+  memset(grid->rigid_material, 0, nodes * sizeof(int32_t));
+  memset(grid->rigid_impulse[0], 0, nodes * sizeof(double));
+  memset(grid->rigid_impulse[1], 0, nodes * sizeof(double));
+  const gm_points *points = &domain->points;
+  /* Serial, in point order: where two rigid bodies share a node, the
+   * later point wins, the same way for any worker count. */
+  for (size_t p = 0; p < points->count; p++) {
+    int32_t material = points->material[p];
+    if (domain->materials[material].rigid)
+      mark_point(domain, p, material + 1);
+  }
+}
+
+void gm_rigid_constrain_node(gm_domain *domain, size_t node,
+                             const double old_velocity[2], double dt,
+                             bool full) {
+  gm_grid *grid = &domain->grid;
+  const gm_material *material =
+      &domain->materials[grid->rigid_material[node] - 1];
+  double mass = grid->mass[node]; /* deformable material only */
+  for (int k = 0; k < domain->dim; k++) {
+    double prescribed = material->rigid_velocity[k];
+    if (full) {
+      /* The material's velocity change is -(impulse on the rigid body). */
+      grid->rigid_impulse[k][node] =
+          mass * (grid->momentum[k][node] - prescribed);
+      grid->force[k][node] = (prescribed - old_velocity[k]) / dt;
+    }
+    grid->momentum[k][node] = prescribed;
+  }
+}
+
+void gm_rigid_add_impulse(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  size_t nodes = grid->block_count * GM_BLOCK_NODES;
+  for (size_t node = 0; node < nodes; node++) {
+    int32_t mark = grid->rigid_material[node];
+    if (mark == 0)
+      continue;
+    gm_material *material = &domain->materials[mark - 1];
+    for (int k = 0; k < domain->dim; k++)
+      material->rigid_impulse[k] += grid->rigid_impulse[k][node];
+  }
+}
+
+void gm_rigid_set_point_velocities(gm_domain *domain) {
+  gm_points *points = &domain->points;
+  gm_point_buffers *next = &points->buffer[points->cur ^ 1];
+  for (size_t p = 0; p < points->count; p++) {
+    const gm_material *material = &domain->materials[points->material[p]];
+    if (!material->rigid)
+      continue;
+    for (int k = 0; k < domain->dim; k++)
+      next->velocity[k][p] = material->rigid_velocity[k];
+  }
+}
