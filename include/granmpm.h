@@ -315,6 +315,27 @@ static inline gm_wall_force gm_wall_force_default(void) {
 GM_API gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
                                           gm_wall_force *force);
 
+/** One node's share of a wall's load: the traction profile along a wall
+ * (the wall-traction plots of 001/002). */
+typedef struct gm_wall_traction {
+  double position;   /* m along the wall from def.point, in the direction
+                        (normal_y, -normal_x) */
+  double normal;     /* Pa: the node's normal force per cell length (per
+                        unit thickness in plane strain), >= 0 */
+  double tangential; /* Pa: its tangential (friction) force per cell
+                        length, signed along the same direction */
+} gm_wall_traction;
+
+/** The nodes the wall acted on in the last committed step, sorted by
+ * position. *count receives their number; if it exceeds capacity nothing
+ * is written and GM_ERR_INVALID_ARGUMENT is returned (call again with a
+ * larger buffer). After a failed step the profile is unavailable
+ * (GM_ERR_INVALID_ARGUMENT) until the next successful one. */
+GM_API gm_status gm_domain_get_wall_tractions(const gm_domain *domain,
+                                              int wall_id,
+                                              gm_wall_traction *tractions,
+                                              size_t capacity, size_t *count);
+
 /* ------------------------------------------------------ rigid obstacles */
 
 /** Rigid material points: a retaining wall, a load-cell plate, a moving

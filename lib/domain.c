@@ -183,6 +183,9 @@ static void free_grid(gm_grid *grid) {
   gm_free(grid->hash_value);
   gm_free(grid->mass);
   gm_free(grid->wall_force);
+  gm_free(grid->contact_wall);
+  gm_free(grid->contact_force[0]);
+  gm_free(grid->contact_force[1]);
   gm_free(grid->rigid_material);
   gm_free(grid->rigid_impulse[0]);
   gm_free(grid->rigid_impulse[1]);

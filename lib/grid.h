@@ -55,6 +55,11 @@ typedef struct gm_grid {
   size_t rigid_capacity;      /* nodes allocated */
   size_t wall_force_capacity; /* doubles allocated */
   int wall_stride;
+  /* Per node, in the last full grid update: the first wall that acted
+   * (wall id + 1, 0 = none) and the node's force from the walls (N). */
+  int32_t *contact_wall;
+  double *contact_force[2];
+  size_t contact_capacity; /* nodes allocated */
 } gm_grid;
 
 /* Colour of a block for the parallel scatter: blocks of one colour are two

@@ -9,6 +9,8 @@
  */
 #include "internal.h"
 
+#include <string.h>
+
 typedef struct update_context {
   gm_domain *domain;
   double dt; /* s */
@@ -52,13 +54,21 @@ static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
   double velocity[2] = {grid->momentum[0][node],
                         dim > 1 ? grid->momentum[1][node] : 0.0};
   bool full = ctx->mode == GM_GRID_FULL;
+  double before[2] = {velocity[0], velocity[1]};
+  int first_wall = -1;
   if (!gm_walls_contact(domain, position, velocity, full ? block_force : NULL,
-                        grid->mass[node] / ctx->dt))
+                        grid->mass[node] / ctx->dt, &first_wall))
     return;
   for (int k = 0; k < dim; k++) {
     grid->momentum[k][node] = velocity[k];
     if (full)
       grid->force[k][node] = (velocity[k] - old_velocity[k]) / ctx->dt;
+  }
+  if (full) { /* the node's record for the traction profile */
+    grid->contact_wall[node] = first_wall + 1;
+    for (int k = 0; k < 2; k++)
+      grid->contact_force[k][node] =
+          grid->mass[node] / ctx->dt * (velocity[k] - before[k]);
   }
 }
 
@@ -83,9 +93,12 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
     double *block_force = NULL;
     if (domain->wall_count > 0) { /* this block's share of the wall forces */
       block_force = grid->wall_force + b * (size_t)grid->wall_stride * 2;
-      if (ctx->mode == GM_GRID_FULL)
+      if (ctx->mode == GM_GRID_FULL) {
         for (int w = 0; w < 2 * domain->wall_count; w++)
           block_force[w] = 0.0;
+        memset(grid->contact_wall + b * GM_BLOCK_NODES, 0,
+               GM_BLOCK_NODES * sizeof(int32_t));
+      }
     }
     for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
       size_t node = b * GM_BLOCK_NODES + local;

@@ -191,7 +191,8 @@ struct gm_domain {
   int wall_count;
   double wall_force[GM_MAX_WALLS][2];   /* N, last gm_domain_step call */
   double wall_impulse[GM_MAX_WALLS][2]; /* N s, of the call in progress */
-  int rigid_count; /* rigid materials; 0 = no rigid machinery runs */
+  bool wall_profile_valid; /* grid contact records are of a committed step */
+  int rigid_count;         /* rigid materials; 0 = no rigid machinery runs */
   gm_source sources[GM_MAX_SOURCES];
   int source_count;
   gm_sink sinks[GM_MAX_SOURCES];
@@ -327,7 +328,7 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
  * change (N) is added to block_force[2 w], [2 w + 1]. */
 bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
                       double velocity[2], double *block_force,
-                      double mass_over_dt);
+                      double mass_over_dt, int *first_wall);
 /* Sizes the per-block wall-force partial sums for the current walls. */
 gm_status gm_walls_reserve(gm_domain *domain);
 

@@ -72,6 +72,7 @@ static gm_status run_usf(gm_domain *domain, double dt) {
  * failure. */
 static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
   gm_clear_worker_errors(domain);
+  domain->wall_profile_valid = false; /* the grid is about to be reused */
   for (int w = 0; w < domain->worker_count; w++) {
     domain->scratch[w].max_wave_speed_squared = 0.0;
     domain->scratch[w].max_point_speed_squared = 0.0;
@@ -94,6 +95,7 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
     domain->points.keys_valid = true; /* the move pass keyed the new state */
     if (domain->wall_count > 0)
       gm_walls_add_impulse(domain, dt);
+    domain->wall_profile_valid = true;
     domain->inputs_edited = false; /* this step screened them */
     double wave = 0.0, flow = 0.0; /* m^2/s^2 */
     for (int w = 0; w < domain->worker_count; w++) {

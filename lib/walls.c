@@ -16,6 +16,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
@@ -143,7 +144,7 @@ static bool contact_one(const gm_wall *wall, double velocity[2]) {
 
 bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
                       double velocity[2], double *block_force,
-                      double mass_over_dt) {
+                      double mass_over_dt, int *first_wall) {
   bool acted = false;
   for (int w = 0; w < domain->wall_count; w++) {
     const gm_wall *wall = &domain->walls[w];
@@ -154,6 +155,8 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
     double before[2] = {velocity[0], velocity[1]};
     if (!contact_one(wall, velocity))
       continue;
+    if (!acted && first_wall)
+      *first_wall = w;
     acted = true;
     if (block_force) { /* force on the material: m dv / dt */
       block_force[2 * w] += mass_over_dt * (velocity[0] - before[0]);
@@ -163,8 +166,39 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
   return acted;
 }
 
+/* Per-node contact records for the traction profile. */
+static gm_status reserve_contacts(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  size_t nodes = grid->block_capacity * GM_BLOCK_NODES;
+  if (nodes <= grid->contact_capacity)
+    return GM_OK;
+  int32_t *wall = gm_calloc(nodes, sizeof(int32_t));
+  double *force_x = gm_calloc(nodes, sizeof(double));
+  double *force_y = gm_calloc(nodes, sizeof(double));
+  if (!wall || !force_x || !force_y) {
+    gm_free(wall);
+    gm_free(force_x);
+    gm_free(force_y);
+    return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                        "walls: out of memory for the traction profile");
+  }
+  gm_free(grid->contact_wall);
+  gm_free(grid->contact_force[0]);
+  gm_free(grid->contact_force[1]);
+  grid->contact_wall = wall;
+  grid->contact_force[0] = force_x;
+  grid->contact_force[1] = force_y;
+  grid->contact_capacity = nodes;
+  return GM_OK;
+}
+
 gm_status gm_walls_reserve(gm_domain *domain) {
   gm_grid *grid = &domain->grid;
+  if (domain->wall_count > 0) {
+    gm_status status = reserve_contacts(domain);
+    if (status != GM_OK)
+      return status;
+  }
   size_t needed =
       grid->block_capacity * (size_t)domain->wall_count * 2; /* doubles */
   if (domain->wall_count == 0 || (needed <= grid->wall_force_capacity &&
@@ -193,4 +227,74 @@ void gm_walls_add_impulse(gm_domain *domain, double dt) {
     domain->wall_impulse[w][0] += sum[0] * dt;
     domain->wall_impulse[w][1] += sum[1] * dt;
   }
+}
+
+/* ------------------------------------------------------ traction profile */
+
+static int compare_positions(const void *a, const void *b) {
+  double left = ((const gm_wall_traction *)a)->position;
+  double right = ((const gm_wall_traction *)b)->position;
+  return (left > right) - (left < right);
+}
+
+gm_status gm_domain_get_wall_tractions(const gm_domain *domain, int wall_id,
+                                       gm_wall_traction *tractions,
+                                       size_t capacity, size_t *count) {
+  if (!domain)
+    return GM_ERR_NULL;
+  gm_domain *mutable_domain = (gm_domain *)domain; /* last_error only */
+  const char *what = "gm_domain_get_wall_tractions";
+  if (!count || (!tractions && capacity > 0))
+    return gm_set_error(mutable_domain, GM_ERR_NULL, "%s: %s is NULL", what,
+                        count ? "tractions" : "count");
+  if (wall_id < 0 || wall_id >= domain->wall_count)
+    return gm_set_error(mutable_domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s: wall %d is unknown (%d walls)", what, wall_id,
+                        domain->wall_count);
+  *count = 0;
+  if (domain->points.count == 0)
+    return GM_OK;
+  if (!domain->wall_profile_valid)
+    return gm_set_error(mutable_domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s: no profile since the last failed step", what);
+  const gm_grid *grid = &domain->grid;
+  const gm_wall *wall = &domain->walls[wall_id];
+  double tangent[2] = {wall->normal[1], -wall->normal[0]};
+  double h = domain->def.cell_size;
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  int64_t edge = (int64_t)1 << grid->shift;
+  size_t found = 0;
+  for (size_t b = 0; b < grid->block_count; b++) {
+    int64_t key = grid->block_key[b];
+    int64_t base_x = (key % blocks_x) << grid->shift;
+    int64_t base_y = domain->dim > 1 ? (key / blocks_x) << grid->shift : 0;
+    for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
+      size_t node = b * GM_BLOCK_NODES + local;
+      if (grid->contact_wall[node] != wall_id + 1)
+        continue;
+      if (found < capacity) {
+        int64_t ix = base_x + (int64_t)(local & (size_t)(edge - 1));
+        int64_t iy =
+            domain->dim > 1 ? base_y + (int64_t)(local >> grid->shift) : 0;
+        double x = domain->def.origin[0] + (double)ix * h - wall->point[0];
+        double y = domain->dim > 1
+                       ? domain->def.origin[1] + (double)iy * h - wall->point[1]
+                       : 0.0;
+        double fx = grid->contact_force[0][node];
+        double fy = grid->contact_force[1][node];
+        gm_wall_traction *entry = &tractions[found];
+        entry->position = x * tangent[0] + y * tangent[1];
+        entry->normal = (fx * wall->normal[0] + fy * wall->normal[1]) / h;
+        entry->tangential = (fx * tangent[0] + fy * tangent[1]) / h;
+      }
+      found++;
+    }
+  }
+  *count = found;
+  if (found > capacity)
+    return gm_set_error(mutable_domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s: %zu contact nodes, capacity %zu", what, found,
+                        capacity);
+  qsort(tractions, found, sizeof *tractions, compare_positions);
+  return GM_OK;
 }

@@ -16,6 +16,7 @@
  * SPDX-License-Identifier: BSD-2-Clause
  */
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -237,6 +238,67 @@ START_TEST(test_tilted_wall_holds_block) {
 }
 END_TEST
 
+/* The traction profile along the floor under a block at rest (theta = 0):
+ * the nodes' forces add up to the wall's reported force, positions are
+ * sorted, and under the middle of the block the normal traction is the
+ * weight of the column above, rho g H (geostatic start, so no bounce). */
+START_TEST(test_traction_profile) {
+  gm_domain_def def = gm_domain_def_default();
+  def.scheme = GM_SCHEME_MUSL;
+  def.cell_size = CELL;
+  def.extent[0] = 1.0;
+  def.extent[1] = 0.5;
+  def.gravity[1] = -GRAVITY;
+  gm_domain *domain = test_create_domain(&def);
+  gm_wall_def wall = gm_wall_def_default();
+  wall.point[1] = FLOOR_Y;
+  wall.friction_static = wall.friction_kinetic = MU;
+  int wall_id = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &wall_id));
+  int material = add_block_material(domain);
+  add_geostatic_block(domain, material, 0.0);
+  run(domain, wall_id, 0.05);
+  enum { CAPACITY = 64 };
+  gm_wall_traction profile[CAPACITY];
+  size_t count = 0;
+  TEST_ASSERT_OK(domain, gm_domain_get_wall_tractions(domain, wall_id, profile,
+                                                      CAPACITY, &count));
+  ck_assert_uint_gt(count, 4);
+  gm_wall_force force = gm_wall_force_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, wall_id, &force));
+  double total = 0.0;
+  for (size_t i = 0; i < count; i++) {
+    if (i > 0)
+      ck_assert(profile[i].position > profile[i - 1].position);
+    total += profile[i].normal * CELL;
+  }
+  /* Same nodal forces summed in another order: round-off. */
+  ck_assert_msg(fabs(total - force.normal) < 1e-9 * force.normal,
+                "profile sums to %.12g N, wall force %.12g N", total,
+                force.normal);
+  /* The block spans x = 0.1 .. 0.3 m; its middle node at x = 0.2 m. The
+   * geostatic start is a discrete equilibrium (measured: 1962.0 Pa at every
+   * interior node, half at the two edge nodes); 1 % allows ringing. */
+  double column = DENSITY * GRAVITY * BLOCK_H; /* Pa */
+  bool checked = false;
+  for (size_t i = 0; i < count; i++) {
+    if (fabs(profile[i].position - 0.2) > 0.5 * CELL)
+      continue;
+    ck_assert_msg(fabs(profile[i].normal - column) < 0.01 * column,
+                  "traction %g Pa under the middle, rho g H = %g Pa",
+                  profile[i].normal, column);
+    checked = true;
+  }
+  ck_assert(checked);
+  size_t small = 0;
+  ck_assert_int_eq(
+      gm_domain_get_wall_tractions(domain, wall_id, profile, 1, &small),
+      GM_ERR_INVALID_ARGUMENT); /* too small: count returned */
+  ck_assert_uint_eq(small, count);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 START_TEST(test_wall_arguments) {
   gm_domain_def def = gm_domain_def_default();
   gm_domain *domain = test_create_domain(&def);
@@ -296,6 +358,7 @@ int main(void) {
   tcase_set_timeout(tcase, 120);
   tcase_add_loop_test(tcase, test_rotated_gravity_incline, 0, 12);
   tcase_add_loop_test(tcase, test_tilted_wall_holds_block, 0, 2);
+  tcase_add_test(tcase, test_traction_profile);
   tcase_add_test(tcase, test_wall_arguments);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
