@@ -137,6 +137,10 @@ typedef struct gm_domain_def {
   gm_enqueue_task_fn *enqueue_task; /* NULL: built-in pool */
   gm_finish_task_fn *finish_task;   /* required with enqueue_task */
   void *task_user;                  /* passed to the two functions above */
+  double damping; /* local non-viscous damping in [0, 1): every nodal force
+                     component f loses damping * |f| against the node's
+                     motion (Cundall's damping, for reaching static states;
+                     it vanishes at equilibrium); default 0 = none */
 } gm_domain_def;
 
 static inline gm_domain_def gm_domain_def_default(void) {

@@ -102,6 +102,9 @@ static gm_status validate_def(const gm_domain_def *def) {
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.worker_count is %d, must be in 1..256",
                 def->worker_count);
+  if (!(def->damping >= 0.0 && def->damping < 1.0))
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.damping is %g, must be in [0, 1)", def->damping);
   if ((def->enqueue_task == NULL) != (def->finish_task == NULL))
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.enqueue_task and finish_task must be set "

@@ -9,6 +9,8 @@
  */
 #include "internal.h"
 
+#include <math.h>
+
 #include <string.h>
 
 typedef struct update_context {
@@ -81,6 +83,7 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
   int64_t edge = (int64_t)1 << shift;
   int64_t blocks_x = grid->blocks_per_axis[0];
   double dt = ctx->dt;
+  double damping = domain->def.damping; /* Cundall's local damping */
   for (size_t b = begin; b < end; b++) {
     int64_t key = grid->block_key[b];
     int64_t base_x = (key % blocks_x) << shift;
@@ -112,7 +115,10 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
           *motion = old_velocity[k];
           continue;
         }
-        double acceleration = grid->force[k][node] * inverse_mass;
+        double force = grid->force[k][node];         /* N */
+        if (damping > 0.0 && old_velocity[k] != 0.0) /* against the motion */
+          force -= damping * fabs(force) * (old_velocity[k] > 0.0 ? 1.0 : -1.0);
+        double acceleration = force * inverse_mass;
         grid->force[k][node] = acceleration;
         *motion = old_velocity[k] + acceleration * dt;
       }
