@@ -151,7 +151,8 @@ gm_status gm_add_builtin_material(gm_domain *domain,
   memset(&material, 0, sizeof material);
   snprintf(material.name, sizeof material.name, "%s", spec->name);
   material.update = spec->update;
-  memcpy(material.parameters, spec->parameters, spec->parameter_size);
+  if (spec->parameter_size > 0) /* memcpy from NULL is undefined, even of 0 */
+    memcpy(material.parameters, spec->parameters, spec->parameter_size);
   material.builtin = true;
   material.state_count = spec->state_count;
   for (size_t k = 0; k < spec->state_count; k++)
