@@ -16,18 +16,6 @@
 #include <math.h>
 #include <string.h>
 
-/* The rigid material's update: no stress, whatever the kinematics. */
-static int rigid_update(const gm_material_batch *batch, void *user,
-                        char *message, size_t message_size) {
-  (void)user;
-  (void)message;
-  (void)message_size;
-  for (int c = 0; c < 6; c++)
-    for (size_t i = 0; i < batch->count; i++)
-      batch->stress[c][i] = 0.0;
-  return 0;
-}
-
 gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
                               int *material_id) {
   if (!domain)
@@ -45,7 +33,7 @@ gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
   memset(&spec, 0, sizeof spec);
   spec.def_name = "gm_rigid_def";
   spec.name = def->name ? def->name : "rigid";
-  spec.update = rigid_update;
+  spec.update = gm_stress_free_update; /* no stress, whatever the motion */
   /* Rigid points carry no waves; the stable dt is set by the deformable
    * material (and every point's own speed), so a token modulus. */
   spec.p_wave_modulus = 1e-300;
