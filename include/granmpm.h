@@ -92,6 +92,18 @@ typedef enum gm_update_scheme {
   GM_SCHEME_USF = 2   /* update stress first, from v at the step's start */
 } gm_update_scheme;
 
+/** Shape functions: how points and grid nodes exchange values (000 sec
+ * 2.1). Every variant works in 1D, plane strain and axisymmetry. The GIMP
+ * and CPDI domains may reach one ghost cell beyond the box faces (those
+ * nodes take the face's condition); a domain reaching further, or spanning
+ * more than 8 cells, fails the step with GM_ERR_OUT_OF_GRID. */
+typedef enum gm_shape {
+  GM_SHAPE_LINEAR = 0, /* original MPM: tents of the point's cell, 4 nodes */
+  GM_SHAPE_UGIMP = 1,  /* GIMP, the initial rectangular domain: 9 nodes */
+  GM_SHAPE_CPGIMP = 2, /* GIMP, rectangle stretched by |F_xx|, |F_yy| */
+  GM_SHAPE_CPDI = 3    /* CPDI1: parallelogram spanned by F r1, F r2 */
+} gm_shape;
+
 /** Boundary condition on one face of the grid box. */
 typedef enum gm_wall_type {
   GM_WALL_OPEN = 0,  /* no condition: a point crossing it is an error */
@@ -141,6 +153,7 @@ typedef struct gm_domain_def {
                      component f loses damping * |f| against the node's
                      motion (Cundall's damping, for reaching static states;
                      it vanishes at equilibrium); default 0 = none */
+  gm_shape shape; /* shape functions; default GM_SHAPE_LINEAR */
 } gm_domain_def;
 
 static inline gm_domain_def gm_domain_def_default(void) {
@@ -527,7 +540,10 @@ typedef enum gm_field {
   GM_FIELD_DEFORMATION_GRADIENT = 8, /* 9 components, row-major F_ij */
   GM_FIELD_MATERIAL = 9,             /* material id as double */
   GM_FIELD_ID = 10,                  /* point id as double (exact below 2^53) */
-  GM_FIELD_DOMAIN_SIZE = 11 /* m, dim components, initial domain size */
+  GM_FIELD_DOMAIN_SIZE = 11,   /* m, dim components, initial domain size */
+  GM_FIELD_DOMAIN_CORNERS = 12 /* m, current domain (copy only): 2 ends in
+                                  1D; in 2D 4 corners x, y counter-clockwise
+                                  from the lower left (see gm_shape) */
 } gm_field;
 
 /** Number of components of a field in this domain's geometry. */

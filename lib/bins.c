@@ -52,25 +52,55 @@ static void scatter_chunks(void *context, size_t begin, size_t end,
   }
 }
 
-/* Block key of every committed position (all inside the grid: positions
- * are validated when added and when moved). Needed only when the keys the
- * last move pass wrote are stale (after adding points, a failed step or a
- * reordering). */
+/* Block key of every committed point (all inside the grid: positions and
+ * domains are validated when added and when moved). Needed only when the
+ * keys the last move pass wrote are stale (after adding points, a failed
+ * step or a reordering). Linear MPM keys by the point's cell, the wider
+ * supports by their lowest node (support.h). */
 static void key_ranges(void *context, size_t begin, size_t end, int worker) {
-  (void)worker;
   gm_domain *domain = context;
   gm_points *points = &domain->points;
   const gm_point_buffers *current = &points->buffer[points->cur];
-  const double *x = current->position[0];
-  const double *y = current->position[domain->dim > 1 ? 1 : 0];
-  for (size_t i = begin; i < end; i++)
-    points->block_key[i] = gm_block_key_inside(
-        &domain->grid, x[i], y[i], domain->def.origin, domain->inv_cell);
+  int dim = domain->dim;
+  const double *const position[2] = {current->position[0],
+                                     current->position[dim > 1 ? 1 : 0]};
+  const double *origin = domain->shape_grid.origin;
+  if (domain->shape_grid.shape == GM_SHAPE_LINEAR) {
+    for (size_t i = begin; i < end; i++)
+      points->block_key[i] =
+          gm_block_key_inside(&domain->grid, position[0][i], position[1][i],
+                              origin, domain->inv_cell);
+    return;
+  }
+  const double *const deformation[4] = {
+      current->deformation[F_XX], current->deformation[F_XY],
+      current->deformation[F_YX], current->deformation[F_YY]};
+  const double *const size[2] = {points->domain_size[0],
+                                 points->domain_size[dim > 1 ? 1 : 0]};
+  for (size_t i = begin; i < end; i++) {
+    gm_point_domain point;
+    gm_load_point_domain(dim, position, deformation, size, i, &point);
+    int64_t lowest[2], highest[2];
+    if (gm_support_bounds(&domain->shape_grid, &point, lowest, highest)) {
+      points->block_key[i] =
+          gm_block_key_of_node(&domain->grid, lowest[0], lowest[1]);
+      continue;
+    }
+    points->block_key[i] = 0; /* never used: the step fails */
+    gm_worker_error(&domain->scratch[worker], GM_ERR_OUT_OF_GRID, i,
+                    "step: the domain of point id %lld reaches past the "
+                    "ghost cell layer around the grid box",
+                    (long long)points->id[i]);
+  }
 }
 
 gm_status gm_bin_points(gm_domain *domain) {
-  if (!domain->points.keys_valid)
+  if (!domain->points.keys_valid) {
     gm_parallel_for(&domain->pool, domain->points.count, key_ranges, domain);
+    gm_status keys = gm_collect_worker_errors(domain);
+    if (keys != GM_OK)
+      return keys;
+  }
   domain->points.keys_valid = false; /* until this step's move pass ends */
   gm_status status = gm_grid_build(domain);
   if (status == GM_OK)

@@ -105,6 +105,11 @@ static gm_status validate_def(const gm_domain_def *def) {
   if (!(def->damping >= 0.0 && def->damping < 1.0))
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.damping is %g, must be in [0, 1)", def->damping);
+  if (def->shape != GM_SHAPE_LINEAR && def->shape != GM_SHAPE_UGIMP &&
+      def->shape != GM_SHAPE_CPGIMP && def->shape != GM_SHAPE_CPDI)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.shape %d is not a gm_shape value",
+                (int)def->shape);
   if ((def->enqueue_task == NULL) != (def->finish_task == NULL))
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.enqueue_task and finish_task must be set "
@@ -159,9 +164,21 @@ gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
   gm_grid *grid = &domain->grid;
   grid->dim = domain->dim;
   grid->shift = domain->dim == 1 ? GM_BLOCK_SHIFT_1D : GM_BLOCK_SHIFT_2D;
+  /* Node 0 is a ghost node one layer below the box (support.h). */
+  gm_shape_grid *shape_grid = &domain->shape_grid;
+  shape_grid->shape = def->shape;
+  shape_grid->dim = domain->dim;
+  shape_grid->inv_cell = domain->inv_cell;
+  for (int k = 0; k < 2; k++) {
+    bool used = k < domain->dim;
+    shape_grid->origin[k] =
+        used ? def->origin[k] - GM_GHOST_LAYERS * def->cell_size : 0.0;
+    shape_grid->last_node[k] =
+        used ? domain->cells[k] + 2 * GM_GHOST_LAYERS : 0;
+  }
   for (int k = 0; k < 3; k++)
     grid->blocks_per_axis[k] =
-        k < domain->dim ? (domain->cells[k] >> grid->shift) + 1 : 1;
+        k < domain->dim ? (shape_grid->last_node[k] >> grid->shift) + 1 : 1;
   status = allocate_scratch(domain);
   if (status == GM_OK)
     status = gm_pool_start(&domain->pool, def->worker_count, def->enqueue_task,

@@ -7,7 +7,7 @@
 #include <string.h>
 
 static bool field_known(gm_field field) {
-  return field >= GM_FIELD_POSITION && field <= GM_FIELD_DOMAIN_SIZE;
+  return field >= GM_FIELD_POSITION && field <= GM_FIELD_DOMAIN_CORNERS;
 }
 
 static size_t components_of(const gm_domain *domain, gm_field field) {
@@ -21,6 +21,8 @@ static size_t components_of(const gm_domain *domain, gm_field field) {
     return 6;
   case GM_FIELD_DEFORMATION_GRADIENT:
     return 9;
+  case GM_FIELD_DOMAIN_CORNERS: /* 2 ends in 1D, 4 corners x, y in 2D */
+    return domain->dim == 1 ? 2 : 8;
   default:
     return 1;
   }
@@ -77,6 +79,25 @@ static double *stored_component(const gm_domain *domain, gm_field field,
   }
 }
 
+/* Component k of the current domain corners of point i (support.h). */
+static double corner_value(const gm_domain *domain, size_t k, size_t i) {
+  const gm_points *points = &domain->points;
+  const gm_point_buffers *buffer = &points->buffer[points->cur];
+  int dim = domain->dim;
+  const double *const position[2] = {buffer->position[0],
+                                     buffer->position[dim > 1 ? 1 : 0]};
+  const double *const deformation[4] = {
+      buffer->deformation[F_XX], buffer->deformation[F_XY],
+      buffer->deformation[F_YX], buffer->deformation[F_YY]};
+  const double *const size[2] = {points->domain_size[0],
+                                 points->domain_size[dim > 1 ? 1 : 0]};
+  gm_point_domain point;
+  gm_load_point_domain(dim, position, deformation, size, i, &point);
+  double corners[4][2];
+  gm_point_domain_corners(domain->shape_grid.shape, dim, &point, corners);
+  return dim == 1 ? corners[k][0] : corners[k / 2][k % 2];
+}
+
 /* Value of component k of field for point i (computed where not stored). */
 static double field_value(const gm_domain *domain, gm_field field, size_t k,
                           size_t i) {
@@ -89,6 +110,8 @@ static double field_value(const gm_domain *domain, gm_field field, size_t k,
     return (double)points->material[i];
   case GM_FIELD_ID:
     return (double)points->id[i];
+  case GM_FIELD_DOMAIN_CORNERS:
+    return corner_value(domain, k, i);
   case GM_FIELD_DEFORMATION_GRADIENT: {
     const double *stored = stored_component(domain, field, k);
     if (stored)

@@ -7,54 +7,16 @@
  * and the stress update follow. Points are processed in chunks of
  * GM_BATCH_SIZE, the unit of a material call.
  */
-#include "internal.h"
 #include "shape_linear.h"
+#include "transfer.h"
 
 #include <math.h>
-
-/* Every array a pass touches, in restrict-qualified locals (see p2g.c). */
-typedef struct gather_view {
-  const double *position[2]; /* m, committed */
-  const double *velocity[2]; /* m/s, committed */
-  const double *deformation[GM_F_STORED];
-  const double *grid_velocity[2];     /* m/s */
-  const double *grid_mass;            /* kg */
-  const double *grid_acceleration[2]; /* m/s^2 */
-  const uint32_t *point_block;
-  const uint32_t *neighbour;
-  const gm_grid *grid;
-  int64_t *block_key;      /* written by the move pass */
-  const double *origin_xy; /* m, the domain origin (not aliased in 1D) */
-  const double *mass;      /* kg */
-  const double *initial_volume;
-  const int32_t *material;
-  double *next_position[2];
-  double *next_velocity[2];
-  double *next_deformation[GM_F_STORED];
-  double *next_volume;
-  double origin[2];
-  double inv_cell;
-  double cells[2]; /* cells per axis, as doubles */
-  int shift;
-  int dim;
-  bool axisymmetric;
-} gather_view;
 
 typedef struct g2p_context {
   gm_domain *domain;
   const gm_g2p_pass *pass;
   gather_view view;
 } g2p_context;
-
-/* What the grid tells the points of one chunk, SoA: interpolated nodal
- * acceleration and velocity, and the velocity gradient components
- * (L_xx, L_xy, L_yx, L_yy, L_zz). */
-struct chunk_gather {
-  double acceleration[2][GM_BATCH_SIZE]; /* m/s^2 */
-  double velocity[2][GM_BATCH_SIZE];     /* m/s */
-  double gradient[5][GM_BATCH_SIZE];     /* 1/s */
-};
-typedef struct chunk_gather chunk_gather;
 
 static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
                             chunk_gather *out) {
@@ -182,11 +144,12 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
     for (size_t j = 0; j < count; j++) {
       next[j] = position[j] + dt * velocity[j];
       double scaled = (next[j] - origin) * inv_cell;
-      axis_inside &= scaled >= 0.0 && scaled < cells;
+      axis_inside &= scaled >= GM_GHOST_LAYERS && scaled < cells;
     }
     inside = inside && axis_inside;
   }
-  if (inside) { /* keys of the moved points, for the next step's binning */
+  bool wide = v->shape_grid->shape != GM_SHAPE_LINEAR; /* keys: later */
+  if (inside && !wide) { /* keys of the moved points, for the next step */
     const double *x = v->next_position[0] + first;
     const double *y = v->next_position[v->dim > 1 ? 1 : 0] + first;
     int64_t *restrict key = v->block_key + first;
@@ -321,7 +284,10 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
     size_t first = chunk * GM_BATCH_SIZE;
     size_t count = point_count - first < GM_BATCH_SIZE ? point_count - first
                                                        : GM_BATCH_SIZE;
-    if (v->dim == 1)
+    bool wide = v->shape_grid->shape != GM_SHAPE_LINEAR;
+    if (wide)
+      gm_gather_chunk_wide(v, first, count, g);
+    else if (v->dim == 1)
       gather_chunk_1d(v, first, count, g);
     else
       gather_chunk_2d(v, first, count, g);
@@ -331,12 +297,18 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
       move_chunk(domain, v, scratch, first, count, g, dt);
     /* A chunk with an inverted point skips its material call: the step
      * fails anyway, and materials never see a non-positive density. */
+    bool deformed = true;
     if (deform && deform_chunk(domain, v, scratch, first, count, g, dt)) {
       const double *gradient[5] = {g->gradient[0], g->gradient[1],
                                    g->gradient[2], g->gradient[3],
                                    g->gradient[4]};
       gm_stress_update_chunk(domain, scratch, first, count, dt, gradient);
+    } else if (deform) {
+      deformed = false;
     }
+    /* A wide support depends on F too: keys once F is final. */
+    if (move && wide && deformed)
+      gm_wide_keys_chunk(domain, v, scratch, first, count);
     if (move) /* the last pass of every scheme: the new state is complete */
       chunk_signal_speed(domain, v, scratch, first, count);
   }
@@ -384,8 +356,9 @@ static void make_view(gm_domain *domain, gather_view *view) {
     view->grid_velocity[k] = grid->momentum[c]; /* velocity by now */
     view->grid_mass = grid->mass;
     view->grid_acceleration[k] = grid->force[c];
-    view->origin[k] = domain->def.origin[c];
-    view->cells[k] = (double)domain->cells[k];
+    view->origin[k] = domain->shape_grid.origin[c]; /* node 0 */
+    view->cells[k] = (double)(domain->cells[c] + GM_GHOST_LAYERS);
+    view->domain_size[k] = points->domain_size[c];
   }
   for (int k = 0; k < GM_F_STORED; k++) {
     view->deformation[k] = from->deformation[k];
@@ -394,7 +367,8 @@ static void make_view(gm_domain *domain, gather_view *view) {
   view->point_block = points->point_block;
   view->grid = grid;
   view->block_key = points->block_key;
-  view->origin_xy = domain->def.origin;
+  view->origin_xy = domain->shape_grid.origin;
+  view->shape_grid = &domain->shape_grid;
   view->neighbour = grid->neighbour;
   view->mass = points->mass;
   view->initial_volume = points->initial_volume;

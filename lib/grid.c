@@ -12,19 +12,19 @@
 
 bool gm_block_key_of(const gm_domain *domain, const double *position_xyz,
                      int64_t *key) {
-  int64_t cell[2] = {0, 0};
+  int64_t node[2] = {0, 0};
   for (int k = 0; k < domain->dim; k++) {
     /* The same arithmetic as gm_shape_linear_axis, so the block agrees
-     * with the cell the shape functions use. */
+     * with the cell the shape functions use; nodes count from the ghost
+     * layer below the box (support.h). */
     double scaled =
-        (position_xyz[k] - domain->def.origin[k]) * domain->inv_cell;
-    if (!(scaled >= 0.0 && scaled < (double)domain->cells[k]))
+        (position_xyz[k] - domain->shape_grid.origin[k]) * domain->inv_cell;
+    if (!(scaled >= GM_GHOST_LAYERS &&
+          scaled < (double)(domain->cells[k] + GM_GHOST_LAYERS)))
       return false;
-    cell[k] = (int64_t)scaled;
+    node[k] = (int64_t)scaled;
   }
-  int shift = domain->grid.shift;
-  *key =
-      (cell[1] >> shift) * domain->grid.blocks_per_axis[0] + (cell[0] >> shift);
+  *key = gm_block_key_of_node(&domain->grid, node[0], node[1]);
   return true;
 }
 

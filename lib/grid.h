@@ -104,6 +104,34 @@ static inline int64_t gm_block_key_inside(const gm_grid *grid, double x,
   return block_y * grid->blocks_per_axis[0] + block_x;
 }
 
+/* Key of the block holding node (node_x, node_y) (node_y ignored in 1D). */
+static inline int64_t gm_block_key_of_node(const gm_grid *grid, int64_t node_x,
+                                           int64_t node_y) {
+  int64_t block_x = node_x >> grid->shift;
+  if (grid->dim == 1)
+    return block_x;
+  return (node_y >> grid->shift) * grid->blocks_per_axis[0] + block_x;
+}
+
+/* Lowest node (x, y) of the block with this key. */
+static inline void gm_block_base(const gm_grid *grid, int64_t key,
+                                 int64_t base[2]) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  base[0] = (grid->dim == 1 ? key : key % blocks_x) << grid->shift;
+  base[1] = grid->dim == 1 ? 0 : (key / blocks_x) << grid->shift;
+}
+
+/* Grid field index of the node (x, y) nodes from the lower corner of the
+ * block with these links; x, y < 2 * edge (the block or its +x, +y, +x+y
+ * neighbours). The neighbour must exist. */
+static inline size_t gm_block_node(const uint32_t *links, int shift, int64_t x,
+                                   int64_t y) {
+  int64_t mask = ((int64_t)1 << shift) - 1;
+  int neighbour = (int)(x >> shift) + 2 * (int)(y >> shift);
+  return (size_t)links[neighbour] * GM_BLOCK_NODES +
+         (size_t)((x & mask) + ((y & mask) << shift));
+}
+
 /* Block index of key this step, or GM_NO_BLOCK. */
 uint32_t gm_grid_find(const gm_grid *grid, int64_t key);
 

@@ -19,16 +19,17 @@ typedef struct update_context {
   int mode;
 } update_context;
 
-/* Which velocity components of node (ix, iy) a wall or the axis holds. */
+/* Which velocity components of node (ix, iy) a wall or the axis holds.
+ * Ghost nodes beyond a face (support.h) take that face's condition. */
 static void constrained_components(const gm_domain *domain, int64_t ix,
                                    int64_t iy, bool fixed[2]) {
   const gm_wall_type *walls = domain->def.walls;
   fixed[0] = fixed[1] = false;
-  int64_t end[2] = {domain->cells[0], domain->cells[1]};
   int64_t index[2] = {ix, iy};
   for (int axis = 0; axis < domain->dim; axis++) {
+    int64_t upper = domain->cells[axis] + GM_GHOST_LAYERS; /* box face node */
     for (int side = 0; side < 2; side++) {
-      if (index[axis] != (side ? end[axis] : 0))
+      if (side ? index[axis] < upper : index[axis] > GM_GHOST_LAYERS)
         continue;
       gm_wall_type wall = walls[2 * axis + side];
       if (wall == GM_WALL_FIXED)
@@ -38,7 +39,8 @@ static void constrained_components(const gm_domain *domain, int64_t ix,
     }
   }
   /* Radial velocity vanishes on the symmetry axis r = 0. */
-  if (domain->axisymmetric && ix == 0 && domain->def.origin[0] == 0.0)
+  if (domain->axisymmetric && ix <= GM_GHOST_LAYERS &&
+      domain->def.origin[0] == 0.0)
     fixed[0] = true;
 }
 
@@ -51,8 +53,9 @@ static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
   gm_grid *grid = &domain->grid;
   int dim = domain->dim;
   double h = domain->def.cell_size;
-  double position[2] = {domain->def.origin[0] + (double)ix * h,
-                        dim > 1 ? domain->def.origin[1] + (double)iy * h : 0.0};
+  const double *origin = domain->shape_grid.origin; /* node 0 */
+  double position[2] = {origin[0] + (double)ix * h,
+                        dim > 1 ? origin[1] + (double)iy * h : 0.0};
   double velocity[2] = {grid->momentum[0][node],
                         dim > 1 ? grid->momentum[1][node] : 0.0};
   bool full = ctx->mode == GM_GRID_FULL;
@@ -88,9 +91,12 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
     int64_t key = grid->block_key[b];
     int64_t base_x = (key % blocks_x) << shift;
     int64_t base_y = dim > 1 ? (key / blocks_x) << shift : 0;
-    bool block_on_wall = base_x == 0 || base_y == 0 ||
-                         base_x + edge > domain->cells[0] ||
-                         (dim > 1 && base_y + edge > domain->cells[1]);
+    /* Does the block hold a box-face or ghost node (support.h)? */
+    int64_t face_x = domain->cells[0] + GM_GHOST_LAYERS;
+    int64_t face_y = domain->cells[1] + GM_GHOST_LAYERS;
+    bool block_on_wall =
+        base_x <= GM_GHOST_LAYERS || base_x + edge - 1 >= face_x ||
+        (dim > 1 && (base_y <= GM_GHOST_LAYERS || base_y + edge - 1 >= face_y));
     bool near_walls =
         domain->wall_count > 0 && gm_walls_near_block(domain, base_x, base_y);
     double *block_force = NULL;

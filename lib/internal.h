@@ -7,6 +7,7 @@
 
 #include "granmpm.h"
 #include "grid.h"
+#include "support.h"
 #include "threads.h"
 
 #include <stdarg.h>
@@ -176,6 +177,9 @@ struct gm_domain {
   bool axisymmetric;
   double inv_cell;  /* 1/m */
   int64_t cells[3]; /* cells per axis */
+  /* Shape functions and node numbering: node 0 sits at shape_grid.origin,
+   * one ghost layer below the box (support.h). */
+  gm_shape_grid shape_grid;
   gm_grid grid;
   gm_points points;
   gm_material *materials;

@@ -8,34 +8,10 @@
  * (struct scatter_view) so the compiler keeps them in registers instead of
  * reloading them after each store to the grid.
  */
-#include "internal.h"
 #include "shape_linear.h"
+#include "transfer.h"
 
 #include <math.h>
-
-typedef struct scatter_view {
-  const double *position[2];       /* m */
-  const double *velocity[2];       /* m/s, source of the momentum */
-  const double *mass;              /* kg */
-  const double *volume;            /* of the stress buffer */
-  const double *stress[4];         /* Pa, xx yy zz xy */
-  const double *external_force[2]; /* N, NULL = none */
-  double *grid_mass;
-  double *grid_momentum[2];
-  double *grid_force[2];
-  const uint32_t *order;
-  const uint32_t *point_start;
-  const uint32_t *neighbour;
-  double origin[2];  /* m */
-  double inv_cell;   /* 1/m */
-  double gravity[2]; /* m/s^2 */
-  int shift;
-  bool axisymmetric;
-  /* Rigid points (rigid.c) take no part in the transfers. */
-  bool skip_rigid;
-  const int32_t *material;
-  bool rigid[GM_MAX_MATERIALS];
-} scatter_view;
 
 typedef struct p2g_context {
   gm_domain *domain;
@@ -255,7 +231,9 @@ static void scatter_blocks(void *context, size_t begin, size_t end,
     if (ctx->pass->check_inputs)
       check_inputs(domain, &domain->scratch[worker], view,
                    view->point_start[block], view->point_start[block + 1]);
-    if (domain->dim == 1)
+    if (view->shape_grid->shape != GM_SHAPE_LINEAR)
+      gm_scatter_block_wide(view, ctx->pass, block);
+    else if (domain->dim == 1)
       scatter_block_1d(view, ctx->pass, block);
     else
       scatter_block_2d(view, ctx->pass, block);
@@ -294,7 +272,8 @@ static void make_view(gm_domain *domain, const gm_p2g_pass *pass,
     view->external_force[k] = points->external_force[c];
     view->grid_momentum[k] = grid->momentum[c];
     view->grid_force[k] = grid->force[c];
-    view->origin[k] = domain->def.origin[c];
+    view->origin[k] = domain->shape_grid.origin[c]; /* node 0 */
+    view->domain_size[k] = points->domain_size[c];
     view->gravity[k] = domain->def.gravity[k];
   }
   view->mass = points->mass;
@@ -310,6 +289,10 @@ static void make_view(gm_domain *domain, const gm_p2g_pass *pass,
   view->axisymmetric = domain->axisymmetric;
   view->skip_rigid = domain->rigid_count > 0;
   view->material = points->material;
+  view->shape_grid = &domain->shape_grid;
+  view->grid = grid;
+  for (int k = 0; k < 4; k++) /* F_XX..F_YY are the first four */
+    view->deformation[k] = current->deformation[k];
   for (int m = 0; m < domain->material_count; m++)
     view->rigid[m] = domain->materials[m].rigid;
 }

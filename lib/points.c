@@ -237,6 +237,25 @@ static gm_status validate_point(gm_domain *domain, const gm_points_def *def,
                             i, axis_name(k), edge);
     }
   }
+  if (domain->shape_grid.shape != GM_SHAPE_LINEAR) {
+    gm_point_domain shape = {{position[0], dim > 1 ? position[1] : 0.0},
+                             {1.0, 0.0, 0.0, 1.0},
+                             {0.0, 0.0}};
+    for (int k = 0; k < dim; k++)
+      shape.half_size[k] =
+          0.5 * (def->domain_size
+                     ? def->domain_size[i * (size_t)dim + (size_t)k]
+                     : default_domain_edge(domain, volume, position[0]));
+    int64_t lowest[2], highest[2];
+    if (!gm_support_bounds(&domain->shape_grid, &shape, lowest, highest))
+      return gm_set_error(domain, GM_ERR_OUT_OF_GRID,
+                          "gm_domain_add_points: point %zu domain (edges %g "
+                          "x %g m at x = %g, y = %g m) reaches past the ghost "
+                          "cell layer around the grid box or spans more than "
+                          "8 cells",
+                          i, 2.0 * shape.half_size[0], 2.0 * shape.half_size[1],
+                          position[0], shape.position[1]);
+  }
   if (def->stress) {
     const double *stress = def->stress + i * 6;
     if (!all_finite(stress, 6))

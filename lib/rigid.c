@@ -11,7 +11,6 @@
  * G2P moves them exactly) and keep zero stress.
  */
 #include "internal.h"
-#include "shape_linear.h"
 
 #include <math.h>
 #include <string.h>
@@ -128,35 +127,36 @@ gm_status gm_rigid_reserve(gm_domain *domain) {
   return GM_OK;
 }
 
-/* Marks the nodes of one rigid point (those with a nonzero weight). */
+/* Marks the nodes of one rigid point (those with a nonzero weight in the
+ * domain's shape functions, support.h). */
 static void mark_point(gm_domain *domain, size_t p, int32_t mark) {
   gm_grid *grid = &domain->grid;
-  const gm_point_buffers *current = &domain->points.buffer[domain->points.cur];
-  const uint32_t *links =
-      grid->neighbour +
-      (size_t)domain->points.point_block[p] * GM_BLOCK_NEIGHBOURS;
-  int shift = grid->shift;
-  int64_t edge = (int64_t)1 << shift, mask = edge - 1;
-  double wx[2], dx[2], wy[2] = {1.0, 0.0}, dy[2];
-  int64_t cx =
-      gm_shape_linear_axis(current->position[0][p], domain->def.origin[0],
-                           domain->inv_cell, wx, dx) &
-      mask;
-  int64_t cy = 0;
-  if (domain->dim > 1)
-    cy = gm_shape_linear_axis(current->position[1][p], domain->def.origin[1],
-                              domain->inv_cell, wy, dy) &
-         mask;
-  for (int b = 0; b < (domain->dim > 1 ? 2 : 1); b++) {
-    for (int a = 0; a < 2; a++) {
-      if (wx[a] * wy[b] == 0.0)
-        continue; /* the point does not reach this node */
-      int64_t nx = cx + a, ny = cy + b;
-      int neighbour = (int)(nx >> shift) + 2 * (int)(ny >> shift);
-      size_t node = (size_t)links[neighbour] * GM_BLOCK_NODES +
-                    (size_t)((nx & mask) + edge * (ny & mask));
-      grid->rigid_material[node] = mark;
-    }
+  const gm_points *points = &domain->points;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  int dim = domain->dim;
+  const double *const position[2] = {current->position[0],
+                                     current->position[dim > 1 ? 1 : 0]};
+  const double *const deformation[4] = {
+      current->deformation[F_XX], current->deformation[F_XY],
+      current->deformation[F_YX], current->deformation[F_YY]};
+  const double *const size[2] = {points->domain_size[0],
+                                 points->domain_size[dim > 1 ? 1 : 0]};
+  gm_point_domain point;
+  gm_load_point_domain(dim, position, deformation, size, p, &point);
+  gm_support support;
+  if (!gm_support_compute(&domain->shape_grid, &point, &support))
+    return; /* cannot happen: the binning placed the point by it */
+  uint32_t block = points->point_block[p];
+  const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  int64_t base[2];
+  gm_block_base(grid, grid->block_key[block], base);
+  for (int e = 0; e < support.count; e++) {
+    if (support.weight[e] == 0.0)
+      continue; /* the point does not reach this node */
+    int64_t x = support.lowest[0] - base[0] + support.offset[0][e];
+    int64_t y =
+        dim > 1 ? support.lowest[1] - base[1] + support.offset[1][e] : 0;
+    grid->rigid_material[gm_block_node(links, grid->shift, x, y)] = mark;
   }
 }
 

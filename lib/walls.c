@@ -111,10 +111,11 @@ bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
   for (int w = 0; w < domain->wall_count; w++) {
     const gm_wall *wall = &domain->walls[w];
     for (int c = 0; c < corners; c++) {
-      double x = domain->def.origin[0] + (double)(base_x + (c & 1) * edge) * h;
-      double y = domain->dim > 1 ? domain->def.origin[1] +
-                                       (double)(base_y + (c >> 1) * edge) * h
-                                 : wall->point[1];
+      const double *origin = domain->shape_grid.origin; /* node 0 */
+      double x = origin[0] + (double)(base_x + (c & 1) * edge) * h;
+      double y = domain->dim > 1
+                     ? origin[1] + (double)(base_y + (c >> 1) * edge) * h
+                     : wall->point[1];
       double distance = (x - wall->point[0]) * wall->normal[0] +
                         (y - wall->point[1]) * wall->normal[1];
       if (distance <= 0.0)
@@ -276,10 +277,10 @@ gm_status gm_domain_get_wall_tractions(const gm_domain *domain, int wall_id,
         int64_t ix = base_x + (int64_t)(local & (size_t)(edge - 1));
         int64_t iy =
             domain->dim > 1 ? base_y + (int64_t)(local >> grid->shift) : 0;
-        double x = domain->def.origin[0] + (double)ix * h - wall->point[0];
-        double y = domain->dim > 1
-                       ? domain->def.origin[1] + (double)iy * h - wall->point[1]
-                       : 0.0;
+        const double *origin = domain->shape_grid.origin; /* node 0 */
+        double x = origin[0] + (double)ix * h - wall->point[0];
+        double y =
+            domain->dim > 1 ? origin[1] + (double)iy * h - wall->point[1] : 0.0;
         double fx = grid->contact_force[0][node];
         double fy = grid->contact_force[1][node];
         gm_wall_traction *entry = &tractions[found];

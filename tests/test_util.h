@@ -27,6 +27,20 @@
   } while (0)
 
 /* Short name of an update scheme, for failure messages. */
+static inline const char *test_shape_name(gm_shape shape) {
+  switch (shape) {
+  case GM_SHAPE_LINEAR:
+    return "linear";
+  case GM_SHAPE_UGIMP:
+    return "uGIMP";
+  case GM_SHAPE_CPGIMP:
+    return "cpGIMP";
+  case GM_SHAPE_CPDI:
+    return "CPDI";
+  }
+  return "unknown";
+}
+
 static inline const char *test_scheme_name(gm_update_scheme scheme) {
   switch (scheme) {
   case GM_SCHEME_USL:

@@ -1,0 +1,95 @@
+/*
+ * g2p_wide.c - grid-to-particle gather for the shape functions whose
+ * support is wider than one cell (uGIMP, cpGIMP, CPDI; support.h): the
+ * interpolated acceleration and velocity and the velocity gradient
+ * L = sum v_i (x) grad S_i, as in g2p.c, plus the block keys of the moved
+ * points, which depend on the whole support and so on F as well.
+ */
+#include "transfer.h"
+
+#include <math.h>
+
+void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
+                          chunk_gather *out) {
+  int dim = v->dim;
+  const double *const deformation[4] = {
+      v->deformation[F_XX], v->deformation[F_XY], v->deformation[F_YX],
+      v->deformation[F_YY]};
+  gm_support support;
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    gm_point_domain domain;
+    gm_load_point_domain(dim, v->position, deformation, v->domain_size, p,
+                         &domain);
+    /* Cannot fail: the binning placed the point by this support. */
+    gm_support_compute(v->shape_grid, &domain, &support);
+    uint32_t block = v->point_block[p];
+    const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+    int64_t base[2];
+    gm_block_base(v->grid, v->grid->block_key[block], base);
+    int64_t x0 = support.lowest[0] - base[0];
+    int64_t y0 = dim > 1 ? support.lowest[1] - base[1] : 0;
+    double acceleration[2] = {0.0, 0.0}, velocity[2] = {0.0, 0.0};
+    double gradient[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* L_ab = dv_a/dx_b */
+    double empty[2] = {0.0, 0.0}; /* gradient sum of massless nodes */
+    for (int e = 0; e < support.count; e++) {
+      size_t node = gm_block_node(links, v->shift, x0 + support.offset[0][e],
+                                  y0 + support.offset[1][e]);
+      double weight = support.weight[e];
+      double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
+      for (int b = 0; b < dim; b++)
+        empty[b] += is_empty * support.gradient[b][e];
+      for (int a = 0; a < dim; a++) {
+        double nodal = v->grid_velocity[a][node];
+        acceleration[a] += weight * v->grid_acceleration[a][node];
+        velocity[a] += weight * nodal;
+        for (int b = 0; b < dim; b++)
+          gradient[a][b] += nodal * support.gradient[b][e];
+      }
+    }
+    /* Massless nodes: the point's own velocity (see gather_chunk_2d). */
+    for (int a = 0; a < dim; a++)
+      for (int b = 0; b < dim; b++)
+        gradient[a][b] += velocity[a] * empty[b];
+    for (int a = 0; a < 2; a++) {
+      out->acceleration[a][j] = a < dim ? acceleration[a] : 0.0;
+      out->velocity[a][j] = a < dim ? velocity[a] : 0.0;
+    }
+    out->gradient[0][j] = gradient[0][0];
+    out->gradient[1][j] = gradient[0][1];
+    out->gradient[2][j] = gradient[1][0];
+    out->gradient[3][j] = gradient[1][1];
+    /* Hoop strain rate v_r / r (002 sec 3). */
+    out->gradient[4][j] =
+        v->axisymmetric ? velocity[0] / v->position[0][p] : 0.0;
+  }
+}
+
+void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
+                        gm_worker_scratch *scratch, size_t first,
+                        size_t count) {
+  int dim = v->dim;
+  const double *const position[2] = {v->next_position[0], v->next_position[1]};
+  const double *const deformation[4] = {
+      v->next_deformation[F_XX], v->next_deformation[F_XY],
+      v->next_deformation[F_YX], v->next_deformation[F_YY]};
+  for (size_t p = first; p < first + count; p++) {
+    gm_point_domain point;
+    gm_load_point_domain(dim, position, deformation, v->domain_size, p, &point);
+    int64_t lowest[2], highest[2];
+    if (gm_support_bounds(v->shape_grid, &point, lowest, highest)) {
+      v->block_key[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);
+      continue;
+    }
+    double corners[4][2];
+    gm_point_domain_corners(v->shape_grid->shape, dim, &point, corners);
+    gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
+                    "step: the domain of point id %lld would reach past the "
+                    "ghost cell layer around the grid box or span more than "
+                    "%d cells (corners (%g, %g) to (%g, %g) m at t = %g s); "
+                    "the step was not taken",
+                    (long long)domain->points.id[p], GM_SUPPORT_MAX_SPAN - 1,
+                    corners[0][0], corners[0][1], corners[2][0], corners[2][1],
+                    domain->time + domain->current_dt);
+  }
+}

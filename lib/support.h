@@ -1,0 +1,88 @@
+/*
+ * support.h - the grid nodes a material point reaches, with their weights
+ * and weight gradients, for every shape-function variant (000 sec 2.1):
+ * linear MPM, uGIMP, cpGIMP and CPDI1. The specialised linear kernels of
+ * p2g.c and g2p.c do not go through here; everything else does (the GIMP
+ * and CPDI transfers, block keys, domain corners, bounds checks).
+ *
+ * Node indices count from the grid's node 0, which lies one ghost layer
+ * (GM_GHOST_LAYERS cells) below the box's lower corner on every axis: a
+ * GIMP or CPDI domain may stick out of the box by up to one cell, and the
+ * ghost nodes it then reaches take the boundary condition of the box face
+ * they lie beyond (grid_update.c), so the support of a point against a
+ * wall is complete.
+ */
+#ifndef GM_SUPPORT_H
+#define GM_SUPPORT_H
+
+#include "granmpm.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define GM_GHOST_LAYERS 1
+/* Nodes per axis a point may reach: its domain may span 8 cells, so that
+ * the nodes of a point binned by its lowest node always lie in that block
+ * and the next one along each axis (the grid's neighbour links). */
+#define GM_SUPPORT_MAX_SPAN    9
+#define GM_SUPPORT_MAX_ENTRIES (GM_SUPPORT_MAX_SPAN * GM_SUPPORT_MAX_SPAN)
+
+/* What the support of a point depends on in a domain. */
+typedef struct gm_shape_grid {
+  gm_shape shape;
+  int dim;              /* 1 or 2 */
+  double origin[2];     /* m, position of node 0 (ghost layer included) */
+  double inv_cell;      /* 1/m */
+  int64_t last_node[2]; /* highest node index per axis */
+} gm_shape_grid;
+
+/* One point's domain: centre, deformation and initial half edges. */
+typedef struct gm_point_domain {
+  double position[2];    /* m */
+  double deformation[4]; /* F_xx, F_xy, F_yx, F_yy */
+  double half_size[2];   /* m, half the initial domain edges */
+} gm_point_domain;
+
+/* Weights of the nodes a point reaches. Entries may repeat a node (CPDI
+ * adds one entry per corner and node); sums over entries are what count. */
+typedef struct gm_support {
+  int count;
+  int64_t lowest[2]; /* node index of the support's lower corner */
+  uint8_t offset[2][GM_SUPPORT_MAX_ENTRIES]; /* node - lowest, per axis */
+  double weight[GM_SUPPORT_MAX_ENTRIES];
+  double gradient[2][GM_SUPPORT_MAX_ENTRIES]; /* 1/m */
+} gm_support;
+
+/* The domain of point p from SoA arrays (deformation: F_xx, F_xy, F_yx,
+ * F_yy; the y entries are ignored in 1D). */
+static inline void gm_load_point_domain(int dim,
+                                        const double *const position[2],
+                                        const double *const deformation[4],
+                                        const double *const domain_size[2],
+                                        size_t p, gm_point_domain *out) {
+  for (int k = 0; k < 2; k++) {
+    out->position[k] = k < dim ? position[k][p] : 0.0;
+    out->half_size[k] = k < dim ? 0.5 * domain_size[k][p] : 0.0;
+  }
+  for (int k = 0; k < 4; k++)
+    out->deformation[k] = deformation[k][p];
+}
+
+/* Lowest and highest node per axis; false if the support leaves the nodes
+ * of the grid or spans more than GM_SUPPORT_MAX_SPAN nodes. */
+bool gm_support_bounds(const gm_shape_grid *grid, const gm_point_domain *point,
+                       int64_t lowest[2], int64_t highest[2]);
+/* The support; false as for gm_support_bounds (out is then undefined). */
+bool gm_support_compute(const gm_shape_grid *grid, const gm_point_domain *point,
+                        gm_support *out);
+/* Corners (m) of the point's current domain, counter-clockwise from the
+ * lower left: a rectangle for linear MPM and uGIMP (the initial domain,
+ * moved), a rectangle with edges stretched by |F_xx|, |F_yy| for cpGIMP,
+ * the parallelogram spanned by F r1, F r2 for CPDI. In 1D, the two ends
+ * (corners[0][0], corners[1][0]). */
+void gm_point_domain_corners(gm_shape shape, int dim,
+                             const gm_point_domain *point,
+                             double corners[4][2]);
+
+#endif
