@@ -106,10 +106,11 @@ START_TEST(test_bessel_helpers) {
 }
 END_TEST
 
-static gm_domain *cylinder_domain(gm_update_scheme scheme) {
+static gm_domain *cylinder_domain(gm_update_scheme scheme, gm_shape shape) {
   gm_domain_def def = gm_domain_def_default();
   def.geometry = GM_GEOMETRY_AXISYMMETRIC;
   def.scheme = scheme;
+  def.shape = shape;
   def.cell_size = CELL_SIZE;
   def.origin[0] = 0.0; /* the axis */
   def.origin[1] = 0.0;
@@ -152,9 +153,10 @@ static double total_mass(const gm_domain *domain) {
   return summary.mass; /* kg, full rings */
 }
 
-/* Loop index: the update scheme. */
+/* Loop index: shape-function variant (i / 3) and update scheme (i % 3). */
 START_TEST(test_radial_mode) {
-  gm_update_scheme scheme = (gm_update_scheme)_i;
+  gm_update_scheme scheme = (gm_update_scheme)(_i % 3);
+  gm_shape shape = (gm_shape)(_i / 3);
   lame_constants lame;
   lame.lambda = YOUNGS * POISSON / ((1 + POISSON) * (1 - 2 * POISSON));
   lame.mu = YOUNGS / (2 * (1 + POISSON));
@@ -170,7 +172,7 @@ START_TEST(test_radial_mode) {
   double dt = COURANT_NUMBER * CELL_SIZE / wave_speed; /* s */
   int steps = (int)ceil(PERIODS_SIMULATED * period / dt);
 
-  gm_domain *domain = cylinder_domain(scheme);
+  gm_domain *domain = cylinder_domain(scheme, shape);
   int material = test_add_elastic(domain, YOUNGS, POISSON, DENSITY);
   const double lower[3] = {0.0, 0.0, 0.0};
   const double upper[3] = {CYLINDER_RADIUS, SLAB_HEIGHT, 0.0};
@@ -194,8 +196,8 @@ START_TEST(test_radial_mode) {
     momentum[k] = radial_momentum(domain);
     /* Point masses never change: the total is bit-for-bit constant. */
     ck_assert_msg(total_mass(domain) == mass0,
-                  "%s step %d: mass %.17g != %.17g", test_scheme_name(scheme),
-                  k, total_mass(domain), mass0);
+                  "%s %s step %d: mass %.17g != %.17g", test_shape_name(shape),
+                  test_scheme_name(scheme), k, total_mass(domain), mass0);
   }
 
   /* Zero crossings of sum m v_r at T/4, 3T/4, ..., 9T/4, by linear
@@ -215,8 +217,9 @@ START_TEST(test_radial_mode) {
    * carries little of the mode's energy (J1 ~ k r there). 2% bounds these;
    * a wrong sign or a missing hoop term moves the period by ~20% or more. */
   ck_assert_msg(fabs(measured_period - period) <= 0.02 * period,
-                "%s: period %.6g s, expected %.6g s (k R = %.6f)",
-                test_scheme_name(scheme), measured_period, period, root);
+                "%s %s: period %.6g s, expected %.6g s (k R = %.6f)",
+                test_shape_name(shape), test_scheme_name(scheme),
+                measured_period, period, root);
 
   /* First peak: near T/2 the radial momentum reaches -(its initial value).
    * Losses are the energy the sampled J1 puts into higher discrete modes,
@@ -227,8 +230,9 @@ START_TEST(test_radial_mode) {
   for (int k = 0; k <= steps && k * dt <= period; ++k)
     trough = fmin(trough, momentum[k]);
   ck_assert_msg(fabs(-trough - momentum[0]) <= 0.02 * momentum[0],
-                "%s: first peak of sum m v_r %.6g, expected -%.6g",
-                test_scheme_name(scheme), trough, momentum[0]);
+                "%s %s: first peak of sum m v_r %.6g, expected -%.6g",
+                test_shape_name(shape), test_scheme_name(scheme), trough,
+                momentum[0]);
 
   free(momentum);
   gm_domain_destroy(domain);
@@ -242,8 +246,8 @@ static Suite *axisymmetric_suite(void) {
   suite_add_tcase(suite, helpers);
   TCase *cylinder = tcase_create("free_cylinder_radial_mode");
   tcase_set_timeout(cylinder, 120);
-  /* USL, MUSL, USF. */
-  tcase_add_loop_test(cylinder, test_radial_mode, 0, 3);
+  /* USL, MUSL, USF for each of linear MPM, uGIMP, cpGIMP, CPDI. */
+  tcase_add_loop_test(cylinder, test_radial_mode, 0, 12);
   suite_add_tcase(suite, cylinder);
   return suite;
 }
