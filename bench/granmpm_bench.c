@@ -57,16 +57,22 @@ typedef struct bench_case {
   double box_scale; /* box size / compact box size, per axis */
   bool quick;       /* part of --quick */
   bench_material material;
+  gm_shape shape; /* shape functions: 4, up to 9 or up to 16 nodes */
 } bench_case;
 
 /* In increasing size order. */
 static const bench_case bench_cases[] = {
-    {"block-1e4", 1e4, 1.0, true, MATERIAL_ELASTIC},
-    {"block-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC},
-    {"empty-1e5", 1e5, 10.0, true, MATERIAL_ELASTIC},
-    {"mohr-coulomb-1e5", 1e5, 1.0, true, MATERIAL_MOHR_COULOMB},
-    {"drucker-prager-1e5", 1e5, 1.0, true, MATERIAL_DRUCKER_PRAGER},
-    {"block-1e6", 1e6, 1.0, false, MATERIAL_ELASTIC},
+    {"block-1e4", 1e4, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR},
+    {"block-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR},
+    {"ugimp-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_UGIMP},
+    {"cpgimp-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_CPGIMP},
+    {"cpdi-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_CPDI},
+    {"empty-1e5", 1e5, 10.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR},
+    {"mohr-coulomb-1e5", 1e5, 1.0, true, MATERIAL_MOHR_COULOMB,
+     GM_SHAPE_LINEAR},
+    {"drucker-prager-1e5", 1e5, 1.0, true, MATERIAL_DRUCKER_PRAGER,
+     GM_SHAPE_LINEAR},
+    {"block-1e6", 1e6, 1.0, false, MATERIAL_ELASTIC, GM_SHAPE_LINEAR},
 };
 enum { CASE_COUNT = sizeof bench_cases / sizeof bench_cases[0] };
 static const int worker_counts[] = {1, 2};
@@ -181,6 +187,7 @@ static int build_scene(const bench_case *scene, int workers,
   def.cell_size = cell_size;
   def.gravity[1] = gravity;
   def.scheme = GM_SCHEME_USL;
+  def.shape = scene->shape;
   def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
   def.worker_count = workers;
   CHECK(*domain, gm_domain_create(&def, domain));
