@@ -104,6 +104,17 @@ typedef enum gm_shape {
   GM_SHAPE_CPDI = 3    /* CPDI1: parallelogram spanned by F r1, F r2 */
 } gm_shape;
 
+/** Algorithm family (000 sec 4): what happens to points of a granular
+ * material (gm_domain_set_granular) below their critical density. */
+typedef enum gm_family {
+  GM_FAMILY_PLAIN = 0,       /* conventional MPM: nothing */
+  GM_FAMILY_STRESS_FREE = 1, /* stress-free while rho < rho_cr (Dunatunga
+                                and Kamrin) */
+  GM_FAMILY_GRANULAR = 2     /* Granular MPM: point states, domains of
+                                interaction, parallel grids and density
+                                control (000 sec 3) */
+} gm_family;
+
 /** Boundary condition on one face of the grid box. */
 typedef enum gm_wall_type {
   GM_WALL_OPEN = 0,  /* no condition: a point crossing it is an error */
@@ -149,11 +160,12 @@ typedef struct gm_domain_def {
   gm_enqueue_task_fn *enqueue_task; /* NULL: built-in pool */
   gm_finish_task_fn *finish_task;   /* required with enqueue_task */
   void *task_user;                  /* passed to the two functions above */
-  double damping; /* local non-viscous damping in [0, 1): every nodal force
-                     component f loses damping * |f| against the node's
-                     motion (Cundall's damping, for reaching static states;
-                     it vanishes at equilibrium); default 0 = none */
-  gm_shape shape; /* shape functions; default GM_SHAPE_LINEAR */
+  double damping;   /* local non-viscous damping in [0, 1): every nodal force
+                       component f loses damping * |f| against the node's
+                       motion (Cundall's damping, for reaching static states;
+                       it vanishes at equilibrium); default 0 = none */
+  gm_shape shape;   /* shape functions; default GM_SHAPE_LINEAR */
+  gm_family family; /* default GM_FAMILY_PLAIN */
 } gm_domain_def;
 
 static inline gm_domain_def gm_domain_def_default(void) {
@@ -462,6 +474,71 @@ GM_API gm_status gm_domain_get_source_totals(const gm_domain *domain,
 GM_API gm_status gm_domain_get_sink_totals(const gm_domain *domain, int sink_id,
                                            gm_flow_totals *totals);
 
+/* --------------------------------------------------------------- granular */
+
+/** What the granular family does to a connected point whose density fell
+ * below rho_cr - TOL in a step (000 sec 3.2). */
+typedef enum gm_density_control {
+  GM_DENSITY_CONTROL_RETURN = 0, /* eqs 13-15: stress 0, F back to the
+                                    previous step's, V = det F V0 */
+  GM_DENSITY_CONTROL_SCALE = 1   /* eq 18: stress 0, F scaled by
+                                    (V_cr / V)^(1/d): keeps the step's
+                                    rotation and shear, not its dilation */
+} gm_density_control;
+
+typedef struct gm_granular_def {
+  size_t struct_size;
+  double critical_density; /* kg/m^3, rho_cr > 0: V_cr = m / rho_cr */
+  double tolerance;        /* kg/m^3, TOL >= 0; default 1e-6 */
+  gm_density_control density_control; /* default ..._RETURN */
+} gm_granular_def;
+
+static inline gm_granular_def gm_granular_def_default(void) {
+  gm_granular_def def = {0};
+  def.struct_size = sizeof(gm_granular_def);
+  def.tolerance = 1e-6;
+  return def;
+}
+
+/** Makes a material granular: the stress_free and granular families act
+ * on its points. Call before adding its points. Points of other materials
+ * (elastic walls, rigid plates) take part in the granular method with
+ * their own current domain as domain of interaction, and two such points
+ * interact whenever they share a grid node, as in plain MPM. */
+GM_API gm_status gm_domain_set_granular(gm_domain *domain, int material,
+                                        const gm_granular_def *def);
+
+/** States of the granular method (GM_FIELD_STATE), decided in each step of
+ * the granular family; in the other families every point reports
+ * GM_STATE_QUASI_STATIC. */
+typedef enum gm_point_state {
+  GM_STATE_QUASI_STATIC = 0, /* connected, rho > rho_cr + TOL */
+  GM_STATE_MODERATE = 1,     /* connected, rho at rho_cr: within TOL, or
+                                held there by density control this step */
+  GM_STATE_DISCONNECTED = 2  /* its domain of interaction met no other:
+                                stress-free, F and density frozen */
+} gm_point_state;
+
+typedef struct gm_granular_summary {
+  size_t struct_size;
+  size_t state_count[3];    /* points per gm_point_state, last step */
+  size_t component_count;   /* parallel grids (connected components) */
+  size_t layer_count;       /* node layers that held them (components
+                               sharing no node share a layer) */
+  size_t interaction_count; /* interacting pairs found */
+} gm_granular_summary;
+
+static inline gm_granular_summary gm_granular_summary_default(void) {
+  gm_granular_summary summary = {0};
+  summary.struct_size = sizeof(gm_granular_summary);
+  return summary;
+}
+
+/** Statistics of the last committed step (all zero before the first step
+ * and outside the granular family). */
+GM_API gm_status gm_domain_get_granular_summary(const gm_domain *domain,
+                                                gm_granular_summary *summary);
+
 /* ----------------------------------------------------------------- points */
 
 /* Per-point arrays are interleaved: position[i*dim + k], dim from
@@ -540,10 +617,15 @@ typedef enum gm_field {
   GM_FIELD_DEFORMATION_GRADIENT = 8, /* 9 components, row-major F_ij */
   GM_FIELD_MATERIAL = 9,             /* material id as double */
   GM_FIELD_ID = 10,                  /* point id as double (exact below 2^53) */
-  GM_FIELD_DOMAIN_SIZE = 11,   /* m, dim components, initial domain size */
-  GM_FIELD_DOMAIN_CORNERS = 12 /* m, current domain (copy only): 2 ends in
-                                  1D; in 2D 4 corners x, y counter-clockwise
-                                  from the lower left (see gm_shape) */
+  GM_FIELD_DOMAIN_SIZE = 11,    /* m, dim components, initial domain size */
+  GM_FIELD_DOMAIN_CORNERS = 12, /* m, current domain (copy only): 2 ends in
+                                   1D; in 2D 4 corners x, y
+                                   counter-clockwise from the lower left
+                                   (see gm_shape) */
+  GM_FIELD_STATE = 13,          /* gm_point_state of the last step */
+  GM_FIELD_COMPONENT = 14       /* parallel grid of the last step: 0, 1, ...
+                                   in order of each grid's smallest point
+                                   id; 0 outside the granular family */
 } gm_field;
 
 /** Number of components of a field in this domain's geometry. */
@@ -647,6 +729,15 @@ GM_API gm_status gm_series_create(const char *pvd_path, gm_series **out);
 /** Writes the domain's current state as the next frame and rewrites the
  * .pvd so it is complete after every call. */
 GM_API gm_status gm_series_write(gm_series *series, const gm_domain *domain);
+/** Writes every point's current domain (GM_FIELD_DOMAIN_CORNERS) as a
+ * polygon: a VTK_QUAD per point in 2D, a VTK_LINE in 1D, with the point's
+ * fields as cell data, so ParaView draws the domains (000 Figs 12, 16). */
+GM_API gm_status gm_domain_write_domains_vtu(const gm_domain *domain,
+                                             const char *path);
+/** Nonzero: every later gm_series_write also writes the domains beside the
+ * frame (<stem>_domains_NNNNNN.vtu), listed in the .pvd as part 1 of the
+ * same time step. Default 0. */
+GM_API gm_status gm_series_set_domains(gm_series *series, int enabled);
 /** Frees the series (files stay). NULL is a no-op. */
 GM_API void gm_series_destroy(gm_series *series);
 

@@ -156,6 +156,11 @@ static void permute_buffers(void *context, size_t begin, size_t end,
       permute_doubles(to->deformation[k], from->deformation[k], order, begin,
                       end);
   permute_doubles(to->volume, from->volume, order, begin, end);
+  if (from->granular_state) {
+    permute_doubles(to->granular_state, from->granular_state, order, begin,
+                    end);
+    permute_doubles(to->component, from->component, order, begin, end);
+  }
   size_t stride = points->state_stride;
   for (size_t i = begin; stride && i < end; i++)
     memcpy(to->state + i * stride, from->state + (size_t)order[i] * stride,

@@ -110,6 +110,11 @@ static gm_status validate_def(const gm_domain_def *def) {
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.shape %d is not a gm_shape value",
                 (int)def->shape);
+  if (def->family != GM_FAMILY_PLAIN && def->family != GM_FAMILY_STRESS_FREE &&
+      def->family != GM_FAMILY_GRANULAR)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.family %d is not a gm_family value",
+                (int)def->family);
   if ((def->enqueue_task == NULL) != (def->finish_task == NULL))
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.enqueue_task and finish_task must be set "
@@ -222,6 +227,7 @@ void gm_domain_destroy(gm_domain *domain) {
   gm_sources_free(domain);
   gm_points_free(&domain->points);
   gm_buffers_free(&domain->snapshot);
+  gm_granular_free(domain);
   free_grid(&domain->grid);
   if (domain->scratch) {
     for (int w = 0; w < domain->worker_count; w++) {

@@ -7,7 +7,7 @@
 #include <string.h>
 
 static bool field_known(gm_field field) {
-  return field >= GM_FIELD_POSITION && field <= GM_FIELD_DOMAIN_CORNERS;
+  return field >= GM_FIELD_POSITION && field <= GM_FIELD_COMPONENT;
 }
 
 static size_t components_of(const gm_domain *domain, gm_field field) {
@@ -74,6 +74,10 @@ static double *stored_component(const gm_domain *domain, gm_field field,
   case GM_FIELD_DEFORMATION_GRADIENT:
     return deformation_slot[k] < 0 ? NULL
                                    : buffer->deformation[deformation_slot[k]];
+  case GM_FIELD_STATE: /* NULL outside the granular family: zeros */
+    return buffer->granular_state;
+  case GM_FIELD_COMPONENT:
+    return buffer->component;
   default:
     return NULL;
   }

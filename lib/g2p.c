@@ -303,6 +303,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
                                    g->gradient[2], g->gradient[3],
                                    g->gradient[4]};
       gm_stress_update_chunk(domain, scratch, first, count, dt, gradient);
+      gm_density_control_chunk(domain, first, count);
     } else if (deform) {
       deformed = false;
     }

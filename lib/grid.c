@@ -134,12 +134,14 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
 /* Adds the blocks whose nodes the cells of block `key` reach. */
 static bool insert_with_neighbours(gm_grid *grid, int64_t key) {
   int64_t blocks_x = grid->blocks_per_axis[0];
-  int64_t bx = key % blocks_x, by = key / blocks_x;
+  int64_t block[2];
+  gm_block_coordinates(grid, key, block);
   int reach_y = grid->dim > 1 ? 1 : 0;
   for (int64_t dy = 0; dy <= reach_y; dy++)
     for (int64_t dx = 0; dx <= 1; dx++)
-      if (bx + dx < blocks_x && by + dy < grid->blocks_per_axis[1] &&
-          !hash_insert(grid, (by + dy) * blocks_x + bx + dx))
+      if (block[0] + dx < blocks_x &&
+          block[1] + dy < grid->blocks_per_axis[1] &&
+          !hash_insert(grid, key + dy * blocks_x + dx)) /* same layer */
         return false;
   return true;
 }
@@ -155,8 +157,12 @@ static void link_blocks(gm_grid *grid) {
     links[2] = grid->dim > 1 ? gm_grid_find(grid, key + blocks_x) : GM_NO_BLOCK;
     links[3] =
         grid->dim > 1 ? gm_grid_find(grid, key + blocks_x + 1) : GM_NO_BLOCK;
-    if (key % blocks_x == blocks_x - 1) /* no wrap-around to the next row */
+    int64_t block[2];
+    gm_block_coordinates(grid, key, block);
+    if (block[0] == blocks_x - 1) /* no wrap-around to the next row */
       links[1] = links[3] = GM_NO_BLOCK;
+    if (grid->dim > 1 && block[1] == grid->blocks_per_axis[1] - 1)
+      links[2] = links[3] = GM_NO_BLOCK; /* nor to the next layer */
     colour_count[gm_block_colour(grid, key)]++;
   }
   grid->color_start[0] = 0;

@@ -113,12 +113,29 @@ static inline int64_t gm_block_key_of_node(const gm_grid *grid, int64_t node_x,
   return (node_y >> grid->shift) * grid->blocks_per_axis[0] + block_x;
 }
 
+/* Keys of one node layer. The granular family keeps components that share
+ * nodes on separate layers: layer L holds keys L * stride + key, so its
+ * blocks are distinct from every other layer's (parallel grids, 000 sec
+ * 3.3) while the position of a node follows from key modulo stride. */
+static inline int64_t gm_grid_layer_stride(const gm_grid *grid) {
+  return grid->blocks_per_axis[0] *
+         (grid->dim == 1 ? 1 : grid->blocks_per_axis[1]);
+}
+
+/* Block coordinates (x, y) of a key, whatever its layer. */
+static inline void gm_block_coordinates(const gm_grid *grid, int64_t key,
+                                        int64_t block[2]) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  block[0] = key % blocks_x;
+  block[1] = grid->dim == 1 ? 0 : (key / blocks_x) % grid->blocks_per_axis[1];
+}
+
 /* Lowest node (x, y) of the block with this key. */
 static inline void gm_block_base(const gm_grid *grid, int64_t key,
                                  int64_t base[2]) {
-  int64_t blocks_x = grid->blocks_per_axis[0];
-  base[0] = (grid->dim == 1 ? key : key % blocks_x) << grid->shift;
-  base[1] = grid->dim == 1 ? 0 : (key / blocks_x) << grid->shift;
+  gm_block_coordinates(grid, key, base);
+  base[0] <<= grid->shift;
+  base[1] <<= grid->shift;
 }
 
 /* Grid field index of the node (x, y) nodes from the lower corner of the

@@ -84,13 +84,12 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
   gm_grid *grid = &domain->grid;
   int dim = domain->dim, shift = grid->shift;
   int64_t edge = (int64_t)1 << shift;
-  int64_t blocks_x = grid->blocks_per_axis[0];
   double dt = ctx->dt;
   double damping = domain->def.damping; /* Cundall's local damping */
   for (size_t b = begin; b < end; b++) {
-    int64_t key = grid->block_key[b];
-    int64_t base_x = (key % blocks_x) << shift;
-    int64_t base_y = dim > 1 ? (key / blocks_x) << shift : 0;
+    int64_t base[2];
+    gm_block_base(grid, grid->block_key[b], base);
+    int64_t base_x = base[0], base_y = base[1];
     /* Does the block hold a box-face or ghost node (support.h)? */
     int64_t face_x = domain->cells[0] + GM_GHOST_LAYERS;
     int64_t face_y = domain->cells[1] + GM_GHOST_LAYERS;

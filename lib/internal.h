@@ -7,8 +7,10 @@
 
 #include "granmpm.h"
 #include "grid.h"
+#include "interaction.h"
 #include "support.h"
 #include "threads.h"
+#include "union_find.h"
 
 #include <stdarg.h>
 #include <stdbool.h>
@@ -67,6 +69,11 @@ typedef struct gm_material {
   double rigid_velocity[2]; /* m/s */
   double rigid_impulse[2];  /* N s */
   double rigid_force[2];    /* N */
+  /* Granular material (gm_domain_set_granular). */
+  bool granular;
+  double critical_density; /* kg/m^3, rho_cr */
+  double tolerance;        /* kg/m^3, TOL */
+  gm_density_control density_control;
 } gm_material;
 
 /* ---------------------------------------------------------------- points */
@@ -84,6 +91,10 @@ typedef struct gm_point_buffers {
   double *volume;                   /* current volume (units: gm_points_def) */
   double *state;                    /* state[i*stride+k]: one pool for all
                                        materials, stride = max state_count */
+  /* Granular family only (NULL otherwise): gm_point_state and parallel
+   * grid label of the step that produced this buffer. */
+  double *granular_state;
+  double *component;
 } gm_point_buffers;
 
 typedef struct gm_points {
@@ -170,6 +181,34 @@ typedef struct gm_worker_scratch {
   char pad[64];
 } gm_worker_scratch;
 
+/* ----------------------------------------------------- granular scratch */
+/* Per-step work arrays of the granular family (components.c), sized with
+ * the points and the blocks outside the step's hot path. */
+typedef struct gm_granular_work {
+  size_t capacity;         /* points */
+  int64_t *support_low[2]; /* node box of each point's support */
+  int64_t *support_high[2];
+  gm_interaction_domain *interaction; /* per point */
+  uint32_t *parent;                   /* union-find */
+  uint32_t *set_size;
+  int32_t *label;  /* component of each point */
+  int64_t *min_id; /* union-find labelling scratch */
+  gm_root_order *roots;
+  uint32_t *component_size; /* points per component */
+  int32_t *component_layer; /* node layer of each component */
+  int32_t *layer_stamp;     /* greedy colouring: last component per layer */
+  uint32_t *cell_order;     /* points by block, then local cell */
+  uint32_t *cell_start;     /* per block, GM_BLOCK_NODES + 1 offsets */
+  size_t cell_capacity;     /* blocks cell_start holds */
+  uint64_t *conflict;       /* pairs of components sharing a node */
+  size_t conflict_count, conflict_capacity;
+  uint32_t *adjacency_start; /* CSR of the conflicts per component */
+  int32_t *adjacency;
+  size_t adjacency_capacity;
+  /* Of the step in progress, committed with it. */
+  size_t component_count, layer_count, interaction_count;
+} gm_granular_work;
+
 /* ----------------------------------------------------------------- domain */
 struct gm_domain {
   gm_domain_def def;
@@ -212,6 +251,8 @@ struct gm_domain {
   gm_point_buffers snapshot; /* committed state saved before dt-halving */
   int retry_depth;           /* nesting of dt-halving retries in a step */
   size_t snapshot_capacity;
+  gm_granular_work granular;            /* granular family only */
+  gm_granular_summary granular_summary; /* of the last committed step */
   char last_error[GM_ERROR_MESSAGE_SIZE];
 };
 
@@ -371,6 +412,17 @@ void gm_sources_undo(gm_domain *domain, const gm_injection_undo *undo);
 /* Removes the committed points inside sinks (cannot fail). */
 void gm_sinks_remove(gm_domain *domain);
 void gm_sources_free(gm_domain *domain);
+
+/* Granular family (components.c, density_control.c, granular.c). */
+/* After the plain binning: domains of interaction, components by
+ * union-find, node layers; re-keys and re-bins the points by layer. */
+gm_status gm_granular_prepare(gm_domain *domain);
+/* After the stress update of a chunk: stress-free and density-control
+ * rules of the stress_free and granular families (000 eqs 13-15, 18). */
+void gm_density_control_chunk(gm_domain *domain, size_t first, size_t count);
+/* Sizes the granular work arrays for the points and blocks. */
+gm_status gm_granular_reserve(gm_domain *domain);
+void gm_granular_free(gm_domain *domain);
 
 /* Stable dt (stable_dt.c). */
 /* max c_p + max |v_p| (m/s) of the committed state, recomputed. */

@@ -34,6 +34,10 @@ gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
   GROW(buffer->volume, sizeof(double));
   if (domain->points.state_stride)
     GROW(buffer->state, domain->points.state_stride * sizeof(double));
+  if (domain->def.family == GM_FAMILY_GRANULAR) {
+    GROW(buffer->granular_state, sizeof(double));
+    GROW(buffer->component, sizeof(double));
+  }
   return GM_OK;
 }
 
@@ -119,6 +123,8 @@ void gm_buffers_free(gm_point_buffers *buffer) {
     gm_free(buffer->deformation[k]);
   gm_free(buffer->volume);
   gm_free(buffer->state);
+  gm_free(buffer->granular_state);
+  gm_free(buffer->component);
   memset(buffer, 0, sizeof *buffer);
 }
 
@@ -139,6 +145,8 @@ void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
     copy_array(to->deformation[k], from->deformation[k], count);
   copy_array(to->volume, from->volume, count);
   copy_array(to->state, from->state, count * state_stride);
+  copy_array(to->granular_state, from->granular_state, count);
+  copy_array(to->component, from->component, count);
 }
 
 void gm_points_free(gm_points *points) {
@@ -300,6 +308,10 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
   for (int k = 0; k < GM_STRESS_STORED; k++)
     buffer->stress[k][p] =
         def->stress ? def->stress[i * 6 + stress_voigt[k]] : 0.0;
+  if (buffer->granular_state) { /* decided by the next step */
+    buffer->granular_state[p] = GM_STATE_QUASI_STATIC;
+    buffer->component[p] = 0.0;
+  }
   buffer->deformation[F_XX][p] = 1.0;
   buffer->deformation[F_XY][p] = 0.0;
   buffer->deformation[F_YX][p] = 0.0;

@@ -81,6 +81,8 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
   gm_status status = GM_OK;
   if (domain->points.count > 0) {
     status = gm_bin_points(domain);
+    if (status == GM_OK && domain->def.family == GM_FAMILY_GRANULAR)
+      status = gm_granular_prepare(domain); /* parallel grids */
     if (status == GM_OK)
       status = domain->def.scheme == GM_SCHEME_USF
                    ? run_usf(domain, dt)
@@ -93,6 +95,12 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
     }
     domain->points.cur ^= 1;
     domain->points.keys_valid = true; /* the move pass keyed the new state */
+    if (domain->def.family == GM_FAMILY_GRANULAR) {
+      const gm_granular_work *work = &domain->granular;
+      domain->granular_summary.component_count = work->component_count;
+      domain->granular_summary.layer_count = work->layer_count;
+      domain->granular_summary.interaction_count = work->interaction_count;
+    }
     if (domain->wall_count > 0)
       gm_walls_add_impulse(domain, dt);
     domain->wall_profile_valid = true;

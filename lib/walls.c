@@ -262,13 +262,12 @@ gm_status gm_domain_get_wall_tractions(const gm_domain *domain, int wall_id,
   const gm_wall *wall = &domain->walls[wall_id];
   double tangent[2] = {wall->normal[1], -wall->normal[0]};
   double h = domain->def.cell_size;
-  int64_t blocks_x = grid->blocks_per_axis[0];
   int64_t edge = (int64_t)1 << grid->shift;
   size_t found = 0;
   for (size_t b = 0; b < grid->block_count; b++) {
-    int64_t key = grid->block_key[b];
-    int64_t base_x = (key % blocks_x) << grid->shift;
-    int64_t base_y = domain->dim > 1 ? (key / blocks_x) << grid->shift : 0;
+    int64_t base[2];
+    gm_block_base(grid, grid->block_key[b], base);
+    int64_t base_x = base[0], base_y = base[1];
     for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
       size_t node = b * GM_BLOCK_NODES + local;
       if (grid->contact_wall[node] != wall_id + 1)

@@ -1,0 +1,138 @@
+/*
+ * granular.c - the public side of the granular method (000 sec 3):
+ * marking materials granular, the per-step summary, and the sizing of the
+ * work arrays that components.c uses inside the step.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <string.h>
+
+gm_status gm_domain_set_granular(gm_domain *domain, int material,
+                                 const gm_granular_def *def) {
+  if (!domain)
+    return GM_ERR_NULL;
+  int unused = 0;
+  gm_status status = gm_check_material_call(
+      domain, def, def ? def->struct_size : 0, sizeof(gm_granular_def), &unused,
+      "gm_domain_set_granular", "gm_granular_def");
+  if (status != GM_OK)
+    return status;
+  if (material < 0 || material >= domain->material_count)
+    return gm_set_error(domain, GM_ERR_UNKNOWN_MATERIAL,
+                        "gm_domain_set_granular: material %d does not exist "
+                        "(%d materials)",
+                        material, domain->material_count);
+  gm_material *target = &domain->materials[material];
+  if (target->rigid)
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_set_granular: material %d is rigid",
+                        material);
+  status = gm_check_positive(domain, "gm_granular_def", "critical_density",
+                             def->critical_density, "kg/m^3", false);
+  if (status == GM_OK)
+    status = gm_check_positive(domain, "gm_granular_def", "tolerance",
+                               def->tolerance, "kg/m^3", true);
+  if (status != GM_OK)
+    return status;
+  if (def->density_control != GM_DENSITY_CONTROL_RETURN &&
+      def->density_control != GM_DENSITY_CONTROL_SCALE)
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_granular_def.density_control %d is not a "
+                        "gm_density_control value",
+                        (int)def->density_control);
+  target->granular = true;
+  target->critical_density = def->critical_density;
+  target->tolerance = def->tolerance;
+  target->density_control = def->density_control;
+  return GM_OK;
+}
+
+gm_status gm_domain_get_granular_summary(const gm_domain *domain,
+                                         gm_granular_summary *summary) {
+  if (!domain)
+    return GM_ERR_NULL;
+  gm_domain *mutable_domain = (gm_domain *)domain; /* last_error only */
+  if (!summary)
+    return gm_set_error(mutable_domain, GM_ERR_NULL,
+                        "gm_domain_get_granular_summary: summary is NULL");
+  if (summary->struct_size < sizeof(gm_granular_summary))
+    return gm_set_error(mutable_domain, GM_ERR_STRUCT_SIZE,
+                        "gm_granular_summary.struct_size is %zu, expected "
+                        "%zu: initialise with gm_granular_summary_default()",
+                        summary->struct_size, sizeof(gm_granular_summary));
+  *summary = domain->granular_summary;
+  memset(summary->state_count, 0, sizeof summary->state_count);
+  const gm_points *points = &domain->points;
+  const double *state = points->buffer[points->cur].granular_state;
+  for (size_t p = 0; p < points->count; p++) {
+    int value = state ? (int)state[p] : GM_STATE_QUASI_STATIC;
+    if (value >= 0 && value < 3)
+      summary->state_count[value]++;
+  }
+  return GM_OK;
+}
+
+#define GROW_WORK(field, elem)                                                 \
+  do {                                                                         \
+    if (!gm_grow((void **)&(field), (elem), old_capacity, capacity))           \
+      return gm_set_error(domain, GM_ERR_NO_MEMORY,                            \
+                          "granular: out of memory for %zu points", capacity); \
+  } while (0)
+
+gm_status gm_granular_reserve(gm_domain *domain) {
+  gm_granular_work *work = &domain->granular;
+  size_t capacity = domain->points.capacity;
+  size_t old_capacity = work->capacity;
+  if (capacity > old_capacity) {
+    for (int k = 0; k < 2; k++) {
+      GROW_WORK(work->support_low[k], sizeof(int64_t));
+      GROW_WORK(work->support_high[k], sizeof(int64_t));
+    }
+    GROW_WORK(work->interaction, sizeof(gm_interaction_domain));
+    GROW_WORK(work->parent, sizeof(uint32_t));
+    GROW_WORK(work->set_size, sizeof(uint32_t));
+    GROW_WORK(work->label, sizeof(int32_t));
+    GROW_WORK(work->min_id, sizeof(int64_t));
+    GROW_WORK(work->roots, sizeof(gm_root_order));
+    GROW_WORK(work->component_size, sizeof(uint32_t));
+    GROW_WORK(work->component_layer, sizeof(int32_t));
+    GROW_WORK(work->layer_stamp, sizeof(int32_t));
+    GROW_WORK(work->cell_order, sizeof(uint32_t));
+    GROW_WORK(work->adjacency_start, sizeof(uint32_t) * 2);
+    work->capacity = capacity;
+  }
+  size_t blocks = domain->grid.block_capacity;
+  if (blocks > work->cell_capacity) {
+    size_t row = GM_BLOCK_NODES + 1;
+    if (!gm_grow((void **)&work->cell_start, row * sizeof(uint32_t),
+                 work->cell_capacity, blocks))
+      return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                          "granular: out of memory for %zu blocks", blocks);
+    work->cell_capacity = blocks;
+  }
+  return GM_OK;
+}
+
+void gm_granular_free(gm_domain *domain) {
+  gm_granular_work *work = &domain->granular;
+  for (int k = 0; k < 2; k++) {
+    gm_free(work->support_low[k]);
+    gm_free(work->support_high[k]);
+  }
+  gm_free(work->interaction);
+  gm_free(work->parent);
+  gm_free(work->set_size);
+  gm_free(work->label);
+  gm_free(work->min_id);
+  gm_free(work->roots);
+  gm_free(work->component_size);
+  gm_free(work->component_layer);
+  gm_free(work->layer_stamp);
+  gm_free(work->cell_order);
+  gm_free(work->cell_start);
+  gm_free(work->conflict);
+  gm_free(work->adjacency_start);
+  gm_free(work->adjacency);
+  memset(work, 0, sizeof *work);
+}

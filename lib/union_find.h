@@ -1,0 +1,32 @@
+/*
+ * union_find.h - disjoint sets over point indices (path halving, union by
+ * size) and deterministic component labels: components are numbered
+ * 0, 1, ... in increasing order of their smallest point id, so the labels
+ * depend neither on the point order nor on the order of the unions.
+ */
+#ifndef GM_UNION_FIND_H
+#define GM_UNION_FIND_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* parent and size: count entries each, owned by the caller. */
+void gm_union_find_init(uint32_t *parent, uint32_t *size, size_t count);
+uint32_t gm_union_find_root(uint32_t *parent, uint32_t element);
+/* Joins the sets of a and b; returns 1 if they were separate, else 0. */
+int gm_union_find_join(uint32_t *parent, uint32_t *size, uint32_t a,
+                       uint32_t b);
+/* A component's root and smallest id, for ordering the labels. */
+typedef struct gm_root_order {
+  int64_t min_id;
+  uint32_t root;
+} gm_root_order;
+
+/* Writes label[i] for every element and returns the component count.
+ * id: count distinct keys (point ids); scratch_min: count int64 and
+ * scratch_roots: count entries, both overwritten. */
+size_t gm_union_find_labels(uint32_t *parent, const int64_t *id, size_t count,
+                            int32_t *label, int64_t *scratch_min,
+                            gm_root_order *scratch_roots);
+
+#endif
