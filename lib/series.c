@@ -3,11 +3,14 @@
  * collection listing them with their simulated times.
  *
  * For pvd_path "out/bar.pvd" the frames are "out/bar_000000.vtu",
- * "out/bar_000001.vtu", ... (6 digits, more past 999999). The .pvd refers to
- * them by file name only (relative to the .pvd), so the directory can be
- * moved as a whole. It is rewritten after every frame, through a temporary
- * file and a rename, so the .pvd on disk is always a complete collection even
- * if the simulation is killed between two frames.
+ * "out/bar_000001.vtu", ... (6 digits, more past 999999). With domains
+ * enabled, a frame also has "out/bar_domains_000000.vtu", listed as part 1
+ * of the same timestep (ParaView shows the parts of a timestep together, as
+ * blocks of one dataset). The .pvd refers to the files by name only
+ * (relative to the .pvd), so the directory can be moved as a whole. It is
+ * rewritten after every frame, through a temporary file and a rename, so the
+ * .pvd on disk is always a complete collection even if the simulation is killed
+ * between two frames.
  */
 #include "internal.h"
 
@@ -15,19 +18,30 @@
 #include <stdio.h>
 #include <string.h>
 
+/* What the .pvd lists for one frame. */
+typedef struct series_frame {
+  double time;  /* s, simulated time */
+  bool domains; /* the frame has a domains file (part 1) */
+} series_frame;
+
 struct gm_series {
   char *pvd_path;          /* as given */
   char *temporary_path;    /* pvd_path + ".tmp" */
   char *stem;              /* file name without directory and extension */
-  char *frame_path;        /* scratch: directory + stem + "_NNNNNN.vtu" */
+  char *frame_path;        /* scratch: directory + stem + part + number */
   size_t directory_length; /* bytes of pvd_path before the stem */
   size_t frame_count;      /* frames written and listed in the .pvd */
-  size_t time_capacity;
-  double *times; /* s, simulated time of each frame */
+  size_t frame_capacity;
+  series_frame *frames;
+  bool write_domains; /* gm_series_set_domains */
 };
 
-/* Room for "_" + the digits of any size_t + ".vtu" + NUL. */
-enum { FRAME_SUFFIX_CAPACITY = 32 };
+/* What goes between the stem and "_NNNNNN.vtu" for each part. */
+static const char *const part_infix[2] = {"", "_domains"};
+
+/* Room for the longest part infix + "_" + the digits of any size_t +
+ * ".vtu" + NUL. */
+enum { FRAME_SUFFIX_CAPACITY = sizeof "_domains" + 32 };
 
 static char *copy_bytes(const char *text, size_t length) {
   char *copy = gm_alloc(length + 1);
@@ -68,6 +82,16 @@ static bool print_xml_escaped(FILE *file, const char *text) {
   return true;
 }
 
+/* One <DataSet>: part 0 is the points file, part 1 the domains file. */
+static bool print_dataset(const gm_series *series, FILE *file, size_t frame,
+                          int part) {
+  /* %.17g: the time round-trips exactly. */
+  return fprintf(file, "    <DataSet timestep=\"%.17g\" part=\"%d\" file=\"",
+                 series->frames[frame].time, part) >= 0 &&
+         print_xml_escaped(file, series->stem) &&
+         fprintf(file, "%s_%06zu.vtu\"/>\n", part_infix[part], frame) >= 0;
+}
+
 static bool print_collection(const gm_series *series, FILE *file) {
   if (fputs("<?xml version=\"1.0\"?>\n"
             "<VTKFile type=\"Collection\" version=\"1.0\">\n"
@@ -75,11 +99,10 @@ static bool print_collection(const gm_series *series, FILE *file) {
             file) == EOF)
     return false;
   for (size_t frame = 0; frame < series->frame_count; frame++) {
-    if (fprintf(file, "    <DataSet timestep=\"%.17g\" part=\"0\" file=\"",
-                series->times[frame]) < 0 ||
-        !print_xml_escaped(file, series->stem) ||
-        fprintf(file, "_%06zu.vtu\"/>\n", frame) < 0)
-      return false;
+    int parts = series->frames[frame].domains ? 2 : 1;
+    for (int part = 0; part < parts; part++)
+      if (!print_dataset(series, file, frame, part))
+        return false;
   }
   return fputs("  </Collection>\n</VTKFile>\n", file) != EOF;
 }
@@ -118,7 +141,7 @@ static void series_free(gm_series *series) {
   gm_free(series->temporary_path);
   gm_free(series->stem);
   gm_free(series->frame_path);
-  gm_free(series->times);
+  gm_free(series->frames);
   gm_free(series);
 }
 
@@ -179,14 +202,28 @@ gm_status gm_series_create(const char *pvd_path, gm_series **out) {
   return GM_OK;
 }
 
-/* Sets series->frame_path to the file of frame number `frame`. */
-static void format_frame_path(gm_series *series, size_t frame) {
+/* Sets series->frame_path to the file of part `part` (0 points, 1
+ * domains) of frame number `frame`. */
+static void format_frame_path(gm_series *series, size_t frame, int part) {
   size_t stem_length = strlen(series->stem);
   memcpy(series->frame_path, series->pvd_path, series->directory_length);
   memcpy(series->frame_path + series->directory_length, series->stem,
          stem_length);
   snprintf(series->frame_path + series->directory_length + stem_length,
-           FRAME_SUFFIX_CAPACITY, "_%06zu.vtu", frame);
+           FRAME_SUFFIX_CAPACITY, "%s_%06zu.vtu", part_infix[part], frame);
+}
+
+/* Writes the files of frame number `frame`: the points, and the domains
+ * when enabled. Error messages name the file (gm_vtu_write). */
+static gm_status write_frame_files(gm_series *series, const gm_domain *domain,
+                                   size_t frame) {
+  format_frame_path(series, frame, 0);
+  gm_status status = gm_domain_write_vtu(domain, series->frame_path);
+  if (status == GM_OK && series->frames[frame].domains) {
+    format_frame_path(series, frame, 1);
+    status = gm_domain_write_domains_vtu(domain, series->frame_path);
+  }
+  return status;
 }
 
 gm_status gm_series_write(gm_series *series, const gm_domain *domain) {
@@ -199,22 +236,23 @@ gm_status gm_series_write(gm_series *series, const gm_domain *domain) {
     return gm_set_error(error_domain, GM_ERR_NULL,
                         "gm_series_write: series is NULL");
   size_t frame = series->frame_count;
-  if (frame == series->time_capacity) {
+  if (frame == series->frame_capacity) {
     size_t capacity = frame ? 2 * frame : 64;
-    if (!gm_grow((void **)&series->times, sizeof(double), frame, capacity))
+    if (!gm_grow((void **)&series->frames, sizeof(series_frame), frame,
+                 capacity))
       return gm_set_error(error_domain, GM_ERR_NO_MEMORY,
                           "gm_series_write: out of memory for frame %zu of "
                           "'%s'",
                           frame, series->pvd_path);
-    series->time_capacity = capacity;
+    series->frame_capacity = capacity;
   }
-  gm_status status = gm_domain_get_time(domain, &series->times[frame], NULL);
+  series->frames[frame].domains = series->write_domains;
+  gm_status status =
+      gm_domain_get_time(domain, &series->frames[frame].time, NULL);
+  if (status == GM_OK)
+    status = write_frame_files(series, domain, frame);
   if (status != GM_OK)
-    return status;
-  format_frame_path(series, frame);
-  status = gm_domain_write_vtu(domain, series->frame_path);
-  if (status != GM_OK)
-    return status; /* the message names the frame file */
+    return status; /* not listed; the next call rewrites this number */
   series->frame_count = frame + 1;
   if (!rewrite_collection(series)) {
     /* Not listed: the .pvd stays the previous complete collection and the
@@ -224,6 +262,13 @@ gm_status gm_series_write(gm_series *series, const gm_domain *domain) {
                         "gm_series_write: cannot write '%s' (via '%s'): %s",
                         series->pvd_path, series->temporary_path, errno_text());
   }
+  return GM_OK;
+}
+
+gm_status gm_series_set_domains(gm_series *series, int enabled) {
+  if (!series)
+    return GM_ERR_NULL; /* no domain to hold a message */
+  series->write_domains = enabled != 0;
   return GM_OK;
 }
 

@@ -1,7 +1,9 @@
 /*
- * vtu.c - gm_domain_write_vtu: every point and field as a VTK XML
- * UnstructuredGrid (format version 1.0) with raw appended binary data, the
- * format ParaView reads natively.
+ * vtu.c - the VTK XML UnstructuredGrid writer (format version 1.0, raw
+ * appended binary data, the format ParaView reads natively) and
+ * gm_domain_write_vtu, which writes every point and field with it. The
+ * domain polygons of vtu_domains.c use the same writer with another layout
+ * (vtu_format.h).
  *
  * Written on top of the public field accessors (gm_domain_get_field,
  * gm_domain_get_ids) so it does not depend on the internal point layout.
@@ -12,38 +14,38 @@
  * underscore; every array is prefixed by its size in bytes as a UInt64
  * (header_type="UInt64"), in the host byte order declared in byte_order.
  *
- * Every point is one VTK_VERTEX cell, so ParaView shows the points without
- * a Glyph filter. Vectors are padded to 3 components (VTK's convention, so
- * ParaView treats them as vectors); the stress has 6 components in Voigt
- * order xx yy zz xy yz zx (GM_XX..GM_ZX) and F 9 components, row-major.
+ * In the points file every material point is one VTK point and one
+ * VTK_VERTEX cell, so ParaView shows the points without a Glyph filter.
+ * Vectors are padded to 3 components (VTK's convention, so ParaView treats
+ * them as vectors); the stress has 6 components in Voigt order
+ * xx yy zz xy yz zx (GM_XX..GM_ZX) and F 9 components, row-major.
  *
  * The file is written to "<path>.tmp" and renamed over path only when it is
  * complete, so a failed write never leaves a truncated file under path.
  */
-#include "internal.h"
+#include "vtu_format.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
 
-enum { VTK_VERTEX = 1 };
-
 typedef enum vtu_type { VTU_FLOAT64, VTU_INT64, VTU_INT32, VTU_UINT8 } vtu_type;
 
 /* Source of an array's values. */
 typedef enum vtu_source {
+  SOURCE_VERTICES,     /* the layout's vertex field, padded to x, y, z */
+  SOURCE_CONNECTIVITY, /* 0, 1, ...: VTK points in file order */
+  SOURCE_OFFSETS,      /* end of each cell: vertices, 2 vertices, ... */
+  SOURCE_CELL_TYPES,   /* the layout's cell type for every cell */
   SOURCE_FIELD,        /* gm_domain_get_field(field), padded */
   SOURCE_IDS,          /* gm_domain_get_ids() */
-  SOURCE_MATERIAL,     /* GM_FIELD_MATERIAL converted to Int32 */
-  SOURCE_CONNECTIVITY, /* 0, 1, ..., n-1 */
-  SOURCE_OFFSETS,      /* 1, 2, ..., n: end of each one-point cell */
-  SOURCE_CELL_TYPES    /* VTK_VERTEX for every cell */
+  SOURCE_MATERIAL      /* GM_FIELD_MATERIAL converted to Int32 */
 } vtu_source;
 
-/* Where an array goes in the XML tree. */
+/* Where an array goes in the XML tree. SECTION_FIELDS is the layout's
+ * PointData or CellData: one tuple per material point either way. */
 typedef enum vtu_section {
-  SECTION_FIELD_DATA,
-  SECTION_POINT_DATA,
+  SECTION_FIELDS,
   SECTION_POINTS,
   SECTION_CELLS
 } vtu_section;
@@ -52,7 +54,7 @@ typedef struct vtu_array {
   const char *name;
   vtu_section section;
   vtu_source source;
-  gm_field field; /* for SOURCE_FIELD */
+  gm_field field; /* for SOURCE_FIELD and SOURCE_MATERIAL */
   vtu_type type;
   size_t components;                  /* in the file (after padding) */
   const char *const *component_names; /* component names, or NULL */
@@ -66,49 +68,56 @@ static const char *const tensor_names[] = {"xx", "xy", "xz", "yx", "yy",
 /* The arrays of a file, in file order. The single FieldData array,
  * TimeValue, is handled separately (it has 1 tuple, not one per point). */
 static const vtu_array vtu_arrays[] = {
-    {"Points", SECTION_POINTS, SOURCE_FIELD, GM_FIELD_POSITION, VTU_FLOAT64, 3,
-     NULL},
+    {"Points", SECTION_POINTS, SOURCE_VERTICES, GM_FIELD_POSITION, VTU_FLOAT64,
+     3, NULL},
     {"connectivity", SECTION_CELLS, SOURCE_CONNECTIVITY, GM_FIELD_ID, VTU_INT64,
      1, NULL},
     {"offsets", SECTION_CELLS, SOURCE_OFFSETS, GM_FIELD_ID, VTU_INT64, 1, NULL},
     {"types", SECTION_CELLS, SOURCE_CELL_TYPES, GM_FIELD_ID, VTU_UINT8, 1,
      NULL},
-    {"id", SECTION_POINT_DATA, SOURCE_IDS, GM_FIELD_ID, VTU_INT64, 1, NULL},
-    {"material", SECTION_POINT_DATA, SOURCE_MATERIAL, GM_FIELD_MATERIAL,
-     VTU_INT32, 1, NULL},
-    {"velocity", SECTION_POINT_DATA, SOURCE_FIELD, GM_FIELD_VELOCITY,
+    {"id", SECTION_FIELDS, SOURCE_IDS, GM_FIELD_ID, VTU_INT64, 1, NULL},
+    {"material", SECTION_FIELDS, SOURCE_MATERIAL, GM_FIELD_MATERIAL, VTU_INT32,
+     1, NULL},
+    {"velocity", SECTION_FIELDS, SOURCE_FIELD, GM_FIELD_VELOCITY, VTU_FLOAT64,
+     3, NULL},
+    {"external_force", SECTION_FIELDS, SOURCE_FIELD, GM_FIELD_EXTERNAL_FORCE,
      VTU_FLOAT64, 3, NULL},
-    {"external_force", SECTION_POINT_DATA, SOURCE_FIELD,
-     GM_FIELD_EXTERNAL_FORCE, VTU_FLOAT64, 3, NULL},
-    {"mass", SECTION_POINT_DATA, SOURCE_FIELD, GM_FIELD_MASS, VTU_FLOAT64, 1,
+    {"mass", SECTION_FIELDS, SOURCE_FIELD, GM_FIELD_MASS, VTU_FLOAT64, 1, NULL},
+    {"volume", SECTION_FIELDS, SOURCE_FIELD, GM_FIELD_VOLUME, VTU_FLOAT64, 1,
      NULL},
-    {"volume", SECTION_POINT_DATA, SOURCE_FIELD, GM_FIELD_VOLUME, VTU_FLOAT64,
-     1, NULL},
-    {"initial_volume", SECTION_POINT_DATA, SOURCE_FIELD,
-     GM_FIELD_INITIAL_VOLUME, VTU_FLOAT64, 1, NULL},
-    {"density", SECTION_POINT_DATA, SOURCE_FIELD, GM_FIELD_DENSITY, VTU_FLOAT64,
-     1, NULL},
-    {"stress", SECTION_POINT_DATA, SOURCE_FIELD, GM_FIELD_STRESS, VTU_FLOAT64,
-     6, stress_names},
-    {"deformation_gradient", SECTION_POINT_DATA, SOURCE_FIELD,
+    {"initial_volume", SECTION_FIELDS, SOURCE_FIELD, GM_FIELD_INITIAL_VOLUME,
+     VTU_FLOAT64, 1, NULL},
+    {"density", SECTION_FIELDS, SOURCE_FIELD, GM_FIELD_DENSITY, VTU_FLOAT64, 1,
+     NULL},
+    {"stress", SECTION_FIELDS, SOURCE_FIELD, GM_FIELD_STRESS, VTU_FLOAT64, 6,
+     stress_names},
+    {"deformation_gradient", SECTION_FIELDS, SOURCE_FIELD,
      GM_FIELD_DEFORMATION_GRADIENT, VTU_FLOAT64, 9, tensor_names},
-    {"domain_size", SECTION_POINT_DATA, SOURCE_FIELD, GM_FIELD_DOMAIN_SIZE,
+    {"domain_size", SECTION_FIELDS, SOURCE_FIELD, GM_FIELD_DOMAIN_SIZE,
      VTU_FLOAT64, 3, NULL},
 };
 enum { VTU_ARRAY_COUNT = sizeof vtu_arrays / sizeof vtu_arrays[0] };
-/* Widest array, in doubles per point (the deformation gradient). */
+/* Widest per-point array, in doubles per material point (the deformation
+ * gradient; the VTK points take 3 per vertex on top of that). */
 enum { VTU_MAX_COMPONENTS = 9 };
 
 /* Everything one write needs, so helpers take a single argument. */
 typedef struct vtu_writer {
-  gm_domain *domain;    /* for error messages only, see gm_domain_write_vtu */
+  gm_domain *domain; /* for error messages only, see gm_vtu_write */
+  const gm_vtu_layout *layout;
   const char *path;     /* final file name */
   char *temporary_path; /* path + ".tmp", written then renamed */
   FILE *file;
-  size_t point_count;
-  double time;  /* s */
-  void *buffer; /* point_count * VTU_MAX_COMPONENTS doubles of scratch */
+  size_t point_count; /* material points = cells */
+  double time;        /* s */
+  void *buffer;       /* point_count * buffer_width doubles of scratch */
 } vtu_writer;
+
+/* Doubles of scratch per material point: the widest array. */
+static size_t buffer_width(const gm_vtu_layout *layout) {
+  size_t vertices = 3 * layout->vertices; /* x, y, z per VTK point */
+  return vertices > VTU_MAX_COMPONENTS ? vertices : VTU_MAX_COMPONENTS;
+}
 
 static size_t type_size(vtu_type type) {
   switch (type) {
@@ -149,8 +158,18 @@ static uint64_t appended_bytes(uint64_t payload_bytes) {
   return sizeof(uint64_t) + payload_bytes;
 }
 
-static uint64_t array_payload_bytes(const vtu_array *array, size_t points) {
-  return (uint64_t)points * array->components * type_size(array->type);
+/* Tuples of an array: one per VTK point for the coordinates and the
+ * connectivity, one per material point (= cell) for everything else. */
+static size_t array_tuples(const vtu_writer *writer, const vtu_array *array) {
+  bool per_vertex =
+      array->source == SOURCE_VERTICES || array->source == SOURCE_CONNECTIVITY;
+  return writer->point_count * (per_vertex ? writer->layout->vertices : 1);
+}
+
+static uint64_t array_payload_bytes(const vtu_writer *writer,
+                                    const vtu_array *array) {
+  return (uint64_t)array_tuples(writer, array) * array->components *
+         type_size(array->type);
 }
 
 /* The domain is const in the public signature, but its last_error buffer is
@@ -160,9 +179,9 @@ static uint64_t array_payload_bytes(const vtu_array *array, size_t points) {
 static gm_status io_error(vtu_writer *writer, const char *what) {
   const char *reason = errno ? strerror(errno) : "unknown error";
   return gm_set_error(writer->domain, GM_ERR_IO,
-                      "gm_domain_write_vtu: cannot %s '%s' (temporary file "
-                      "for '%s'): %s",
-                      what, writer->temporary_path, writer->path, reason);
+                      "%s: cannot %s '%s' (temporary file for '%s'): %s",
+                      writer->layout->caller, what, writer->temporary_path,
+                      writer->path, reason);
 }
 
 /* ---------------------------------------------------------------- header */
@@ -181,10 +200,11 @@ static bool print_array_header(FILE *file, const vtu_array *array,
   return ok && fputs("/>\n", file) >= 0;
 }
 
-/* Prints the arrays of one section; offsets continue from *offset. */
+/* Prints the arrays of one section between its opening and closing tags
+ * (already formatted); offsets[a] is where array a starts. */
 static bool print_section(vtu_writer *writer, vtu_section section,
                           const char *open_tag, const char *close_tag,
-                          uint64_t *offsets) {
+                          const uint64_t *offsets) {
   if (fputs(open_tag, writer->file) < 0)
     return false;
   for (size_t a = 0; a < VTU_ARRAY_COUNT; a++)
@@ -200,9 +220,16 @@ static bool print_header(vtu_writer *writer) {
   uint64_t next = appended_bytes(sizeof(double));
   for (size_t a = 0; a < VTU_ARRAY_COUNT; a++) {
     offsets[a] = next;
-    next += appended_bytes(
-        array_payload_bytes(&vtu_arrays[a], writer->point_count));
+    next += appended_bytes(array_payload_bytes(writer, &vtu_arrays[a]));
   }
+  /* The field section: "<PointData ...>" or "<CellData ...>". */
+  const char *tag = writer->layout->fields_tag;
+  char open_fields[128], close_fields[32];
+  snprintf(open_fields, sizeof open_fields,
+           "      <%s Scalars=\"mass\" Vectors=\"velocity\" "
+           "Tensors=\"stress\">\n",
+           tag);
+  snprintf(close_fields, sizeof close_fields, "      </%s>\n", tag);
   FILE *file = writer->file;
   return fprintf(file,
                  "<?xml version=\"1.0\"?>\n"
@@ -214,12 +241,11 @@ static bool print_header(vtu_writer *writer) {
                  "NumberOfTuples=\"1\" format=\"appended\" offset=\"0\"/>\n"
                  "    </FieldData>\n"
                  "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n",
-                 host_byte_order(), writer->point_count,
+                 host_byte_order(),
+                 writer->point_count * writer->layout->vertices,
                  writer->point_count) > 0 &&
-         print_section(writer, SECTION_POINT_DATA,
-                       "      <PointData Scalars=\"mass\" "
-                       "Vectors=\"velocity\" Tensors=\"stress\">\n",
-                       "      </PointData>\n", offsets) &&
+         print_section(writer, SECTION_FIELDS, open_fields, close_fields,
+                       offsets) &&
          print_section(writer, SECTION_POINTS, "      <Points>\n",
                        "      </Points>\n", offsets) &&
          print_section(writer, SECTION_CELLS, "      <Cells>\n",
@@ -233,7 +259,7 @@ static bool print_header(vtu_writer *writer) {
 
 /* ------------------------------------------------------------- payloads */
 
-/* Spreads n points of `from` components in place to `to` >= from
+/* Spreads n tuples of `from` components in place to `to` >= from
  * components, zero padded. Walks backwards so no value is overwritten
  * before it has been moved. */
 static void pad_components(double *values, size_t n, size_t from, size_t to) {
@@ -247,53 +273,83 @@ static void pad_components(double *values, size_t n, size_t from, size_t to) {
   }
 }
 
-/* Fills writer->buffer with one array's values; returns a status. */
-static gm_status fill_array(vtu_writer *writer, const vtu_array *array) {
+/* Material ids are small integers stored as doubles: exact. Converting in
+ * place front to back is safe, each int32 lands at or before its double;
+ * memcpy keeps the type punning well defined. */
+static void convert_to_int32(void *buffer, size_t n) {
+  unsigned char *bytes = buffer;
+  for (size_t i = 0; i < n; i++) {
+    double material;
+    memcpy(&material, bytes + i * sizeof material, sizeof material);
+    int32_t material_id = (int32_t)material;
+    memcpy(bytes + i * sizeof material_id, &material_id, sizeof material_id);
+  }
+}
+
+/* Fills the buffer with first, first + step, first + 2 step, ... (count
+ * Int64 values). */
+static void fill_sequence(vtu_writer *writer, int64_t first, int64_t step,
+                          size_t count) {
+  int64_t *values = writer->buffer;
+  for (size_t i = 0; i < count; i++)
+    values[i] = first + step * (int64_t)i;
+}
+
+/* Copies a field into the buffer as tuples_per_point tuples per material
+ * point, each padded from components / tuples_per_point values to
+ * array->components. */
+static gm_status fill_field(vtu_writer *writer, const vtu_array *array,
+                            gm_field field, size_t tuples_per_point) {
   const gm_domain *domain = writer->domain;
   size_t n = writer->point_count;
-  if (array->source == SOURCE_IDS)
-    return gm_domain_get_ids(domain, writer->buffer, n);
-  if (array->source == SOURCE_CONNECTIVITY || array->source == SOURCE_OFFSETS) {
-    int64_t *values = writer->buffer;
-    int64_t first = array->source == SOURCE_OFFSETS ? 1 : 0;
-    for (size_t i = 0; i < n; i++)
-      values[i] = first + (int64_t)i;
-    return GM_OK;
-  }
-  if (array->source == SOURCE_CELL_TYPES) {
-    memset(writer->buffer, VTK_VERTEX, n);
-    return GM_OK;
-  }
   size_t components = 0;
-  gm_status status =
-      gm_domain_field_components(domain, array->field, &components);
+  gm_status status = gm_domain_field_components(domain, field, &components);
   if (status != GM_OK)
     return status;
-  if (components > array->components)
+  if (components % tuples_per_point != 0 ||
+      components / tuples_per_point > array->components)
     return gm_set_error(writer->domain, GM_ERR_UNSUPPORTED,
-                        "gm_domain_write_vtu: field %d has %zu components, "
-                        "the VTU array '%s' holds %zu",
-                        (int)array->field, components, array->name,
-                        array->components);
-  double *values = writer->buffer;
-  status = gm_domain_get_field(domain, array->field, values, n * components);
+                        "%s: field %d has %zu components, the VTU array '%s' "
+                        "holds %zu x %zu",
+                        writer->layout->caller, (int)field, components,
+                        array->name, tuples_per_point, array->components);
+  status = gm_domain_get_field(domain, field, writer->buffer, n * components);
   if (status != GM_OK)
     return status;
-  if (array->source == SOURCE_MATERIAL) {
-    /* Material ids are small integers stored as doubles: exact. Converting
-     * in place front to back is safe, each int32 lands at or before its
-     * double; memcpy keeps the type punning well defined. */
-    unsigned char *bytes = writer->buffer;
-    for (size_t i = 0; i < n; i++) {
-      double material;
-      memcpy(&material, bytes + i * sizeof material, sizeof material);
-      int32_t material_id = (int32_t)material;
-      memcpy(bytes + i * sizeof material_id, &material_id, sizeof material_id);
-    }
-    return GM_OK;
-  }
-  pad_components(values, n, components, array->components);
+  pad_components(writer->buffer, n * tuples_per_point,
+                 components / tuples_per_point, array->components);
   return GM_OK;
+}
+
+/* Fills writer->buffer with one array's values; returns a status. */
+static gm_status fill_array(vtu_writer *writer, const vtu_array *array) {
+  const gm_vtu_layout *layout = writer->layout;
+  size_t n = writer->point_count;
+  int64_t vertices = (int64_t)layout->vertices;
+  switch (array->source) {
+  case SOURCE_VERTICES:
+    return fill_field(writer, array, layout->vertex_field, layout->vertices);
+  case SOURCE_CONNECTIVITY: /* the VTK points in file order */
+    fill_sequence(writer, 0, 1, n * layout->vertices);
+    return GM_OK;
+  case SOURCE_OFFSETS: /* each cell ends `vertices` after the previous one */
+    fill_sequence(writer, vertices, vertices, n);
+    return GM_OK;
+  case SOURCE_CELL_TYPES:
+    memset(writer->buffer, layout->cell_type, n);
+    return GM_OK;
+  case SOURCE_IDS:
+    return gm_domain_get_ids(writer->domain, writer->buffer, n);
+  case SOURCE_MATERIAL: {
+    gm_status status = fill_field(writer, array, array->field, 1);
+    if (status == GM_OK)
+      convert_to_int32(writer->buffer, n);
+    return status;
+  }
+  case SOURCE_FIELD:
+    return fill_field(writer, array, array->field, 1);
+  }
+  return GM_ERR_INVALID_ARGUMENT; /* not reached: every source is above */
 }
 
 static bool write_block(FILE *file, const void *data, uint64_t bytes) {
@@ -308,7 +364,7 @@ static gm_status write_payloads(vtu_writer *writer) {
     gm_status status = fill_array(writer, &vtu_arrays[a]);
     if (status != GM_OK)
       return status;
-    uint64_t bytes = array_payload_bytes(&vtu_arrays[a], writer->point_count);
+    uint64_t bytes = array_payload_bytes(writer, &vtu_arrays[a]);
     if (!write_block(writer->file, writer->buffer, bytes))
       return io_error(writer, "write");
   }
@@ -343,34 +399,36 @@ static gm_status allocate_writer(vtu_writer *writer) {
   size_t path_length = strlen(writer->path);
   writer->temporary_path = gm_alloc(path_length + sizeof ".tmp");
   size_t n = writer->point_count;
+  size_t width = buffer_width(writer->layout);
   /* Guard the size computation against overflow on absurd counts. */
-  if (n > SIZE_MAX / (VTU_MAX_COMPONENTS * sizeof(double)))
+  if (n > SIZE_MAX / (width * sizeof(double)))
     writer->buffer = NULL;
   else
-    writer->buffer = gm_alloc(n * VTU_MAX_COMPONENTS * sizeof(double));
+    writer->buffer = gm_alloc(n * width * sizeof(double));
   if (!writer->temporary_path || !writer->buffer)
     return gm_set_error(writer->domain, GM_ERR_NO_MEMORY,
-                        "gm_domain_write_vtu: out of memory for %zu points "
-                        "writing '%s'",
-                        n, writer->path);
+                        "%s: out of memory for %zu points writing '%s'",
+                        writer->layout->caller, n, writer->path);
   memcpy(writer->temporary_path, writer->path, path_length);
   memcpy(writer->temporary_path + path_length, ".tmp", sizeof ".tmp");
   return GM_OK;
 }
 
-gm_status gm_domain_write_vtu(const gm_domain *domain, const char *path) {
+gm_status gm_vtu_write(const gm_domain *domain, const char *path,
+                       const gm_vtu_layout *layout) {
   if (!domain)
     return GM_ERR_NULL;
   /* Cast away const for error messages only: see io_error(). */
   gm_domain *error_domain = (gm_domain *)domain;
   if (!path)
-    return gm_set_error(error_domain, GM_ERR_NULL,
-                        "gm_domain_write_vtu: path is NULL");
+    return gm_set_error(error_domain, GM_ERR_NULL, "%s: path is NULL",
+                        layout->caller);
   if (path[0] == '\0')
     return gm_set_error(error_domain, GM_ERR_INVALID_ARGUMENT,
-                        "gm_domain_write_vtu: path is empty");
+                        "%s: path is empty", layout->caller);
   vtu_writer writer = {0};
   writer.domain = error_domain;
+  writer.layout = layout;
   writer.path = path;
   writer.point_count = gm_domain_point_count(domain);
   gm_status status = gm_domain_get_time(domain, &writer.time, NULL);
@@ -381,14 +439,21 @@ gm_status gm_domain_write_vtu(const gm_domain *domain, const char *path) {
   if (status == GM_OK) {
     errno = 0;
     if (rename(writer.temporary_path, path) != 0)
-      status = gm_set_error(error_domain, GM_ERR_IO,
-                            "gm_domain_write_vtu: cannot rename '%s' to "
-                            "'%s': %s",
-                            writer.temporary_path, path, strerror(errno));
+      status = gm_set_error(
+          error_domain, GM_ERR_IO, "%s: cannot rename '%s' to '%s': %s",
+          layout->caller, writer.temporary_path, path, strerror(errno));
   }
   if (status != GM_OK && writer.temporary_path)
     remove(writer.temporary_path); /* best effort: it may not exist */
   gm_free(writer.temporary_path);
   gm_free(writer.buffer);
   return status;
+}
+
+/* Points: one VTK point and one VTK_VERTEX cell per material point. */
+static const gm_vtu_layout points_layout = {
+    "gm_domain_write_vtu", GM_FIELD_POSITION, 1, GM_VTK_VERTEX, "PointData"};
+
+gm_status gm_domain_write_vtu(const gm_domain *domain, const char *path) {
+  return gm_vtu_write(domain, path, &points_layout);
 }

@@ -2,16 +2,22 @@
  * test_vtu.c - VTU and PVD output. Writes a small plane-strain domain,
  * parses the file back (XML header offsets + raw appended data) and checks
  * that every value read equals, bit for bit, what the public field
- * accessors return; checks I/O error reporting and the time series.
+ * accessors return; the same for the point-domain polygons (quads in 2D,
+ * lines in 1D); checks I/O error reporting and the time series, with and
+ * without domains.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
 #define _POSIX_C_SOURCE 200809L
 
 #include <dirent.h>
+#include <float.h>
+#include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "test_util.h"
@@ -77,11 +83,14 @@ static char *read_whole_file(const char *path, size_t *size) {
 
 /* ------------------------------------------------------------ the domain */
 
-/* Five points at scattered positions (m), plane strain, elastic. Values
- * are arbitrary but distinct per point so a shuffled or shifted array in
- * the file cannot match by accident. */
-static gm_domain *make_domain(void) {
+/* Five points at scattered positions (m), plane strain, elastic, with
+ * the given shape functions. Values are arbitrary but distinct per point so
+ * a shuffled or shifted array in the file cannot match by accident. The
+ * initial stresses differ from point to point, so the first step deforms
+ * the points (F != I) through their internal forces. */
+static gm_domain *make_shaped_domain(gm_shape shape) {
   gm_domain_def def = gm_domain_def_default();
+  def.shape = shape;
   def.extent[0] = 2.0;    /* m */
   def.extent[1] = 1.0;    /* m */
   def.cell_size = 0.25;   /* m */
@@ -113,6 +122,10 @@ static gm_domain *make_domain(void) {
   int64_t first_id = -1;
   TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, &first_id));
   return domain;
+}
+
+static gm_domain *make_domain(void) {
+  return make_shaped_domain(GM_SHAPE_LINEAR);
 }
 
 /* ---------------------------------------------------------- VTU parsing */
@@ -376,15 +389,372 @@ START_TEST(test_series_bad_arguments) {
 }
 END_TEST
 
+/* ------------------------------------------------------ domain polygons */
+
+/* True when the DataArray called name lies inside the section `tag`
+ * ("CellData", "PointData", ...) of the header. */
+static bool array_in_section(const parsed_vtu *vtu, const char *name,
+                             const char *tag) {
+  char open[64], close[64], pattern[96];
+  snprintf(open, sizeof open, "<%s", tag);
+  snprintf(close, sizeof close, "</%s>", tag);
+  snprintf(pattern, sizeof pattern, "Name=\"%s\"", name);
+  const char *begin = strstr(vtu->header, open);
+  const char *end = begin ? strstr(begin, close) : NULL;
+  const char *array = strstr(vtu->header, pattern);
+  return begin && end && array && begin < array && array < end;
+}
+
+/* Checks the cells of a domains file: `vertices` VTK points per material
+ * point, numbered in file order, each cell of type cell_type. */
+static void check_domain_cells(const parsed_vtu *vtu, size_t vertices,
+                               unsigned cell_type) {
+  const char *piece = strstr(vtu->header, "<Piece");
+  ck_assert_ptr_nonnull(piece);
+  ck_assert_uint_eq(tag_attribute(piece, "NumberOfPoints"),
+                    vertices * POINT_COUNT);
+  ck_assert_uint_eq(tag_attribute(piece, "NumberOfCells"), POINT_COUNT);
+  const unsigned char *connectivity = find_array(
+      vtu, "connectivity", "Int64", 1, sizeof(int64_t), vertices * POINT_COUNT);
+  for (size_t v = 0; v < vertices * POINT_COUNT; v++) {
+    int64_t point;
+    memcpy(&point, connectivity + v * sizeof point, sizeof point);
+    ck_assert_int_eq(point, (int64_t)v);
+  }
+  const unsigned char *offsets =
+      find_array(vtu, "offsets", "Int64", 1, sizeof(int64_t), POINT_COUNT);
+  const unsigned char *types =
+      find_array(vtu, "types", "UInt8", 1, 1, POINT_COUNT);
+  for (size_t i = 0; i < POINT_COUNT; i++) {
+    int64_t offset;
+    memcpy(&offset, offsets + i * sizeof offset, sizeof offset);
+    ck_assert_int_eq(offset, (int64_t)((i + 1) * vertices));
+    ck_assert_uint_eq(types[i], cell_type);
+  }
+}
+
+/* Reads the VTK points of a domains file into points[v][3] (x, y, z) and
+ * checks them bit for bit against GM_FIELD_DOMAIN_CORNERS: vertex c of
+ * point i is corner c, padded with zeros. */
+static void check_domain_points(const parsed_vtu *vtu, const gm_domain *domain,
+                                size_t vertices, double points[][3]) {
+  size_t components = 0;
+  TEST_ASSERT_OK(domain, gm_domain_field_components(
+                             domain, GM_FIELD_DOMAIN_CORNERS, &components));
+  ck_assert_uint_eq(components, vertices == 4 ? 8 : 2);
+  size_t per_vertex = components / vertices; /* coordinates of a corner */
+  double corners[POINT_COUNT * 8];
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_DOMAIN_CORNERS, corners,
+                                     POINT_COUNT * components));
+  const unsigned char *raw = find_array(vtu, "Points", "Float64", 3,
+                                        sizeof(double), vertices * POINT_COUNT);
+  memcpy(points, raw, vertices * POINT_COUNT * 3 * sizeof(double));
+  for (size_t v = 0; v < vertices * POINT_COUNT; v++)
+    for (size_t k = 0; k < 3; k++) {
+      double want = k < per_vertex ? corners[v * per_vertex + k] : 0.0;
+      /* Exact: the file holds the same doubles. */
+      ck_assert_msg(points[v][k] == want,
+                    "vertex %zu coordinate %zu = %.17g, expected %.17g", v, k,
+                    points[v][k], want);
+    }
+}
+
+/* The fields are CellData of the domains file (one tuple per cell) and
+ * equal the accessors' values bit for bit. */
+static void check_domain_fields(const parsed_vtu *vtu,
+                                const gm_domain *domain) {
+  ck_assert_ptr_null(strstr(vtu->header, "<PointData"));
+  const char *names[] = {"id",     "material", "velocity",
+                         "volume", "density",  "stress"};
+  for (size_t a = 0; a < sizeof names / sizeof names[0]; a++)
+    ck_assert_msg(array_in_section(vtu, names[a], "CellData"),
+                  "array %s is not CellData", names[a]);
+  check_field(vtu, domain, "velocity", GM_FIELD_VELOCITY, 3);
+  check_field(vtu, domain, "volume", GM_FIELD_VOLUME, 1);
+  check_field(vtu, domain, "density", GM_FIELD_DENSITY, 1);
+  check_field(vtu, domain, "stress", GM_FIELD_STRESS, 6);
+  check_field(vtu, domain, "deformation_gradient",
+              GM_FIELD_DEFORMATION_GRADIENT, 9);
+  int64_t ids[POINT_COUNT];
+  TEST_ASSERT_OK(domain, gm_domain_get_ids(domain, ids, POINT_COUNT));
+  const unsigned char *raw =
+      find_array(vtu, "id", "Int64", 1, sizeof(int64_t), POINT_COUNT);
+  for (size_t i = 0; i < POINT_COUNT; i++) {
+    int64_t id;
+    memcpy(&id, raw + i * sizeof id, sizeof id);
+    ck_assert_int_eq(id, ids[i]);
+  }
+}
+
+/* Signed area (m^2) of the quadrilateral whose four vertices (x, y, z
+ * each) start at quad, by the shoelace formula, taken relative to the
+ * first vertex to limit cancellation. */
+static double quad_area(const double *quad) {
+  double area = 0.0;
+  for (int c = 0; c < 4; c++) {
+    const double *a = quad + 3 * c, *b = quad + 3 * ((c + 1) % 4);
+    area += (a[0] - quad[0]) * (b[1] - quad[1]) -
+            (b[0] - quad[0]) * (a[1] - quad[1]);
+  }
+  return 0.5 * area;
+}
+
+START_TEST(test_domains_round_trip_cpdi) {
+  make_temp_dir();
+  gm_domain *domain = make_shaped_domain(GM_SHAPE_CPDI);
+  for (int step = 0; step < 2; step++)
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, 0.0));
+  /* The domains must have sheared, or the parallelograms are untested. */
+  double deformation[POINT_COUNT * 9];
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_DEFORMATION_GRADIENT,
+                                     deformation, POINT_COUNT * 9));
+  double largest_shear = 0.0;
+  for (size_t i = 0; i < POINT_COUNT; i++)
+    largest_shear = fmax(largest_shear, fabs(deformation[i * 9 + 1]) +
+                                            fabs(deformation[i * 9 + 3]));
+  ck_assert_double_gt(largest_shear, 0.0);
+
+  char path[512];
+  snprintf(path, sizeof path, "%s/domains.vtu", temp_dir);
+  TEST_ASSERT_OK(domain, gm_domain_write_domains_vtu(domain, path));
+  ck_assert_int_eq(temp_dir_entry_count(), 1); /* no temporary file */
+  parsed_vtu vtu = parse_vtu(path);
+  ck_assert_ptr_nonnull(strstr(vtu.header, "type=\"UnstructuredGrid\""));
+  check_domain_cells(&vtu, 4, 9); /* VTK_QUAD */
+  double points[POINT_COUNT * 4][3];
+  check_domain_points(&vtu, domain, 4, points);
+  check_domain_fields(&vtu, domain);
+
+  /* Closed form: a CPDI domain is the parallelogram spanned by F r1, F r2,
+   * so its area is det F times the initial domain's, Lx Ly = V0 (the
+   * default edges are sqrt(V0)); in plane strain F_zz = 1, so that is the
+   * current volume V = det F V0. Counter-clockwise corners give a
+   * positive area. Tolerance: the shoelace sum and sqrt(V0)^2 each round
+   * a few times at coordinates ~1.5 m against areas ~0.01 m^2, so ~1e-14
+   * relative; 1e-12 leaves room without hiding a wrong corner. */
+  double volume[POINT_COUNT];
+  TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_VOLUME, volume,
+                                             POINT_COUNT));
+  for (size_t i = 0; i < POINT_COUNT; i++) {
+    double area = quad_area(points[4 * i]);
+    ck_assert_msg(fabs(area - volume[i]) <= 1e-12 * volume[i],
+                  "point %zu: quad area %.17g, volume %.17g", i, area,
+                  volume[i]);
+  }
+
+  /* The corners are computed, never stored: copy only. */
+  const double *view = NULL;
+  ck_assert_int_eq(
+      gm_domain_view_field(domain, GM_FIELD_DOMAIN_CORNERS, 0, &view),
+      GM_ERR_UNSUPPORTED);
+  free_vtu(&vtu);
+  gm_domain_destroy(domain);
+  remove_temp_dir();
+}
+END_TEST
+
+/* 1D: each domain is a VTK_LINE between its two ends. */
+START_TEST(test_domains_1d_lines) {
+  make_temp_dir();
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_1D;
+  def.extent[0] = 2.0;  /* m */
+  def.cell_size = 0.25; /* m */
+  def.shape = GM_SHAPE_UGIMP;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+  const double position[POINT_COUNT] = {0.3, 0.55, 1.0, 1.4, 1.7};  /* m */
+  const double volume[POINT_COUNT] = {0.1, 0.05, 0.2, 0.125, 0.15}; /* m */
+  gm_points_def points_def = gm_points_def_default();
+  points_def.count = POINT_COUNT;
+  points_def.material = material;
+  points_def.position = position;
+  points_def.volume = volume;
+  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points_def, NULL));
+  char path[512];
+  snprintf(path, sizeof path, "%s/lines.vtu", temp_dir);
+  TEST_ASSERT_OK(domain, gm_domain_write_domains_vtu(domain, path));
+  parsed_vtu vtu = parse_vtu(path);
+  check_domain_cells(&vtu, 2, 3); /* VTK_LINE */
+  double points[POINT_COUNT * 2][3];
+  check_domain_points(&vtu, domain, 2, points);
+  check_domain_fields(&vtu, domain);
+  /* Closed form: the uGIMP domain is the initial one, the volume (m per
+   * unit area in 1D) centred on the point. Tolerance: the two ends are
+   * x -+ L/2, each rounded once at |x| <= 2 m: 4 ulps of 2 m. */
+  double position_now[POINT_COUNT];
+  TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_POSITION,
+                                             position_now, POINT_COUNT));
+  double initial_volume[POINT_COUNT];
+  TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_INITIAL_VOLUME,
+                                             initial_volume, POINT_COUNT));
+  for (size_t i = 0; i < POINT_COUNT; i++) {
+    const double tolerance = 4.0 * 2.0 * DBL_EPSILON; /* m */
+    double low = points[2 * i][0], high = points[2 * i + 1][0];
+    ck_assert_double_eq_tol(high - low, initial_volume[i], tolerance);
+    ck_assert_double_eq_tol(0.5 * (low + high), position_now[i], tolerance);
+  }
+  free_vtu(&vtu);
+  gm_domain_destroy(domain);
+  remove_temp_dir();
+}
+END_TEST
+
+START_TEST(test_domains_missing_directory) {
+  make_temp_dir();
+  gm_domain *domain = make_shaped_domain(GM_SHAPE_CPGIMP);
+  char path[512];
+  snprintf(path, sizeof path, "%s/no-such-dir/domains.vtu", temp_dir);
+  ck_assert_int_eq(gm_domain_write_domains_vtu(domain, path), GM_ERR_IO);
+  const char *message = gm_domain_last_error(domain);
+  ck_assert_msg(strstr(message, path) != NULL,
+                "message '%s' does not name '%s'", message, path);
+  ck_assert_int_eq(temp_dir_entry_count(), 0);
+  ck_assert_int_eq(gm_domain_write_domains_vtu(domain, NULL), GM_ERR_NULL);
+  ck_assert_int_eq(gm_domain_write_domains_vtu(domain, ""),
+                   GM_ERR_INVALID_ARGUMENT);
+  ck_assert_int_eq(gm_domain_write_domains_vtu(NULL, path), GM_ERR_NULL);
+  gm_domain_destroy(domain);
+  remove_temp_dir();
+}
+END_TEST
+
+/* One <DataSet> of a .pvd. */
+typedef struct pvd_entry {
+  double timestep; /* s */
+  int part;
+  char file[64];
+} pvd_entry;
+
+/* The DataSets of a .pvd, in file order; returns their count. */
+static int read_pvd_entries(const char *path, pvd_entry *entries,
+                            int capacity) {
+  size_t size = 0;
+  char *text = read_whole_file(path, &size);
+  ck_assert_ptr_nonnull(strstr(text, "</Collection>\n</VTKFile>"));
+  int count = 0;
+  for (const char *tag = strstr(text, "<DataSet"); tag;
+       tag = strstr(tag + 1, "<DataSet")) {
+    ck_assert_int_lt(count, capacity);
+    pvd_entry *entry = &entries[count++];
+    const char *time = strstr(tag, "timestep=\"");
+    const char *part = strstr(tag, "part=\"");
+    const char *file = strstr(tag, "file=\"");
+    ck_assert(time && part && file);
+    entry->timestep = strtod(time + strlen("timestep=\""), NULL);
+    entry->part = (int)strtol(part + strlen("part=\""), NULL, 10);
+    file += strlen("file=\"");
+    size_t length = strcspn(file, "\"");
+    ck_assert_uint_lt(length, sizeof entry->file);
+    memcpy(entry->file, file, length);
+    entry->file[length] = '\0';
+  }
+  free(text);
+  return count;
+}
+
+/* Frames 0 and 3 without domains, 1 and 2 with: the .pvd lists part 0 for
+ * every frame and part 1, at the same timestep, for frames 1 and 2. */
+START_TEST(test_series_with_domains) {
+  make_temp_dir();
+  gm_domain *domain = make_shaped_domain(GM_SHAPE_CPDI);
+  char pvd[512];
+  snprintf(pvd, sizeof pvd, "%s/bar.pvd", temp_dir);
+  gm_series *series = NULL;
+  ck_assert_int_eq(gm_series_create(pvd, &series), GM_OK);
+  ck_assert_int_eq(gm_series_set_domains(NULL, 1), GM_ERR_NULL);
+  const bool domains[4] = {false, true, true, false};
+  double times[4];
+  for (int frame = 0; frame < 4; frame++) {
+    if (frame > 0)
+      TEST_ASSERT_OK(domain, gm_domain_step(domain, 0.0));
+    ck_assert_int_eq(gm_series_set_domains(series, domains[frame] ? 7 : 0),
+                     GM_OK);
+    TEST_ASSERT_OK(domain, gm_domain_get_time(domain, &times[frame], NULL));
+    TEST_ASSERT_OK(domain, gm_series_write(series, domain));
+  }
+  gm_series_destroy(series);
+
+  pvd_entry entries[16];
+  ck_assert_int_eq(read_pvd_entries(pvd, entries, 16), 6);
+  int e = 0;
+  for (int frame = 0; frame < 4; frame++) {
+    for (int part = 0; part < (domains[frame] ? 2 : 1); part++, e++) {
+      char expected[64];
+      snprintf(expected, sizeof expected, "bar%s_%06d.vtu",
+               part ? "_domains" : "", frame);
+      ck_assert_str_eq(entries[e].file, expected);
+      ck_assert_int_eq(entries[e].part, part);
+      /* %.17g round-trips a double exactly. */
+      ck_assert_double_eq(entries[e].timestep, times[frame]);
+      char path[512];
+      snprintf(path, sizeof path, "%s/%s", temp_dir, expected);
+      parsed_vtu vtu = parse_vtu(path);
+      const char *piece = strstr(vtu.header, "<Piece");
+      ck_assert_ptr_nonnull(piece);
+      ck_assert_uint_eq(tag_attribute(piece, "NumberOfCells"), POINT_COUNT);
+      ck_assert_uint_eq(tag_attribute(piece, "NumberOfPoints"),
+                        (part ? 4 : 1) * POINT_COUNT);
+      free_vtu(&vtu);
+    }
+  }
+  /* 4 point files, 2 domain files and the .pvd; no temporary files. */
+  ck_assert_int_eq(temp_dir_entry_count(), 7);
+  gm_domain_destroy(domain);
+  remove_temp_dir();
+}
+END_TEST
+
+/* A domains file that cannot be written fails the frame: GM_ERR_IO naming
+ * the file, the .pvd does not list the frame, and the next call writes the
+ * same frame number. A directory in the way makes the rename fail. */
+START_TEST(test_series_domains_failure) {
+  make_temp_dir();
+  gm_domain *domain = make_shaped_domain(GM_SHAPE_UGIMP);
+  char pvd[512], blocker[512];
+  snprintf(pvd, sizeof pvd, "%s/bar.pvd", temp_dir);
+  snprintf(blocker, sizeof blocker, "%s/bar_domains_000000.vtu", temp_dir);
+  ck_assert_int_eq(mkdir(blocker, 0700), 0);
+  gm_series *series = NULL;
+  ck_assert_int_eq(gm_series_create(pvd, &series), GM_OK);
+  ck_assert_int_eq(gm_series_set_domains(series, 1), GM_OK);
+  ck_assert_int_eq(gm_series_write(series, domain), GM_ERR_IO);
+  const char *message = gm_domain_last_error(domain);
+  ck_assert_msg(strstr(message, blocker) != NULL,
+                "message '%s' does not name '%s'", message, blocker);
+  pvd_entry entries[4];
+  ck_assert_int_eq(read_pvd_entries(pvd, entries, 4), 0);
+  ck_assert_int_eq(rmdir(blocker), 0);
+  TEST_ASSERT_OK(domain, gm_series_write(series, domain));
+  ck_assert_int_eq(read_pvd_entries(pvd, entries, 4), 2);
+  ck_assert_str_eq(entries[0].file, "bar_000000.vtu");
+  ck_assert_str_eq(entries[1].file, "bar_domains_000000.vtu");
+  gm_series_destroy(series);
+  /* The two frame files and the .pvd; no temporary file left. */
+  ck_assert_int_eq(temp_dir_entry_count(), 3);
+  gm_domain_destroy(domain);
+  remove_temp_dir();
+}
+END_TEST
+
 static Suite *vtu_suite(void) {
   Suite *suite = suite_create("vtu");
   TCase *vtu = tcase_create("vtu");
   tcase_add_test(vtu, test_vtu_round_trip);
   tcase_add_test(vtu, test_vtu_missing_directory);
   suite_add_tcase(suite, vtu);
+  TCase *domains = tcase_create("domains");
+  tcase_add_test(domains, test_domains_round_trip_cpdi);
+  tcase_add_test(domains, test_domains_1d_lines);
+  tcase_add_test(domains, test_domains_missing_directory);
+  suite_add_tcase(suite, domains);
   TCase *series = tcase_create("series");
   tcase_add_test(series, test_series_three_frames);
   tcase_add_test(series, test_series_bad_arguments);
+  tcase_add_test(series, test_series_with_domains);
+  tcase_add_test(series, test_series_domains_failure);
   suite_add_tcase(suite, series);
   return suite;
 }
