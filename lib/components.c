@@ -23,6 +23,7 @@
  */
 #include "internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -113,18 +114,39 @@ static bool supports_share_node(const gm_granular_work *work, int dim,
   return true;
 }
 
-/* Task 1 for one candidate pair (rules at the top of this file). */
+/* Each pair sharing a node lies in both points' candidate windows, so it
+ * is visited only from its first point in (lowest node y, x, index) order. */
+static bool later_in_raster(const gm_granular_work *work, uint32_t p,
+                            uint32_t q) {
+  int64_t py = work->support_low[1][p], qy = work->support_low[1][q];
+  if (py != qy)
+    return qy > py;
+  int64_t px = work->support_low[0][p], qx = work->support_low[0][q];
+  return qx != px ? qx > px : q > p;
+}
+
+/* Task 1 for one candidate pair (rules at the top of this file). Domains
+ * of the rectangle variants are axis-aligned: two interval tests decide. */
 static bool pair_interacts(const gm_domain *domain, uint32_t p, uint32_t q) {
   const gm_points *points = &domain->points;
   bool granular_p = domain->materials[points->material[p]].granular;
   bool granular_q = domain->materials[points->material[q]].granular;
   if (!granular_p && !granular_q)
     return true;
-  return gm_interaction_overlap(domain->dim, &domain->granular.interaction[p],
-                                &domain->granular.interaction[q]);
+  const gm_interaction_domain *a = &domain->granular.interaction[p];
+  const gm_interaction_domain *b = &domain->granular.interaction[q];
+  if (domain->shape_grid.shape == GM_SHAPE_CPDI)
+    return gm_interaction_overlap(domain->dim, a, b);
+  /* r1 = (hx, 0) and r2 = (0, hy) for the rectangles; segments in 1D */
+  bool overlap_x = fabs(b->centre[0] - a->centre[0]) <
+                   fabs(a->half_edge[0][0]) + fabs(b->half_edge[0][0]);
+  return overlap_x &&
+         (domain->dim == 1 ||
+          fabs(b->centre[1] - a->centre[1]) <
+              fabs(a->half_edge[1][1]) + fabs(b->half_edge[1][1]));
 }
 
-/* What to do with each candidate pair (p < q by index, sharing a node). */
+/* What to do with each candidate pair (sharing a node). */
 typedef enum pair_pass { PASS_JOIN, PASS_CONFLICTS } pair_pass;
 
 static gm_status add_conflict(gm_domain *domain, int32_t a, int32_t b) {
@@ -143,24 +165,75 @@ static gm_status add_conflict(gm_domain *domain, int32_t a, int32_t b) {
   return GM_OK;
 }
 
+/* One pair in one pass: join if it interacts (skipping the test when the
+ * two are already joined through others), or record the conflict of two
+ * components that share a node. */
+static gm_status handle_pair(gm_domain *domain, pair_pass pass, uint32_t p,
+                             uint32_t q) {
+  gm_granular_work *work = &domain->granular;
+  if (pass == PASS_CONFLICTS)
+    return work->label[p] == work->label[q]
+               ? GM_OK
+               : add_conflict(domain, work->label[p], work->label[q]);
+  uint32_t root_p = gm_union_find_root(work->parent, p);
+  if (root_p != gm_union_find_root(work->parent, q) &&
+      pair_interacts(domain, p, q)) {
+    gm_union_find_join(work->parent, work->set_size, root_p, q);
+    work->interaction_count++;
+  }
+  return GM_OK;
+}
+
+/* The partners of p among the points of one block whose lowest node lies
+ * in the window [from, to] (node indices per axis). */
+static gm_status visit_block(gm_domain *domain, pair_pass pass, uint32_t p,
+                             uint32_t block, const int64_t base[2],
+                             const int64_t from[2], const int64_t to[2]) {
+  gm_granular_work *work = &domain->granular;
+  int dim = domain->dim, shift = domain->grid.shift;
+  int64_t last = ((int64_t)1 << shift) - 1; /* local index of a block edge */
+  const uint32_t *start = work->cell_start + block * (BLOCK_CELLS + 1);
+  int64_t low[2] = {0, 0}, high[2] = {0, 0};
+  for (int k = 0; k < dim; k++) {
+    low[k] = from[k] > base[k] ? from[k] - base[k] : 0;
+    high[k] = to[k] - base[k] < last ? to[k] - base[k] : last;
+  }
+  for (int64_t y = low[1]; y <= high[1]; y++) {
+    for (int64_t x = low[0]; x <= high[0]; x++) {
+      int64_t cell = x + (y << shift);
+      for (uint32_t k = start[cell]; k < start[cell + 1]; k++) {
+        uint32_t q = work->cell_order[k];
+        if (!later_in_raster(work, p, q) ||
+            !supports_share_node(work, dim, p, q))
+          continue;
+        gm_status status = handle_pair(domain, pass, p, q);
+        if (status != GM_OK)
+          return status;
+      }
+    }
+  }
+  return GM_OK;
+}
+
 /* The pre-task: every pair of points whose supports share a node, found
  * from the cells that can hold such a partner, handed to the pass. */
 static gm_status visit_pairs(gm_domain *domain, const int max_span[2],
                              pair_pass pass) {
   gm_grid *grid = &domain->grid;
-  gm_points *points = &domain->points;
   gm_granular_work *work = &domain->granular;
   int dim = domain->dim, shift = grid->shift;
-  int64_t edge = (int64_t)1 << shift;
   int64_t blocks_x = grid->blocks_per_axis[0];
-  for (size_t p = 0; p < points->count; p++) {
-    /* A partner's lowest node lies in [low - span + 1, high] per axis. */
+  for (size_t p = 0; p < domain->points.count; p++) {
+    /* A partner's lowest node lies in [low - span + 1, high] per axis;
+     * rows below p's hold no partner later in raster order. */
     int64_t from[2] = {0, 0}, to[2] = {0, 0};
     for (int k = 0; k < dim; k++) {
       from[k] = work->support_low[k][p] - max_span[k] + 1;
       from[k] = from[k] < 0 ? 0 : from[k];
       to[k] = work->support_high[k][p];
     }
+    if (dim > 1)
+      from[1] = work->support_low[1][p];
     for (int64_t by = from[1] >> shift; by <= to[1] >> shift; by++) {
       for (int64_t bx = from[0] >> shift; bx <= to[0] >> shift; bx++) {
         if (bx >= blocks_x || (dim > 1 && by >= grid->blocks_per_axis[1]))
@@ -168,38 +241,11 @@ static gm_status visit_pairs(gm_domain *domain, const int max_span[2],
         uint32_t block = gm_grid_find(grid, by * blocks_x + bx);
         if (block == GM_NO_BLOCK)
           continue;
-        const uint32_t *start = work->cell_start + block * (BLOCK_CELLS + 1);
         int64_t base[2] = {bx << shift, dim > 1 ? by << shift : 0};
-        int64_t cell_from[2], cell_to[2];
-        for (int k = 0; k < 2; k++) {
-          bool used = k < dim;
-          cell_from[k] = used && from[k] > base[k] ? from[k] - base[k] : 0;
-          cell_to[k] =
-              used ? (to[k] - base[k] < edge - 1 ? to[k] - base[k] : edge - 1)
-                   : 0;
-        }
-        for (int64_t cy = cell_from[1]; cy <= cell_to[1]; cy++) {
-          for (int64_t cx = cell_from[0]; cx <= cell_to[0]; cx++) {
-            int64_t cell = cx + (dim > 1 ? cy << shift : 0);
-            for (uint32_t k = start[cell]; k < start[cell + 1]; k++) {
-              uint32_t q = work->cell_order[k];
-              if (q <= p || !supports_share_node(work, dim, (uint32_t)p, q))
-                continue;
-              if (pass == PASS_JOIN) {
-                if (pair_interacts(domain, (uint32_t)p, q)) {
-                  gm_union_find_join(work->parent, work->set_size, (uint32_t)p,
-                                     q);
-                  work->interaction_count++;
-                }
-              } else if (work->label[p] != work->label[q]) {
-                gm_status status =
-                    add_conflict(domain, work->label[p], work->label[q]);
-                if (status != GM_OK)
-                  return status;
-              }
-            }
-          }
-        }
+        gm_status status =
+            visit_block(domain, pass, (uint32_t)p, block, base, from, to);
+        if (status != GM_OK)
+          return status;
       }
     }
   }
