@@ -140,10 +140,9 @@ static bool pair_interacts(const gm_domain *domain, uint32_t p, uint32_t q) {
   /* r1 = (hx, 0) and r2 = (0, hy) for the rectangles; segments in 1D */
   bool overlap_x = fabs(b->centre[0] - a->centre[0]) <
                    fabs(a->half_edge[0][0]) + fabs(b->half_edge[0][0]);
-  return overlap_x &&
-         (domain->dim == 1 ||
-          fabs(b->centre[1] - a->centre[1]) <
-              fabs(a->half_edge[1][1]) + fabs(b->half_edge[1][1]));
+  return overlap_x && (domain->dim == 1 ||
+                       fabs(b->centre[1] - a->centre[1]) <
+                           fabs(a->half_edge[1][1]) + fabs(b->half_edge[1][1]));
 }
 
 /* What to do with each candidate pair (sharing a node). */

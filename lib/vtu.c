@@ -39,7 +39,7 @@ typedef enum vtu_source {
   SOURCE_CELL_TYPES,   /* the layout's cell type for every cell */
   SOURCE_FIELD,        /* gm_domain_get_field(field), padded */
   SOURCE_IDS,          /* gm_domain_get_ids() */
-  SOURCE_MATERIAL      /* GM_FIELD_MATERIAL converted to Int32 */
+  SOURCE_INTEGER       /* an integer-valued field converted to Int32 */
 } vtu_source;
 
 /* Where an array goes in the XML tree. SECTION_FIELDS is the layout's
@@ -54,7 +54,7 @@ typedef struct vtu_array {
   const char *name;
   vtu_section section;
   vtu_source source;
-  gm_field field; /* for SOURCE_FIELD and SOURCE_MATERIAL */
+  gm_field field; /* for SOURCE_FIELD and SOURCE_INTEGER */
   vtu_type type;
   size_t components;                  /* in the file (after padding) */
   const char *const *component_names; /* component names, or NULL */
@@ -76,7 +76,7 @@ static const vtu_array vtu_arrays[] = {
     {"types", SECTION_CELLS, SOURCE_CELL_TYPES, GM_FIELD_ID, VTU_UINT8, 1,
      NULL},
     {"id", SECTION_FIELDS, SOURCE_IDS, GM_FIELD_ID, VTU_INT64, 1, NULL},
-    {"material", SECTION_FIELDS, SOURCE_MATERIAL, GM_FIELD_MATERIAL, VTU_INT32,
+    {"material", SECTION_FIELDS, SOURCE_INTEGER, GM_FIELD_MATERIAL, VTU_INT32,
      1, NULL},
     {"velocity", SECTION_FIELDS, SOURCE_FIELD, GM_FIELD_VELOCITY, VTU_FLOAT64,
      3, NULL},
@@ -95,6 +95,11 @@ static const vtu_array vtu_arrays[] = {
      GM_FIELD_DEFORMATION_GRADIENT, VTU_FLOAT64, 9, tensor_names},
     {"domain_size", SECTION_FIELDS, SOURCE_FIELD, GM_FIELD_DOMAIN_SIZE,
      VTU_FLOAT64, 3, NULL},
+    /* granular method: gm_point_state and parallel grid of the last step */
+    {"state", SECTION_FIELDS, SOURCE_INTEGER, GM_FIELD_STATE, VTU_INT32, 1,
+     NULL},
+    {"component", SECTION_FIELDS, SOURCE_INTEGER, GM_FIELD_COMPONENT, VTU_INT32,
+     1, NULL},
 };
 enum { VTU_ARRAY_COUNT = sizeof vtu_arrays / sizeof vtu_arrays[0] };
 /* Widest per-point array, in doubles per material point (the deformation
@@ -340,7 +345,7 @@ static gm_status fill_array(vtu_writer *writer, const vtu_array *array) {
     return GM_OK;
   case SOURCE_IDS:
     return gm_domain_get_ids(writer->domain, writer->buffer, n);
-  case SOURCE_MATERIAL: {
+  case SOURCE_INTEGER: {
     gm_status status = fill_field(writer, array, array->field, 1);
     if (status == GM_OK)
       convert_to_int32(writer->buffer, n);
