@@ -95,8 +95,9 @@ typedef enum gm_update_scheme {
 /** Shape functions: how points and grid nodes exchange values (000 sec
  * 2.1). Every variant works in 1D, plane strain and axisymmetry. The GIMP
  * and CPDI domains may reach one ghost cell beyond the box faces (those
- * nodes take the face's condition); a domain reaching further, or spanning
- * more than 8 cells, fails the step with GM_ERR_OUT_OF_GRID. */
+ * nodes take the face's condition); a domain reaching further, or touching
+ * more than 9 nodes along an axis, fails the step with GM_ERR_OUT_OF_GRID.
+ * Node counts below are per point in 2D for domains up to a cell wide. */
 typedef enum gm_shape {
   GM_SHAPE_LINEAR = 0, /* original MPM: tents of the point's cell, 4 nodes */
   GM_SHAPE_UGIMP = 1,  /* GIMP, the initial rectangular domain: 9 nodes */

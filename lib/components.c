@@ -65,8 +65,14 @@ static void point_geometry(void *context, size_t begin, size_t end,
       measure = initial * points->mass[p] / points->initial_volume[p] /
                 material->critical_density;
     }
+    gm_interaction_domain *interaction = &work->interaction[p];
     gm_interaction_domain_of(domain->shape_grid.shape, dim, &point, measure,
-                             &work->interaction[p]);
+                             interaction);
+    work->granular[p] = material->granular;
+    for (int k = 0; k < 2; k++) { /* r1 = (hx, 0), r2 = (0, hy) if a box */
+      work->box_centre[k][p] = interaction->centre[k];
+      work->box_half[k][p] = fabs(interaction->half_edge[k][k]);
+    }
   }
 }
 
@@ -126,23 +132,19 @@ static bool later_in_raster(const gm_granular_work *work, uint32_t p,
 }
 
 /* Task 1 for one candidate pair (rules at the top of this file). Domains
- * of the rectangle variants are axis-aligned: two interval tests decide. */
+ * of the rectangle variants are axis-aligned: interval tests decide. */
 static bool pair_interacts(const gm_domain *domain, uint32_t p, uint32_t q) {
-  const gm_points *points = &domain->points;
-  bool granular_p = domain->materials[points->material[p]].granular;
-  bool granular_q = domain->materials[points->material[q]].granular;
-  if (!granular_p && !granular_q)
+  const gm_granular_work *work = &domain->granular;
+  if (!work->granular[p] && !work->granular[q])
     return true;
-  const gm_interaction_domain *a = &domain->granular.interaction[p];
-  const gm_interaction_domain *b = &domain->granular.interaction[q];
   if (domain->shape_grid.shape == GM_SHAPE_CPDI)
-    return gm_interaction_overlap(domain->dim, a, b);
-  /* r1 = (hx, 0) and r2 = (0, hy) for the rectangles; segments in 1D */
-  bool overlap_x = fabs(b->centre[0] - a->centre[0]) <
-                   fabs(a->half_edge[0][0]) + fabs(b->half_edge[0][0]);
-  return overlap_x && (domain->dim == 1 ||
-                       fabs(b->centre[1] - a->centre[1]) <
-                           fabs(a->half_edge[1][1]) + fabs(b->half_edge[1][1]));
+    return gm_interaction_overlap(domain->dim, &work->interaction[p],
+                                  &work->interaction[q]);
+  for (int k = 0; k < domain->dim; k++)
+    if (!(fabs(work->box_centre[k][q] - work->box_centre[k][p]) <
+          work->box_half[k][p] + work->box_half[k][q]))
+      return false;
+  return true;
 }
 
 /* What to do with each candidate pair (sharing a node). */
@@ -168,16 +170,16 @@ static gm_status add_conflict(gm_domain *domain, int32_t a, int32_t b) {
  * two are already joined through others), or record the conflict of two
  * components that share a node. */
 static gm_status handle_pair(gm_domain *domain, pair_pass pass, uint32_t p,
-                             uint32_t q) {
+                             uint32_t q, uint32_t *root_p) {
   gm_granular_work *work = &domain->granular;
   if (pass == PASS_CONFLICTS)
     return work->label[p] == work->label[q]
                ? GM_OK
                : add_conflict(domain, work->label[p], work->label[q]);
-  uint32_t root_p = gm_union_find_root(work->parent, p);
-  if (root_p != gm_union_find_root(work->parent, q) &&
+  if (*root_p != gm_union_find_root(work->parent, q) &&
       pair_interacts(domain, p, q)) {
-    gm_union_find_join(work->parent, work->set_size, root_p, q);
+    gm_union_find_join(work->parent, work->set_size, *root_p, q);
+    *root_p = gm_union_find_root(work->parent, p);
     work->interaction_count++;
   }
   return GM_OK;
@@ -186,8 +188,9 @@ static gm_status handle_pair(gm_domain *domain, pair_pass pass, uint32_t p,
 /* The partners of p among the points of one block whose lowest node lies
  * in the window [from, to] (node indices per axis). */
 static gm_status visit_block(gm_domain *domain, pair_pass pass, uint32_t p,
-                             uint32_t block, const int64_t base[2],
-                             const int64_t from[2], const int64_t to[2]) {
+                             uint32_t *root_p, uint32_t block,
+                             const int64_t base[2], const int64_t from[2],
+                             const int64_t to[2]) {
   gm_granular_work *work = &domain->granular;
   int dim = domain->dim, shift = domain->grid.shift;
   int64_t last = ((int64_t)1 << shift) - 1; /* local index of a block edge */
@@ -205,7 +208,7 @@ static gm_status visit_block(gm_domain *domain, pair_pass pass, uint32_t p,
         if (!later_in_raster(work, p, q) ||
             !supports_share_node(work, dim, p, q))
           continue;
-        gm_status status = handle_pair(domain, pass, p, q);
+        gm_status status = handle_pair(domain, pass, p, q, root_p);
         if (status != GM_OK)
           return status;
       }
@@ -233,6 +236,7 @@ static gm_status visit_pairs(gm_domain *domain, const int max_span[2],
     }
     if (dim > 1)
       from[1] = work->support_low[1][p];
+    uint32_t root_p = gm_union_find_root(work->parent, (uint32_t)p);
     for (int64_t by = from[1] >> shift; by <= to[1] >> shift; by++) {
       for (int64_t bx = from[0] >> shift; bx <= to[0] >> shift; bx++) {
         if (bx >= blocks_x || (dim > 1 && by >= grid->blocks_per_axis[1]))
@@ -241,8 +245,8 @@ static gm_status visit_pairs(gm_domain *domain, const int max_span[2],
         if (block == GM_NO_BLOCK)
           continue;
         int64_t base[2] = {bx << shift, dim > 1 ? by << shift : 0};
-        gm_status status =
-            visit_block(domain, pass, (uint32_t)p, block, base, from, to);
+        gm_status status = visit_block(domain, pass, (uint32_t)p, &root_p,
+                                       block, base, from, to);
         if (status != GM_OK)
           return status;
       }

@@ -90,6 +90,11 @@ gm_status gm_granular_reserve(gm_domain *domain) {
       GROW_WORK(work->support_high[k], sizeof(int64_t));
     }
     GROW_WORK(work->interaction, sizeof(gm_interaction_domain));
+    for (int k = 0; k < 2; k++) {
+      GROW_WORK(work->box_centre[k], sizeof(double));
+      GROW_WORK(work->box_half[k], sizeof(double));
+    }
+    GROW_WORK(work->granular, sizeof(uint8_t));
     GROW_WORK(work->parent, sizeof(uint32_t));
     GROW_WORK(work->set_size, sizeof(uint32_t));
     GROW_WORK(work->label, sizeof(int32_t));
@@ -121,6 +126,11 @@ void gm_granular_free(gm_domain *domain) {
     gm_free(work->support_high[k]);
   }
   gm_free(work->interaction);
+  for (int k = 0; k < 2; k++) {
+    gm_free(work->box_centre[k]);
+    gm_free(work->box_half[k]);
+  }
+  gm_free(work->granular);
   gm_free(work->parent);
   gm_free(work->set_size);
   gm_free(work->label);

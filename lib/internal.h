@@ -189,7 +189,11 @@ typedef struct gm_granular_work {
   int64_t *support_low[2]; /* node box of each point's support */
   int64_t *support_high[2];
   gm_interaction_domain *interaction; /* per point */
-  uint32_t *parent;                   /* union-find */
+  /* The same for the rectangle variants, SoA for the pair search: centre
+   * and half edges (m), and whether the point's material is granular. */
+  double *box_centre[2], *box_half[2];
+  uint8_t *granular;
+  uint32_t *parent; /* union-find */
   uint32_t *set_size;
   int32_t *label;  /* component of each point */
   int64_t *min_id; /* union-find labelling scratch */
