@@ -58,21 +58,35 @@ typedef struct bench_case {
   bool quick;       /* part of --quick */
   bench_material material;
   gm_shape shape; /* shape functions: 4, up to 9 or up to 16 nodes */
+  gm_family family;
+  /* Granular cases: share of all points that are disconnected, placed as
+   * a sparse cloud above the block (0 = none). */
+  double disconnected_share;
 } bench_case;
 
 /* In increasing size order. */
 static const bench_case bench_cases[] = {
-    {"block-1e4", 1e4, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR},
-    {"block-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR},
-    {"ugimp-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_UGIMP},
-    {"cpgimp-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_CPGIMP},
-    {"cpdi-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_CPDI},
-    {"empty-1e5", 1e5, 10.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR},
+#define PLAIN GM_FAMILY_PLAIN, 0.0
+    {"block-1e4", 1e4, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
+    {"block-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
+    {"ugimp-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_UGIMP, PLAIN},
+    {"cpgimp-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_CPGIMP, PLAIN},
+    {"cpdi-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_CPDI, PLAIN},
+    {"granular-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
+     GM_FAMILY_GRANULAR, 0.0},
+    {"plain-cloud-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
+     GM_FAMILY_PLAIN, 0.3},
+    {"granular-cloud-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
+     GM_FAMILY_GRANULAR, 0.3},
+    {"granular-cpdi-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_CPDI,
+     GM_FAMILY_GRANULAR, 0.0},
+    {"empty-1e5", 1e5, 10.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
     {"mohr-coulomb-1e5", 1e5, 1.0, true, MATERIAL_MOHR_COULOMB,
-     GM_SHAPE_LINEAR},
+     GM_SHAPE_LINEAR, PLAIN},
     {"drucker-prager-1e5", 1e5, 1.0, true, MATERIAL_DRUCKER_PRAGER,
-     GM_SHAPE_LINEAR},
-    {"block-1e6", 1e6, 1.0, false, MATERIAL_ELASTIC, GM_SHAPE_LINEAR},
+     GM_SHAPE_LINEAR, PLAIN},
+    {"block-1e6", 1e6, 1.0, false, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
+#undef PLAIN
 };
 enum { CASE_COUNT = sizeof bench_cases / sizeof bench_cases[0] };
 static const int worker_counts[] = {1, 2};
@@ -95,6 +109,10 @@ typedef struct bench_result {
   double seconds;
   double peak_rss_bytes;
   double rss_increase_bytes;
+  /* granular family: summed phase times (s) from the step summaries,
+   * geometry, pair search, labels, layers, density control */
+  double granular_seconds[5];
+  int forest_reused_steps;
 } bench_result;
 
 static double now_seconds(void) {
@@ -171,11 +189,46 @@ static gm_status add_material(gm_domain *domain, bench_material kind,
   return gm_domain_add_elastic(domain, &def, material);
 }
 
+/* A falling cloud of points 1.5 cells apart above the block: each point is
+ * disconnected (its domain of interaction meets no other), while linear
+ * supports of neighbours still share nodes. */
+static int add_cloud(gm_domain *domain, int material, double cell_size,
+                     int rows, int columns) {
+  size_t count = (size_t)rows * (size_t)columns;
+  double *position = malloc(2 * count * sizeof *position);
+  double *volume = malloc(count * sizeof *volume);
+  if (!position || !volume) {
+    free(position);
+    free(volume);
+    fprintf(stderr, "granmpm-bench: out of memory for the cloud\n");
+    return 1;
+  }
+  double spacing = 1.5 * cell_size; /* m */
+  for (int row = 0; row < rows; row++)
+    for (int column = 0; column < columns; column++) {
+      size_t i = (size_t)row * (size_t)columns + (size_t)column;
+      position[2 * i] = (column + 0.5) * spacing;
+      position[2 * i + 1] = block_side + (row + 1.0) * spacing;
+      volume[i] = 0.25 * cell_size * cell_size; /* as in the block */
+    }
+  gm_points_def points = gm_points_def_default();
+  points.count = count;
+  points.material = material;
+  points.position = position;
+  points.volume = volume;
+  gm_status status = gm_domain_add_points(domain, &points, NULL);
+  free(position);
+  free(volume);
+  CHECK(domain, status);
+  return 0;
+}
+
 /* Creates the domain and the block for one case. */
 static int build_scene(const bench_case *scene, int workers,
                        gm_domain **domain) {
-  /* n^2 cells of 4 points each give target_points. */
-  int cells_per_side = (int)lround(sqrt(scene->target_points / 4.0));
+  /* n^2 cells of 4 points each give target_points (block and cloud). */
+  double block_points = scene->target_points * (1.0 - scene->disconnected_share);
+  int cells_per_side = (int)lround(sqrt(block_points / 4.0));
   double cell_size = block_side / cells_per_side; /* m */
   double margin = margin_cells * cell_size;       /* m */
   gm_domain_def def = gm_domain_def_default();
@@ -184,6 +237,13 @@ static int build_scene(const bench_case *scene, int workers,
   def.origin[1] = 0.0; /* the bottom wall carries the block */
   def.extent[0] = scene->box_scale * (block_side + 2 * margin);
   def.extent[1] = scene->box_scale * (block_side + margin);
+  int cloud_rows = 0, cloud_columns = cells_per_side * 2 / 3;
+  if (scene->disconnected_share > 0.0) { /* 1.5 cells apart: disconnected */
+    double cloud_points = scene->target_points * scene->disconnected_share;
+    cloud_rows = (int)ceil(cloud_points / cloud_columns);
+    def.extent[1] += 1.5 * cell_size * (cloud_rows + 2);
+  }
+  def.family = scene->family;
   def.cell_size = cell_size;
   def.gravity[1] = gravity;
   def.scheme = GM_SCHEME_USL;
@@ -201,13 +261,34 @@ static int build_scene(const bench_case *scene, int workers,
   fill.upper[1] = block_side;
   fill.points_per_cell_axis = 2;
   CHECK(*domain, gm_domain_fill_box(*domain, &fill, NULL, NULL));
+  if (scene->family != GM_FAMILY_PLAIN || scene->disconnected_share > 0.0) {
+    /* rho_cr 1% below rho0: neighbours in the block interact. */
+    gm_granular_def granular = gm_granular_def_default();
+    granular.critical_density = 0.99 * block_density;
+    CHECK(*domain, gm_domain_set_granular(*domain, material, &granular));
+  }
+  if (cloud_rows > 0)
+    return add_cloud(*domain, material, cell_size, cloud_rows, cloud_columns);
   return 0;
 }
 
-/* Runs `steps` stable steps; returns 0 or 1 after reporting an error. */
-static int run_steps(gm_domain *domain, int steps) {
-  for (int step = 0; step < steps; step++)
+/* Runs `steps` stable steps, adding the granular phase times to result
+ * (if not NULL); returns 0 or 1 after reporting an error. */
+static int run_steps(gm_domain *domain, int steps, bench_result *result) {
+  for (int step = 0; step < steps; step++) {
     CHECK(domain, gm_domain_step(domain, 0.0)); /* dt <= 0: the stable dt */
+    if (!result)
+      continue;
+    gm_granular_summary summary = gm_granular_summary_default();
+    CHECK(domain, gm_domain_get_granular_summary(domain, &summary));
+    const double phases[5] = {
+        summary.geometry_seconds, summary.pair_search_seconds,
+        summary.label_seconds, summary.layer_seconds,
+        summary.density_control_seconds};
+    for (int k = 0; k < 5; k++)
+      result->granular_seconds[k] += phases[k];
+    result->forest_reused_steps += summary.forest_reused;
+  }
   return 0;
 }
 
@@ -218,16 +299,16 @@ static int measure_case(const bench_case *scene, int workers,
   gm_domain *domain = NULL;
   int failed = build_scene(scene, workers, &domain);
   if (!failed)
-    failed = run_steps(domain, warm_up_steps);
+    failed = run_steps(domain, warm_up_steps, NULL);
   double start = now_seconds();
   if (!failed)
-    failed = run_steps(domain, calibration_steps);
+    failed = run_steps(domain, calibration_steps, NULL);
   double per_step = (now_seconds() - start) / calibration_steps;
   int steps = (int)(target_seconds / fmax(per_step, 1e-9));
   steps = steps < min_steps ? min_steps : steps > max_steps ? max_steps : steps;
   start = now_seconds();
   if (!failed)
-    failed = run_steps(domain, steps);
+    failed = run_steps(domain, steps, result);
   result->seconds = now_seconds() - start;
   result->steps = steps;
   result->points = gm_domain_point_count(domain);
@@ -249,6 +330,17 @@ static int run_case(const bench_case *scene, int workers) {
          1e9 * result.seconds / point_steps,
          result.peak_rss_bytes / (1024.0 * 1024.0),
          result.rss_increase_bytes / (double)result.points);
+  if (scene->family == GM_FAMILY_GRANULAR) { /* the split, ns/point-step */
+    static const char *const names[5] = {"geometry", "pair_search", "labels",
+                                         "layers", "density_control"};
+    fprintf(stderr, "# %s %d worker(s) granular split:", scene->name,
+            workers);
+    for (int k = 0; k < 5; k++)
+      fprintf(stderr, " %s %.1f", names[k],
+              1e9 * result.granular_seconds[k] / point_steps);
+    fprintf(stderr, " (forest reused in %d of %d steps)\n",
+            result.forest_reused_steps, result.steps);
+  }
   return 0;
 }
 

@@ -300,11 +300,14 @@ GM_API int gm_elastic_update(const gm_material_batch *batch, void *user,
 
 /** A rigid planar wall with Coulomb friction, enforced on grid nodes (any
  * normal: inclined chutes, hopper walls, or a box face made frictional).
- * Nodes on or behind the plane that carry mass and move into it have
- * their normal velocity removed (the wall pushes, never pulls) and their
- * tangential velocity reduced by at most mu times the normal velocity
- * change: they stick when that is enough (mu_static), otherwise slide
- * with mu_kinetic. See gm_walls(3). */
+ * Nodes on or behind the plane that carry mass and move into it faster
+ * than their material's gap to the wall allows (the smallest distance
+ * from the wall to the domain of a point on the node, over dt; gaps below
+ * 0.003 cells count as contact) lose the excess normal velocity (the wall
+ * pushes, never pulls, and material that left it can come back) and
+ * their tangential velocity is reduced by at most mu times that normal
+ * velocity change: they stick when that is enough (mu_static), otherwise
+ * slide with mu_kinetic. See gm_walls(3). */
 typedef struct gm_wall_def {
   size_t struct_size;
   double point[3];         /* m, any point of the plane */
@@ -517,16 +520,26 @@ typedef enum gm_point_state {
   GM_STATE_MODERATE = 1,     /* connected, rho at rho_cr: within TOL, or
                                 held there by density control this step */
   GM_STATE_DISCONNECTED = 2  /* its domain of interaction met no other:
-                                stress-free, F and density frozen */
+                                alone on its grid; a granular point is
+                                then stress-free with F and density
+                                frozen, others keep their behaviour */
 } gm_point_state;
 
 typedef struct gm_granular_summary {
   size_t struct_size;
-  size_t state_count[3];    /* points per gm_point_state, last step */
-  size_t component_count;   /* parallel grids (connected components) */
-  size_t layer_count;       /* node layers that held them (components
-                               sharing no node share a layer) */
-  size_t interaction_count; /* interacting pairs found */
+  size_t state_count[3];  /* points per gm_point_state, last step */
+  size_t component_count; /* parallel grids (connected components) */
+  size_t layer_count;     /* node layers that held them (components
+                             sharing no node share a layer) */
+  int forest_reused;      /* 1: the previous step's spanning forest still held,
+                             so only points outside the largest component
+                             searched for partners */
+  /* Wall time of the last step's granular phases (s), for profiling:
+   * supports and domains of interaction; pair search with union-find;
+   * labels; node layers and re-binning; density control (summed over
+   * workers). */
+  double geometry_seconds, pair_search_seconds, label_seconds, layer_seconds,
+      density_control_seconds;
 } gm_granular_summary;
 
 static inline gm_granular_summary gm_granular_summary_default(void) {

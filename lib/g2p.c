@@ -303,7 +303,11 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
                                    g->gradient[2], g->gradient[3],
                                    g->gradient[4]};
       gm_stress_update_chunk(domain, scratch, first, count, dt, gradient);
-      gm_density_control_chunk(domain, first, count);
+      if (domain->def.family != GM_FAMILY_PLAIN) {
+        double start = gm_monotonic_seconds();
+        gm_density_control_chunk(domain, first, count);
+        scratch->density_control_seconds += gm_monotonic_seconds() - start;
+      }
     } else if (deform) {
       deformed = false;
     }

@@ -62,6 +62,7 @@ gm_status gm_domain_get_granular_summary(const gm_domain *domain,
                         "%zu: initialise with gm_granular_summary_default()",
                         summary->struct_size, sizeof(gm_granular_summary));
   *summary = domain->granular_summary;
+  summary->struct_size = sizeof(gm_granular_summary);
   memset(summary->state_count, 0, sizeof summary->state_count);
   const gm_points *points = &domain->points;
   const double *state = points->buffer[points->cur].granular_state;
@@ -90,11 +91,11 @@ gm_status gm_granular_reserve(gm_domain *domain) {
       GROW_WORK(work->support_high[k], sizeof(int64_t));
     }
     GROW_WORK(work->interaction, sizeof(gm_interaction_domain));
-    for (int k = 0; k < 2; k++) {
-      GROW_WORK(work->box_centre[k], sizeof(double));
+    for (int k = 0; k < 2; k++)
       GROW_WORK(work->box_half[k], sizeof(double));
-    }
     GROW_WORK(work->granular, sizeof(uint8_t));
+    GROW_WORK(work->visit, sizeof(uint8_t));
+    GROW_WORK(work->forest, sizeof(uint64_t));
     GROW_WORK(work->parent, sizeof(uint32_t));
     GROW_WORK(work->set_size, sizeof(uint32_t));
     GROW_WORK(work->label, sizeof(int32_t));
@@ -126,11 +127,11 @@ void gm_granular_free(gm_domain *domain) {
     gm_free(work->support_high[k]);
   }
   gm_free(work->interaction);
-  for (int k = 0; k < 2; k++) {
-    gm_free(work->box_centre[k]);
+  for (int k = 0; k < 2; k++)
     gm_free(work->box_half[k]);
-  }
   gm_free(work->granular);
+  gm_free(work->visit);
+  gm_free(work->forest);
   gm_free(work->parent);
   gm_free(work->set_size);
   gm_free(work->label);

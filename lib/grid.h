@@ -60,6 +60,11 @@ typedef struct gm_grid {
   int32_t *contact_wall;
   double *contact_force[2];
   size_t contact_capacity; /* nodes allocated */
+  /* Per node and planar wall (node * wall_stride + wall): the smallest
+   * distance (m) from the wall to the domain of a point the node carries;
+   * the node may approach the wall by that much in a step (walls.c). */
+  double *wall_gap;
+  size_t wall_gap_capacity; /* doubles allocated */
 } gm_grid;
 
 /* Colour of a block for the parallel scatter: blocks of one colour are two

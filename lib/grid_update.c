@@ -61,8 +61,10 @@ static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
   bool full = ctx->mode == GM_GRID_FULL;
   double before[2] = {velocity[0], velocity[1]};
   int first_wall = -1;
-  if (!gm_walls_contact(domain, position, velocity, full ? block_force : NULL,
-                        grid->mass[node] / ctx->dt, &first_wall))
+  const double *gap = grid->wall_gap + node * (size_t)domain->wall_count;
+  if (!gm_walls_contact(domain, position, velocity, gap, ctx->dt,
+                        full ? block_force : NULL, grid->mass[node] / ctx->dt,
+                        &first_wall))
     return;
   for (int k = 0; k < dim; k++) {
     grid->momentum[k][node] = velocity[k];

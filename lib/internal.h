@@ -178,6 +178,7 @@ typedef struct gm_worker_scratch {
   int callback_result; /* material return code that caused the error */
   double max_wave_speed_squared;  /* m^2/s^2, max c_p^2 of the new state */
   double max_point_speed_squared; /* m^2/s^2, max |v_p|^2 of the new state */
+  double density_control_seconds; /* this step, this worker */
   char pad[64];
 } gm_worker_scratch;
 
@@ -190,8 +191,10 @@ typedef struct gm_granular_work {
   int64_t *support_high[2];
   gm_interaction_domain *interaction; /* per point */
   /* The same for the rectangle variants, SoA for the pair search: centre
-   * and half edges (m), and whether the point's material is granular. */
-  double *box_centre[2], *box_half[2];
+   * (the committed positions, not owned) and half edges (m); and whether
+   * the point's material is granular. */
+  const double *box_centre[2];
+  double *box_half[2];
   uint8_t *granular;
   uint32_t *parent; /* union-find */
   uint32_t *set_size;
@@ -209,8 +212,16 @@ typedef struct gm_granular_work {
   uint32_t *adjacency_start; /* CSR of the conflicts per component */
   int32_t *adjacency;
   size_t adjacency_capacity;
+  /* Spanning forest of the last search (edges p << 32 | q by point index):
+   * valid while the committed points keep their indices (no reordering,
+   * addition or removal), it lets the next step re-check N - C pairs
+   * instead of searching all of them (components.c). */
+  uint64_t *forest;
+  size_t forest_count;
+  bool forest_valid;
+  uint8_t *visit; /* points to search from when the forest is reused */
   /* Of the step in progress, committed with it. */
-  size_t component_count, layer_count, interaction_count;
+  gm_granular_summary summary;
 } gm_granular_work;
 
 /* ----------------------------------------------------------------- domain */
@@ -372,12 +383,17 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                             const double *const velocity_gradient[5]);
 
 /* Walls (walls.c). Contact of one node with the walls: `velocity` (m/s)
- * is the node's updated velocity, changed in place; returns true if a wall
- * acted. If block_force is not NULL, mass/dt times each wall's velocity
+ * is the node's updated velocity, changed in place; gap (one per wall, m,
+ * or NULL = 0) lets it approach a wall by that much in dt; returns true if
+ * a wall acted. If block_force is not NULL, mass/dt times each wall's velocity
  * change (N) is added to block_force[2 w], [2 w + 1]. */
 bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
-                      double velocity[2], double *block_force,
-                      double mass_over_dt, int *first_wall);
+                      double velocity[2], const double *gap, double dt,
+                      double *block_force, double mass_over_dt,
+                      int *first_wall);
+/* The node gaps to every planar wall (grid->wall_gap) from the committed
+ * point domains, after the mass P2G (wall_gaps.c). */
+void gm_walls_measure_gaps(gm_domain *domain);
 /* Sizes the per-block wall-force partial sums for the current walls. */
 gm_status gm_walls_reserve(gm_domain *domain);
 
@@ -424,6 +440,23 @@ gm_status gm_granular_prepare(gm_domain *domain);
 /* After the stress update of a chunk: stress-free and density-control
  * rules of the stress_free and granular families (000 eqs 13-15, 18). */
 void gm_density_control_chunk(gm_domain *domain, size_t first, size_t count);
+/* Pair search (pair_search.c) and layers (layers.c). */
+typedef enum gm_pair_pass { GM_PASS_JOIN, GM_PASS_CONFLICTS } gm_pair_pass;
+void gm_pair_cells_sort(gm_domain *domain);
+/* Every pair sharing a node: from every point with half windows (subset
+ * NULL), or from the points with subset[p] != 0 with full windows. JOIN
+ * unites interacting pairs and records the forest; CONFLICTS records the
+ * components that share a node. */
+gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
+                         gm_pair_pass pass, const uint8_t *subset);
+bool gm_supports_share_node(const gm_granular_work *work, int dim, uint32_t p,
+                            uint32_t q);
+bool gm_pair_interacts(const gm_domain *domain, uint32_t p, uint32_t q);
+gm_status gm_assign_layers(gm_domain *domain, size_t components,
+                           size_t *layer_count);
+/* Follows a reordering (points->order: new index k holds old order[k])
+ * in the kept spanning forest; scratch: count entries. */
+void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch);
 /* Sizes the granular work arrays for the points and blocks. */
 gm_status gm_granular_reserve(gm_domain *domain);
 void gm_granular_free(gm_domain *domain);

@@ -312,4 +312,6 @@ void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass) {
   }
   if (pass->mass && domain->rigid_count > 0) /* once per step */
     gm_rigid_mark_nodes(domain);
+  if (pass->mass && domain->wall_count > 0) /* once per step */
+    gm_walls_measure_gaps(domain);
 }

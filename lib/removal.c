@@ -42,6 +42,7 @@ static void move_point(gm_domain *domain, size_t to, size_t from) {
 
 void gm_points_remove(gm_domain *domain, const uint32_t *flags) {
   gm_points *points = &domain->points;
+  domain->granular.forest_valid = false; /* indices change */
   size_t kept = 0;
   for (size_t i = 0; i < points->count; i++) {
     if (flags[i]) {
@@ -61,6 +62,7 @@ void gm_points_remove(gm_domain *domain, const uint32_t *flags) {
 
 void gm_points_truncate(gm_domain *domain, size_t count, int64_t next_id) {
   gm_points *points = &domain->points;
+  domain->granular.forest_valid = false; /* may name dropped points */
   points->count = count;
   points->next_id = next_id;
   points->keys_valid = false;

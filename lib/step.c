@@ -76,6 +76,7 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
   for (int w = 0; w < domain->worker_count; w++) {
     domain->scratch[w].max_wave_speed_squared = 0.0;
     domain->scratch[w].max_point_speed_squared = 0.0;
+    domain->scratch[w].density_control_seconds = 0.0;
   }
   domain->current_dt = dt;
   gm_status status = GM_OK;
@@ -96,10 +97,12 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
     domain->points.cur ^= 1;
     domain->points.keys_valid = true; /* the move pass keyed the new state */
     if (domain->def.family == GM_FAMILY_GRANULAR) {
-      const gm_granular_work *work = &domain->granular;
-      domain->granular_summary.component_count = work->component_count;
-      domain->granular_summary.layer_count = work->layer_count;
-      domain->granular_summary.interaction_count = work->interaction_count;
+      gm_granular_summary *summary = &domain->granular_summary;
+      *summary = domain->granular.summary;
+      summary->density_control_seconds = 0.0;
+      for (int w = 0; w < domain->worker_count; w++)
+        summary->density_control_seconds +=
+            domain->scratch[w].density_control_seconds;
     }
     if (domain->wall_count > 0)
       gm_walls_add_impulse(domain, dt);

@@ -4,8 +4,13 @@
  * short parallel phases, and waking a sleeping thread costs tens of
  * microseconds, which would dominate small scenes.
  */
+/* clock_gettime() is POSIX, not C11. */
+#define _POSIX_C_SOURCE 200809L
+
 #include "threads.h"
 #include "internal.h"
+
+#include <time.h>
 
 enum { SPIN_ROUNDS = 200000 };
 
@@ -168,4 +173,10 @@ void gm_parallel_for(gm_pool *pool, size_t item_count, gm_parallel_fn *fn,
   while (atomic_load(&pool->remaining) != 0)
     pthread_cond_wait(&pool->done, &pool->mutex);
   pthread_mutex_unlock(&pool->mutex);
+}
+
+double gm_monotonic_seconds(void) {
+  struct timespec now;
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  return (double)now.tv_sec + 1e-9 * (double)now.tv_nsec;
 }

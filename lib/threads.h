@@ -47,4 +47,7 @@ void gm_pool_stop(gm_pool *pool);
 void gm_parallel_for(gm_pool *pool, size_t item_count, gm_parallel_fn *fn,
                      void *context);
 
+/* Seconds on the monotonic clock (for the profiling summaries). */
+double gm_monotonic_seconds(void);
+
 #endif

@@ -1,0 +1,130 @@
+/*
+ * wall_gaps.c - how far the material of each node is from each planar
+ * wall. A node on or behind a wall carries points whose domains may have
+ * left the wall; holding the node's velocity at zero toward the wall would
+ * then stop that material from ever coming back, and every vibration
+ * would press it harder against the wall (a ratchet). The gap of a node to
+ * a wall is the smallest distance from the wall to the domain of a point
+ * with weight on the node: the contact lets the node close that gap in a
+ * step and stops only the rest (walls.c).
+ *
+ * Minima do not depend on the order they are taken in, and the blocks are
+ * visited colour by colour as in p2g.c, so the result is deterministic and
+ * free of races.
+ */
+#include "internal.h"
+
+#include <math.h>
+
+typedef struct gap_context {
+  gm_domain *domain;
+  const uint32_t *blocks; /* of the colour being measured */
+} gap_context;
+
+/* Half extent (m) of point p's current domain along the unit normal. */
+static double extent_along(const gm_domain *domain,
+                           const gm_point_domain *point,
+                           const double normal[2]) {
+  double corners[4][2];
+  gm_point_domain_corners(domain->shape_grid.shape, domain->dim, point,
+                          corners);
+  /* r1 = (c1 - c0) / 2, r2 = (c3 - c0) / 2 */
+  double r1[2] = {0.5 * (corners[1][0] - corners[0][0]),
+                  0.5 * (corners[1][1] - corners[0][1])};
+  double r2[2] = {0.5 * (corners[3][0] - corners[0][0]),
+                  0.5 * (corners[3][1] - corners[0][1])};
+  if (domain->dim == 1)
+    r2[0] = r2[1] = 0.0;
+  return fabs(r1[0] * normal[0] + r1[1] * normal[1]) +
+         fabs(r2[0] * normal[0] + r2[1] * normal[1]);
+}
+
+/* Lowers the gaps of the nodes point p reaches to its domain's distance
+ * from each wall its support may reach past. */
+static void measure_point(gm_domain *domain, uint32_t block, size_t p) {
+  const gm_points *points = &domain->points;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  gm_grid *grid = &domain->grid;
+  int dim = domain->dim, walls = domain->wall_count;
+  const double *const position[2] = {current->position[0],
+                                     current->position[dim > 1 ? 1 : 0]};
+  const double *const deformation[4] = {
+      current->deformation[F_XX], current->deformation[F_XY],
+      current->deformation[F_YX], current->deformation[F_YY]};
+  const double *const size[2] = {points->domain_size[0],
+                                 points->domain_size[dim > 1 ? 1 : 0]};
+  gm_point_domain point;
+  gm_load_point_domain(dim, position, deformation, size, p, &point);
+  /* A support reaches at most 9 nodes (8 cells) from the point. */
+  double reach = 8.0 * domain->def.cell_size; /* m */
+  double distance[GM_MAX_WALLS];
+  bool near = false;
+  for (int w = 0; w < walls; w++) {
+    const gm_wall *wall = &domain->walls[w];
+    double centre = (point.position[0] - wall->point[0]) * wall->normal[0] +
+                    (point.position[1] - wall->point[1]) * wall->normal[1];
+    distance[w] = INFINITY;
+    if (centre > reach)
+      continue; /* no node of its support lies behind this wall */
+    distance[w] = centre - extent_along(domain, &point, wall->normal);
+    near = true;
+  }
+  if (!near)
+    return;
+  gm_support support;
+  if (!gm_support_compute(&domain->shape_grid, &point, &support))
+    return; /* cannot happen: the binning placed the point by it */
+  const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  int64_t base[2];
+  gm_block_base(grid, grid->block_key[block], base);
+  for (int e = 0; e < support.count; e++) {
+    if (support.weight[e] == 0.0)
+      continue;
+    int64_t x = support.lowest[0] - base[0] + support.offset[0][e];
+    int64_t y =
+        dim > 1 ? support.lowest[1] - base[1] + support.offset[1][e] : 0;
+    double *gap = grid->wall_gap +
+                  gm_block_node(links, grid->shift, x, y) * (size_t)walls;
+    for (int w = 0; w < walls; w++)
+      gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
+  }
+}
+
+static void measure_blocks(void *context, size_t begin, size_t end,
+                           int worker) {
+  (void)worker;
+  gap_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  const gm_grid *grid = &domain->grid;
+  const gm_points *points = &domain->points;
+  for (size_t item = begin; item < end; item++) {
+    uint32_t block = ctx->blocks[item];
+    for (uint32_t k = grid->point_start[block];
+         k < grid->point_start[block + 1]; k++) {
+      size_t p = points->order[k];
+      if (!domain->materials[points->material[p]].rigid)
+        measure_point(domain, block, p);
+    }
+  }
+}
+
+static void clear_gaps(void *context, size_t begin, size_t end, int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  size_t stride = GM_BLOCK_NODES * (size_t)domain->wall_count;
+  double *gap = domain->grid.wall_gap;
+  for (size_t k = begin * stride; k < end * stride; k++)
+    gap[k] = INFINITY;
+}
+
+void gm_walls_measure_gaps(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  gm_parallel_for(&domain->pool, grid->block_count, clear_gaps, domain);
+  gap_context ctx = {domain, NULL};
+  for (int colour = 0; colour < 4; colour++) {
+    size_t first = grid->color_start[colour];
+    ctx.blocks = grid->color_block + first;
+    gm_parallel_for(&domain->pool, grid->color_start[colour + 1] - first,
+                    measure_blocks, &ctx);
+  }
+}
