@@ -755,6 +755,38 @@ GM_API gm_status gm_series_set_domains(gm_series *series, int enabled);
 /** Frees the series (files stay). NULL is a no-op. */
 GM_API void gm_series_destroy(gm_series *series);
 
+/* ------------------------------------------------------- long runs, restart */
+
+/** Called by gm_domain_advance after every committed step with the time
+ * reached (s); return nonzero to stop the run there. */
+typedef int gm_progress_fn(const gm_domain *domain, double time,
+                           double end_time, void *user);
+
+/** Steps until the domain's time reaches end_time (s) exactly: steps of dt
+ * (s; <= 0: the stable dt of each step), the last one shortened. progress
+ * may be NULL. A progress callback that returns nonzero stops the run with
+ * GM_ERR_CALLBACK (the domain keeps every step committed so far); a failed
+ * step returns its status, the domain as after the last good step. */
+GM_API gm_status gm_domain_advance(gm_domain *domain, double end_time,
+                                   double dt, gm_progress_fn *progress,
+                                   void *user);
+
+/** Writes a checkpoint of the domain's state (points, time, step count,
+ * sources, sinks, wall and rigid totals) to path: a versioned binary file
+ * with a checksum, written to a temporary file that is flushed and renamed
+ * over path, so a crash never leaves a broken file under path. Materials
+ * (user callbacks included), walls, sources and sinks are not code the
+ * file can hold: a restart builds the same setup, then loads. */
+GM_API gm_status gm_domain_save(const gm_domain *domain, const char *path);
+
+/** Restores a checkpoint into a domain built with the same gm_domain_def,
+ * materials, walls, rigid bodies, sources and sinks (a fingerprint of the
+ * setup is stored and checked). The run then continues bitwise identically
+ * to the uninterrupted one. Truncated, corrupted or mismatched files are
+ * refused (GM_ERR_IO or GM_ERR_INVALID_ARGUMENT with a message), leaving
+ * the domain unchanged. */
+GM_API gm_status gm_domain_load(gm_domain *domain, const char *path);
+
 /* ------------------------------------------------------------------ hooks */
 
 typedef struct gm_allocator {

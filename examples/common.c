@@ -1,0 +1,228 @@
+/*
+ * common.c - shared parts of the example drivers (see common.h).
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#define _POSIX_C_SOURCE 200809L /* mkdir */
+
+#include "common.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static const char *const shape_names[] = {"linear", "ugimp", "cpgimp", "cpdi"};
+static const char *const family_names[] = {"plain", "stress_free", "granular"};
+
+const char *example_shape_name(gm_shape shape) {
+  return (unsigned)shape < 4 ? shape_names[shape] : "unknown";
+}
+
+const char *example_family_name(gm_family family) {
+  return (unsigned)family < 3 ? family_names[family] : "unknown";
+}
+
+static int find_word(const char *word, const char *const *names, int count) {
+  for (int k = 0; k < count; k++)
+    if (strcmp(word, names[k]) == 0)
+      return k;
+  return -1;
+}
+
+static void print_help(const char *program, const char *description,
+                       const example_options *defaults,
+                       const example_extra *extras, int extra_count) {
+  printf("usage: %s [options]\n%s\n\noptions:\n", program, description);
+  printf("  --method linear|ugimp|cpgimp|cpdi  shape functions (default %s)\n",
+         example_shape_name(defaults->shape));
+  printf("  --family plain|stress_free|granular  algorithm family (default "
+         "%s)\n",
+         example_family_name(defaults->family));
+  printf("  --ppc N        points per cell per direction (default %d)\n",
+         defaults->ppc);
+  printf("  --cell H       cell size, m (default %g)\n", defaults->cell);
+  printf("  --workers N    worker threads (default %d)\n", defaults->workers);
+  printf("  --out DIR      output directory, '' for none (default %s)\n",
+         defaults->out[0] ? defaults->out : "''");
+  printf("  --t-end T      simulated time, s (default %g)\n", defaults->t_end);
+  printf("  --quiet        no progress display\n");
+  for (int k = 0; k < extra_count; k++) {
+    if (extras[k].number)
+      printf("  --%-13s %s (default %g)\n", extras[k].name, extras[k].help,
+             *extras[k].number);
+    else
+      printf("  --%-13s %s (default %s)\n", extras[k].name, extras[k].help,
+             *extras[k].word);
+  }
+  printf("  --help         this text\n");
+}
+
+/* Reads a number for --name; 0 on success. */
+static int read_number(const char *name, const char *text, double *value) {
+  char *end = NULL;
+  errno = 0;
+  double parsed = strtod(text, &end);
+  if (errno != 0 || end == text || *end != '\0' || !isfinite(parsed)) {
+    fprintf(stderr, "--%s: '%s' is not a number\n", name, text);
+    return 1;
+  }
+  *value = parsed;
+  return 0;
+}
+
+/* One standard option; returns 0 if handled, 1 if unknown, 2 on error. */
+static int parse_standard(const char *name, const char *value,
+                          example_options *options) {
+  double number = 0.0;
+  if (strcmp(name, "method") == 0) {
+    int k = find_word(value, shape_names, 4);
+    if (k < 0) {
+      fprintf(stderr, "--method: '%s' is not linear, ugimp, cpgimp or cpdi\n",
+              value);
+      return 2;
+    }
+    options->shape = (gm_shape)k;
+  } else if (strcmp(name, "family") == 0) {
+    int k = find_word(value, family_names, 3);
+    if (k < 0) {
+      fprintf(stderr, "--family: '%s' is not plain, stress_free or granular\n",
+              value);
+      return 2;
+    }
+    options->family = (gm_family)k;
+  } else if (strcmp(name, "out") == 0) {
+    options->out = value;
+  } else if (strcmp(name, "ppc") == 0 || strcmp(name, "workers") == 0) {
+    if (read_number(name, value, &number) != 0 || number < 1 || number > 256 ||
+        number != floor(number)) {
+      fprintf(stderr, "--%s: '%s' must be an integer in 1..256\n", name, value);
+      return 2;
+    }
+    *(strcmp(name, "ppc") == 0 ? &options->ppc : &options->workers) =
+        (int)number;
+  } else if (strcmp(name, "cell") == 0 || strcmp(name, "t-end") == 0) {
+    if (read_number(name, value, &number) != 0 || !(number > 0.0)) {
+      fprintf(stderr, "--%s: '%s' must be a number > 0\n", name, value);
+      return 2;
+    }
+    *(strcmp(name, "cell") == 0 ? &options->cell : &options->t_end) = number;
+  } else {
+    return 1;
+  }
+  return 0;
+}
+
+int example_parse(int argc, char **argv, const char *description,
+                  example_options *options, const example_extra *extras,
+                  int extra_count) {
+  example_options defaults = *options;
+  for (int i = 1; i < argc; i++) {
+    const char *argument = argv[i];
+    if (strcmp(argument, "--help") == 0 || strcmp(argument, "-h") == 0) {
+      print_help(argv[0], description, &defaults, extras, extra_count);
+      return 1;
+    }
+    if (strcmp(argument, "--quiet") == 0) {
+      options->quiet = 1;
+      continue;
+    }
+    if (strncmp(argument, "--", 2) != 0 || i + 1 >= argc) {
+      fprintf(stderr, "%s: unexpected '%s' (see --help)\n", argv[0], argument);
+      return 2;
+    }
+    const char *name = argument + 2, *value = argv[++i];
+    int handled = parse_standard(name, value, options);
+    if (handled == 2)
+      return 2;
+    if (handled == 0)
+      continue;
+    int k = 0;
+    while (k < extra_count && strcmp(extras[k].name, name) != 0)
+      k++;
+    if (k == extra_count) {
+      fprintf(stderr, "%s: unknown option --%s (see --help)\n", argv[0], name);
+      return 2;
+    }
+    if (extras[k].number) {
+      if (read_number(name, value, extras[k].number) != 0)
+        return 2;
+    } else {
+      *extras[k].word = value;
+    }
+  }
+  return 0;
+}
+
+int example_make_output(const example_options *options) {
+  if (!options->out[0])
+    return 0;
+  char path[1024];
+  if (snprintf(path, sizeof path, "%s", options->out) >= (int)sizeof path) {
+    fprintf(stderr, "--out: path too long\n");
+    return 1;
+  }
+  for (char *slash = path + 1;; slash++) { /* mkdir -p */
+    char saved = *slash;
+    if (saved != '/' && saved != '\0')
+      continue;
+    *slash = '\0';
+    if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+      fprintf(stderr, "cannot create directory %s: %s\n", path,
+              strerror(errno));
+      return 1;
+    }
+    *slash = saved;
+    if (saved == '\0')
+      return 0;
+  }
+}
+
+FILE *example_open_csv(const example_options *options, const char *file,
+                       const char *header) {
+  if (!options->out[0])
+    return NULL;
+  char path[1200];
+  snprintf(path, sizeof path, "%s/%s", options->out, file);
+  FILE *csv = fopen(path, "w");
+  if (!csv) {
+    fprintf(stderr, "cannot write %s: %s\n", path, strerror(errno));
+    return NULL;
+  }
+  fprintf(csv, "%s\n", header);
+  return csv;
+}
+
+int example_progress(const gm_domain *domain, double time, double end_time,
+                     void *user) {
+  (void)domain;
+  const example_options *options = user;
+  static double next_report = 0.0; /* fraction of the run */
+  double fraction = end_time > 0.0 ? time / end_time : 1.0;
+  if (options && options->quiet)
+    return 0;
+  if (fraction < next_report && fraction < 1.0)
+    return 0;
+  next_report = fraction + 0.02;
+  fprintf(stderr, "\r  t = %8.4f s of %g s  [%3.0f %%]", time, end_time,
+          100.0 * fraction);
+  if (fraction >= 1.0) {
+    fprintf(stderr, "\n");
+    next_report = 0.0;
+  }
+  return 0;
+}
+
+void example_result(const char *name, double value, double reference) {
+  double error = reference != 0.0 ? fabs(value - reference) / fabs(reference)
+                                  : fabs(value);
+  printf("RESULT %s=%.6g reference=%.6g rel_error=%.4g\n", name, value,
+         reference, error);
+}
+
+int example_fail(const gm_domain *domain, const char *call, gm_status status) {
+  fprintf(stderr, "%s failed: %s\n  %s\n", call, gm_strerror(status),
+          domain ? gm_domain_last_error(domain) : gm_last_create_error());
+  return 2;
+}

@@ -1,0 +1,73 @@
+/*
+ * common.h - what every example driver shares: the command-line options
+ * (--method, --family, --ppc, --cell, --workers, --out, --t-end and the
+ * example's own), the output directory, a CSV time series, a progress
+ * display for gm_domain_advance, and the final RESULT line.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#ifndef EXAMPLES_COMMON_H
+#define EXAMPLES_COMMON_H
+
+#include <granmpm.h>
+
+#include <stdio.h>
+
+typedef struct example_options {
+  gm_shape shape;   /* --method linear|ugimp|cpgimp|cpdi */
+  gm_family family; /* --family plain|stress_free|granular */
+  int ppc;          /* --ppc N: points per cell per direction */
+  double cell;      /* --cell H (m) */
+  int workers;      /* --workers N */
+  const char *out;  /* --out DIR: output directory, "" = none */
+  double t_end;     /* --t-end T (s) */
+  int quiet;        /* --quiet: no progress display */
+} example_options;
+
+/* An option of one example: --name VALUE, a number or a word. */
+typedef struct example_extra {
+  const char *name; /* without the dashes */
+  const char *help;
+  double *number;    /* set for a numeric option */
+  const char **word; /* set for a word option */
+} example_extra;
+
+/* Parses argv into options (holding the example's defaults on entry) and
+ * extras. Returns 0 to run, 1 after printing --help, 2 after an error
+ * message (use as the exit status when nonzero). */
+int example_parse(int argc, char **argv, const char *description,
+                  example_options *options, const example_extra *extras,
+                  int extra_count);
+
+/* Names for messages and CSV files. */
+const char *example_shape_name(gm_shape shape);
+const char *example_family_name(gm_family family);
+
+/* Creates options->out (and its parents); 0 on success or when out is "". */
+int example_make_output(const example_options *options);
+
+/* Opens <out>/<file> for writing and writes the header line; NULL (with a
+ * message) on failure or when out is "". */
+FILE *example_open_csv(const example_options *options, const char *file,
+                       const char *header);
+
+/* gm_progress_fn printing a progress line to stderr at most every 2 % of
+ * the run; user: the example_options (quiet silences it). */
+int example_progress(const gm_domain *domain, double time, double end_time,
+                     void *user);
+
+/* The last line of every example:
+ * RESULT name=value reference=value rel_error=x */
+void example_result(const char *name, double value, double reference);
+
+/* Prints the failed call and the domain's message; returns 2. */
+int example_fail(const gm_domain *domain, const char *call, gm_status status);
+
+#define EXAMPLE_CHECK(domain, call)                                            \
+  do {                                                                         \
+    gm_status example_status_ = (call);                                        \
+    if (example_status_ != GM_OK)                                              \
+      return example_fail((domain), #call, example_status_);                   \
+  } while (0)
+
+#endif
