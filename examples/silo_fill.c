@@ -25,11 +25,10 @@
  *  - damping stays small (0.05): its force is a load the library does not
  *    report, and it takes a share of the weight while the fill creeps.
  *
- * Known limitation (libgranmpm 0.1): the vertical stress is within 2% of
- * Janssen but the wall pressure 10-30% above K sigma_v, because the planar
- * wall contact holds a wall node even when the material has moved away
- * from the wall, so every small vibration ratchets the fill's lateral
- * stress up (tests/test_janssen.c fails on it until that is fixed).
+ * The planar walls are gap-aware (gm_walls(3)): material that moved away
+ * from a wall can come back to it. Without that, every small vibration
+ * ratcheted the fill's lateral stress up (wall pressure 1.16-1.26 x
+ * K sigma_v before the fix; within 10 % now).
  *
  * Usage: silo_fill [OUTDIR]   (writes OUTDIR/silo.pvd if given)
  *

@@ -548,8 +548,9 @@ static inline gm_granular_summary gm_granular_summary_default(void) {
   return summary;
 }
 
-/** Statistics of the last committed step (all zero before the first step
- * and outside the granular family). */
+/** Statistics of the last committed step. state_count counts
+ * GM_FIELD_STATE (every point quasi-static outside the granular family and
+ * before its first step); the other counts and times are zero there. */
 GM_API gm_status gm_domain_get_granular_summary(const gm_domain *domain,
                                                 gm_granular_summary *summary);
 

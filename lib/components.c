@@ -69,10 +69,9 @@ static void rectangle_geometry(gm_domain *domain, size_t p,
     work->support_high[k][p] = low + span - 1;
   }
   double scale = 1.0;
-  if (measure > 0.0) { /* concentric and proportional (000 Fig. 4a) */
-    double current = dim == 1 ? 2.0 * half[0] : 4.0 * half[0] * half[1];
+  double current = dim == 1 ? 2.0 * half[0] : 4.0 * half[0] * half[1];
+  if (measure > 0.0 && current > 0.0) /* concentric and proportional */
     scale = dim == 1 ? measure / current : sqrt(measure / current);
-  }
   for (int k = 0; k < 2; k++)
     work->box_half[k][p] = half[k] * scale;
 }

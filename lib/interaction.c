@@ -56,6 +56,7 @@ bool gm_interaction_overlap(int dim, const gm_interaction_domain *a,
     return fabs(b->centre[0] - a->centre[0]) <
            fabs(a->half_edge[0][0]) + fabs(b->half_edge[0][0]);
   const gm_interaction_domain *both[2] = {a, b};
+  int tested = 0;
   for (int d = 0; d < 2; d++) {
     for (int e = 0; e < 2; e++) {
       /* Normal of edge vector r_e (unnormalised: the test is scale-free). */
@@ -65,7 +66,10 @@ bool gm_interaction_overlap(int dim, const gm_interaction_domain *a,
         continue; /* degenerate edge: the other axes decide */
       if (separates(a, b, axis))
         return false;
+      tested++;
     }
   }
-  return true;
+  /* Two points have no interior to share (domain sizes are > 0 through the
+   * API, so this only guards the function's contract). */
+  return tested > 0;
 }
