@@ -5,6 +5,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -34,12 +35,29 @@ static const char *face_name(int face) {
   return names[face];
 }
 
+/* Is struct_size the size of a gm_domain_def layout some caller may have
+ * been compiled against: the current one or an earlier one ending before
+ * a field appended since (damping, shape, family)? Those fields then take
+ * their defaults. */
+static bool known_def_size(size_t size) {
+  return size >= sizeof(gm_domain_def) ||
+         size == offsetof(gm_domain_def, damping) ||
+         size == offsetof(gm_domain_def, shape) ||
+         size == offsetof(gm_domain_def, family);
+}
+
+/* The caller's def completed with defaults for fields its struct_size does
+ * not cover (design.md: new fields only ever go at the end). */
+static gm_domain_def complete_def(const gm_domain_def *def) {
+  gm_domain_def full = gm_domain_def_default();
+  size_t known =
+      def->struct_size < sizeof full ? def->struct_size : sizeof full;
+  memcpy(&full, def, known);
+  full.struct_size = sizeof full;
+  return full;
+}
+
 static gm_status validate_def(const gm_domain_def *def) {
-  if (def->struct_size < sizeof(gm_domain_def))
-    CREATE_FAIL(GM_ERR_STRUCT_SIZE,
-                "gm_domain_def.struct_size is %zu, expected %zu: initialise "
-                "with gm_domain_def_default()",
-                def->struct_size, sizeof(gm_domain_def));
   int dim = gm_geometry_dimension(def->geometry);
   if (dim == 0)
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
@@ -151,6 +169,14 @@ gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
   *out = NULL;
   if (!def)
     CREATE_FAIL(GM_ERR_NULL, "gm_domain_create: def is NULL");
+  if (!known_def_size(def->struct_size))
+    CREATE_FAIL(GM_ERR_STRUCT_SIZE,
+                "gm_domain_def.struct_size is %zu, expected %zu (or the size "
+                "of an earlier layout): initialise with "
+                "gm_domain_def_default()",
+                def->struct_size, sizeof(gm_domain_def));
+  gm_domain_def full = complete_def(def);
+  def = &full;
   gm_status status = validate_def(def);
   if (status != GM_OK)
     return status;

@@ -18,6 +18,7 @@
 #include <ctype.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -337,6 +338,32 @@ START_TEST(test_create_null_arguments) {
   gm_domain_def def = gm_domain_def_default();
   check_create_error(gm_domain_create(&def, NULL), GM_ERR_NULL, GM_ERR_NULL,
                      "out", "create(NULL out)");
+}
+END_TEST
+
+/* A caller compiled against an earlier gm_domain_def layout passes that
+ * layout's struct_size; fields appended since must be ignored (here they
+ * hold values that would fail validation) and take their defaults. */
+START_TEST(test_create_accepts_earlier_layouts) {
+  const size_t sizes[3] = {offsetof(gm_domain_def, damping),
+                           offsetof(gm_domain_def, shape),
+                           offsetof(gm_domain_def, family)};
+  for (int k = 0; k < 3; k++) {
+    gm_domain_def def = gm_domain_def_default();
+    def.struct_size = sizes[k];
+    def.damping = 7.0;          /* invalid if read */
+    def.shape = (gm_shape)77;   /* invalid if read */
+    def.family = (gm_family)77; /* invalid if read */
+    if (sizes[k] > offsetof(gm_domain_def, damping))
+      def.damping = 0.0;
+    if (sizes[k] > offsetof(gm_domain_def, shape))
+      def.shape = GM_SHAPE_LINEAR;
+    gm_domain *domain = NULL;
+    gm_status status = gm_domain_create(&def, &domain);
+    ck_assert_msg(status == GM_OK, "struct_size %zu: %s (%s)", sizes[k],
+                  gm_strerror(status), gm_last_create_error());
+    gm_domain_destroy(domain);
+  }
 }
 END_TEST
 
@@ -1117,6 +1144,7 @@ static Suite *api_suite(void) {
   tcase_add_loop_test(create, test_create_rejects_bad_def, 0,
                       BAD_DOMAIN_CASE_COUNT);
   tcase_add_test(create, test_create_null_arguments);
+  tcase_add_test(create, test_create_accepts_earlier_layouts);
   tcase_add_test(create, test_create_accepts_edge_values);
   suite_add_tcase(suite, create);
 

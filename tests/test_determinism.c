@@ -272,7 +272,8 @@ static Suite *determinism_suite(void) {
   TCase *tcase = tcase_create("workers");
   /* Each test runs 4 short simulations, under a second in total even on
    * one core; 10 s only catches a hang. */
-  tcase_set_timeout(tcase, 10.0);
+  /* 4 workers on 2 shared cores, also under the sanitizers: generous. */
+  tcase_set_timeout(tcase, 120.0);
   tcase_add_loop_test(tcase, test_plane_strain_block, GM_SCHEME_USL,
                       GM_SCHEME_USF + 1);
   tcase_add_loop_test(tcase, test_1d_column, GM_SCHEME_USL, GM_SCHEME_USF + 1);
