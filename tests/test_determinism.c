@@ -270,9 +270,9 @@ END_TEST
 static Suite *determinism_suite(void) {
   Suite *suite = suite_create("determinism");
   TCase *tcase = tcase_create("workers");
-  /* Each test runs 4 short simulations, under a second in total even on
-   * one core; 10 s only catches a hang. */
-  /* 4 workers on 2 shared cores, also under the sanitizers: generous. */
+  /* Each test runs 4 short simulations, under a second in total on an
+   * idle core; the timeout only catches a hang, and is generous because 4
+   * workers on 2 shared, loaded cores under the sanitizers took > 10 s. */
   tcase_set_timeout(tcase, 120.0);
   tcase_add_loop_test(tcase, test_plane_strain_block, GM_SCHEME_USL,
                       GM_SCHEME_USF + 1);
