@@ -81,8 +81,8 @@ static const bench_case bench_cases[] = {
     {"granular-cpdi-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_CPDI,
      GM_FAMILY_GRANULAR, 0.0},
     {"empty-1e5", 1e5, 10.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
-    {"mohr-coulomb-1e5", 1e5, 1.0, true, MATERIAL_MOHR_COULOMB,
-     GM_SHAPE_LINEAR, PLAIN},
+    {"mohr-coulomb-1e5", 1e5, 1.0, true, MATERIAL_MOHR_COULOMB, GM_SHAPE_LINEAR,
+     PLAIN},
     {"drucker-prager-1e5", 1e5, 1.0, true, MATERIAL_DRUCKER_PRAGER,
      GM_SHAPE_LINEAR, PLAIN},
     {"block-1e6", 1e6, 1.0, false, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
@@ -227,7 +227,8 @@ static int add_cloud(gm_domain *domain, int material, double cell_size,
 static int build_scene(const bench_case *scene, int workers,
                        gm_domain **domain) {
   /* n^2 cells of 4 points each give target_points (block and cloud). */
-  double block_points = scene->target_points * (1.0 - scene->disconnected_share);
+  double block_points =
+      scene->target_points * (1.0 - scene->disconnected_share);
   int cells_per_side = (int)lround(sqrt(block_points / 4.0));
   double cell_size = block_side / cells_per_side; /* m */
   double margin = margin_cells * cell_size;       /* m */
@@ -281,10 +282,10 @@ static int run_steps(gm_domain *domain, int steps, bench_result *result) {
       continue;
     gm_granular_summary summary = gm_granular_summary_default();
     CHECK(domain, gm_domain_get_granular_summary(domain, &summary));
-    const double phases[5] = {
-        summary.geometry_seconds, summary.pair_search_seconds,
-        summary.label_seconds, summary.layer_seconds,
-        summary.density_control_seconds};
+    const double phases[5] = {summary.geometry_seconds,
+                              summary.pair_search_seconds,
+                              summary.label_seconds, summary.layer_seconds,
+                              summary.density_control_seconds};
     for (int k = 0; k < 5; k++)
       result->granular_seconds[k] += phases[k];
     result->forest_reused_steps += summary.forest_reused;
@@ -333,8 +334,7 @@ static int run_case(const bench_case *scene, int workers) {
   if (scene->family == GM_FAMILY_GRANULAR) { /* the split, ns/point-step */
     static const char *const names[5] = {"geometry", "pair_search", "labels",
                                          "layers", "density_control"};
-    fprintf(stderr, "# %s %d worker(s) granular split:", scene->name,
-            workers);
+    fprintf(stderr, "# %s %d worker(s) granular split:", scene->name, workers);
     for (int k = 0; k < 5; k++)
       fprintf(stderr, " %s %.1f", names[k],
               1e9 * result.granular_seconds[k] / point_steps);
