@@ -4,14 +4,16 @@
  * allocator sees them all. After a few warm-up steps (the grid and the
  * per-step work arrays reach their size), further steps of a scene whose
  * occupied region stays the same must not allocate at all, with one or two
- * workers and with each update scheme. Also checks that every allocation is
- * freed by gm_domain_destroy (the counts balance), and that running out of
- * memory in the middle of a step or of a material registration fails
- * cleanly without changing the domain.
+ * workers and with each update scheme, for linear MPM and for the
+ * granular family with CPDI and a planar wall. Also checks that every
+ * allocation is freed by gm_domain_destroy (the counts balance), and that
+ * running out of memory in the middle of a step or of a material registration
+ * fails cleanly without changing the domain.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
 #include <stdatomic.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -48,7 +50,11 @@ static void install_counting_allocator(void) {
 /* An elastic block resting on a fixed floor under gravity: it compresses
  * and oscillates but stays in the same cells, so after warm-up the set of
  * grid blocks, hence every work array, keeps its size. */
-static gm_domain *resting_block(gm_update_scheme scheme, int workers) {
+/* granular: the same with CPDI, the granular family (a second, small block
+ * far from the first makes two parallel grids, so the conflict search
+ * runs) and a planar wall against the block's left side (wall gaps). */
+static gm_domain *resting_block(gm_update_scheme scheme, int workers,
+                                bool granular) {
   gm_domain_def def = gm_domain_def_default();
   def.scheme = scheme;
   def.worker_count = workers;
@@ -56,10 +62,29 @@ static gm_domain *resting_block(gm_update_scheme scheme, int workers) {
   def.extent[0] = def.extent[1] = 2.0;
   def.gravity[1] = -9.81;
   def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
+  if (granular) {
+    def.shape = GM_SHAPE_CPDI;
+    def.family = GM_FAMILY_GRANULAR;
+  }
   gm_domain *domain = test_create_domain(&def);
   int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
   const double lower[3] = {0.5, 0.0, 0.0}, upper[3] = {1.5, 0.6, 0.0};
   test_fill_box(domain, material, lower, upper, 2, NULL);
+  if (granular) {
+    gm_granular_def def_granular = gm_granular_def_default();
+    def_granular.critical_density = 990.0; /* kg/m^3, below rho0 = 1000 */
+    TEST_ASSERT_OK(domain,
+                   gm_domain_set_granular(domain, material, &def_granular));
+    const double small_lower[3] = {1.8, 0.0, 0.0};
+    const double small_upper[3] = {1.9, 0.1, 0.0};
+    test_fill_box(domain, material, small_lower, small_upper, 2, NULL);
+    gm_wall_def wall = gm_wall_def_default();
+    wall.point[0] = 0.5;
+    wall.normal[0] = 1.0;
+    wall.normal[1] = 0.0;
+    int wall_id = -1;
+    TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &wall_id));
+  }
   return domain;
 }
 
@@ -67,9 +92,10 @@ START_TEST(test_no_allocation_after_warm_up) {
   static const gm_update_scheme schemes[3] = {GM_SCHEME_USL, GM_SCHEME_MUSL,
                                               GM_SCHEME_USF};
   gm_update_scheme scheme = schemes[_i % 3];
-  int workers = 1 + _i / 3;
+  int workers = 1 + _i / 3 % 2;
+  bool granular = _i >= 6;
   install_counting_allocator();
-  gm_domain *domain = resting_block(scheme, workers);
+  gm_domain *domain = resting_block(scheme, workers, granular);
   enum { WARM_UP_STEPS = 5, MEASURED_STEPS = 200 };
   for (int step = 0; step < WARM_UP_STEPS; step++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
@@ -78,8 +104,10 @@ START_TEST(test_no_allocation_after_warm_up) {
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
   long during = atomic_load(&allocations) - before;
   ck_assert_msg(during == 0,
-                "%s, %d workers: %ld allocations in %d steps after warm-up",
-                test_scheme_name(scheme), workers, during, MEASURED_STEPS);
+                "%s, %d workers%s: %ld allocations in %d steps after warm-up",
+                test_scheme_name(scheme), workers,
+                granular ? ", granular CPDI with a wall" : "", during,
+                MEASURED_STEPS);
   gm_domain_destroy(domain);
   ck_assert_msg(atomic_load(&allocations) == atomic_load(&releases),
                 "allocations %ld != frees %ld after destroy",
@@ -196,7 +224,8 @@ int main(void) {
   Suite *suite = suite_create("allocation");
   TCase *tcase = tcase_create("steady_state");
   tcase_set_timeout(tcase, 60);
-  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 6);
+  /* 0..5: linear MPM; 6..11: granular CPDI with a planar wall. */
+  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 12);
   tcase_add_test(tcase, test_out_of_memory_while_growing_the_grid);
   tcase_add_test(tcase, test_out_of_memory_while_widening_state);
   suite_add_tcase(suite, tcase);
