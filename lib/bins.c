@@ -180,6 +180,7 @@ void gm_reorder_points(gm_domain *domain) {
   gm_points *points = &domain->points;
   /* point_block is free until the next binning */
   gm_granular_remap_forest(domain, points->point_block);
+  domain->granular.boxes_valid = false;
   size_t count = points->count;
   gm_parallel_for(&domain->pool, count, permute_buffers, domain);
   points->cur ^= 1;

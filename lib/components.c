@@ -68,6 +68,8 @@ static void rectangle_geometry(gm_domain *domain, size_t p,
     work->support_low[k][p] = low;
     work->support_high[k][p] = low + span - 1;
   }
+  if (work->boxes_valid) /* constant: linear MPM and uGIMP */
+    return;
   double scale = 1.0;
   double current = dim == 1 ? 2.0 * half[0] : 4.0 * half[0] * half[1];
   if (measure > 0.0 && current > 0.0) /* concentric and proportional */
@@ -98,7 +100,7 @@ static void point_geometry(void *context, size_t begin, size_t end,
     gm_load_point_domain(dim, position, deformation, size, p, &point);
     const gm_material *material = &domain->materials[points->material[p]];
     double measure = 0.0; /* non-granular: its own domain */
-    if (material->granular) {
+    if (material->granular && !work->boxes_valid) {
       /* The initial domain's area (length in 1D) scaled to V_cr:
        * A0 V_cr / V0 = A0 (m / V0) / rho_cr (000 sec 3.3, Table A2). */
       double initial = size[0][p] * (dim > 1 ? size[1][p] : 1.0);
@@ -194,6 +196,8 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   for (int k = 0; k < 2; k++) /* box centres are the points' positions */
     work->box_centre[k] = current->position[k < domain->dim ? k : 0];
   gm_parallel_for(&domain->pool, count, point_geometry, domain);
+  gm_shape shape = domain->shape_grid.shape;
+  work->boxes_valid = shape == GM_SHAPE_LINEAR || shape == GM_SHAPE_UGIMP;
   gm_pair_cells_sort(domain);
   int max_span[2];
   widest_support(domain, max_span);

@@ -41,6 +41,7 @@ gm_status gm_domain_set_granular(gm_domain *domain, int material,
                         "gm_granular_def.density_control %d is not a "
                         "gm_density_control value",
                         (int)def->density_control);
+  domain->granular.boxes_valid = false; /* domains of interaction change */
   target->granular = true;
   target->critical_density = def->critical_density;
   target->tolerance = def->tolerance;

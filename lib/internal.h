@@ -220,6 +220,10 @@ typedef struct gm_granular_work {
   size_t forest_count;
   bool forest_valid;
   uint8_t *visit; /* points to search from when the forest is reused */
+  /* box_half depends only on per-point constants for linear MPM and uGIMP
+   * (the initial domain scaled to V_cr): kept while the points keep their
+   * indices, and recomputed after any addition, removal or reordering. */
+  bool boxes_valid;
   /* Of the step in progress, committed with it. */
   gm_granular_summary summary;
 } gm_granular_work;

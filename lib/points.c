@@ -357,6 +357,7 @@ gm_status gm_domain_add_points(gm_domain *domain, const gm_points_def *def,
 
 gm_status gm_points_append(gm_domain *domain, const gm_points_def *def,
                            int64_t *first_id) {
+  domain->granular.boxes_valid = false; /* new points have none */
   if (def->struct_size < sizeof(gm_points_def))
     return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
                         "gm_points_def.struct_size is %zu, expected %zu",

@@ -43,6 +43,7 @@ static void move_point(gm_domain *domain, size_t to, size_t from) {
 void gm_points_remove(gm_domain *domain, const uint32_t *flags) {
   gm_points *points = &domain->points;
   domain->granular.forest_valid = false; /* indices change */
+  domain->granular.boxes_valid = false;
   size_t kept = 0;
   for (size_t i = 0; i < points->count; i++) {
     if (flags[i]) {
@@ -63,6 +64,7 @@ void gm_points_remove(gm_domain *domain, const uint32_t *flags) {
 void gm_points_truncate(gm_domain *domain, size_t count, int64_t next_id) {
   gm_points *points = &domain->points;
   domain->granular.forest_valid = false; /* may name dropped points */
+  domain->granular.boxes_valid = false;
   points->count = count;
   points->next_id = next_id;
   points->keys_valid = false;
