@@ -88,15 +88,8 @@ static double corner_value(const gm_domain *domain, size_t k, size_t i) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *buffer = &points->buffer[points->cur];
   int dim = domain->dim;
-  const double *const position[2] = {buffer->position[0],
-                                     buffer->position[dim > 1 ? 1 : 0]};
-  const double *const deformation[4] = {
-      buffer->deformation[F_XX], buffer->deformation[F_XY],
-      buffer->deformation[F_YX], buffer->deformation[F_YY]};
-  const double *const size[2] = {points->domain_size[0],
-                                 points->domain_size[dim > 1 ? 1 : 0]};
   gm_point_domain point;
-  gm_load_point_domain(dim, position, deformation, size, i, &point);
+  gm_point_domain_at(domain, buffer, i, &point);
   double corners[4][2];
   gm_point_domain_corners(domain->shape_grid.shape, dim, &point, corners);
   return dim == 1 ? corners[k][0] : corners[k / 2][k % 2];

@@ -345,6 +345,9 @@ void gm_buffers_free(gm_point_buffers *buffer);
 /* Copies count points of every double-buffered field. */
 void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
                      size_t count, size_t state_stride);
+/* Point p's domain (support.h) in one buffer set (points.c). */
+void gm_point_domain_at(const gm_domain *domain, const gm_point_buffers *buffer,
+                        size_t p, gm_point_domain *out);
 /* Block key of a position (grid.c); false if outside the grid. */
 bool gm_block_key_of(const gm_domain *domain, const double *position_xyz,
                      int64_t *key);

@@ -434,3 +434,17 @@ gm_status gm_domain_point_index(const gm_domain *domain, int64_t id,
   *index = (size_t)domain->points.index_of_id[id];
   return GM_OK;
 }
+
+void gm_point_domain_at(const gm_domain *domain, const gm_point_buffers *buffer,
+                        size_t p, gm_point_domain *out) {
+  const gm_points *points = &domain->points;
+  int dim = domain->dim;
+  const double *const position[2] = {buffer->position[0],
+                                     buffer->position[dim > 1 ? 1 : 0]};
+  const double *const deformation[4] = {
+      buffer->deformation[F_XX], buffer->deformation[F_XY],
+      buffer->deformation[F_YX], buffer->deformation[F_YY]};
+  const double *const size[2] = {points->domain_size[0],
+                                 points->domain_size[dim > 1 ? 1 : 0]};
+  gm_load_point_domain(dim, position, deformation, size, p, out);
+}

@@ -134,15 +134,8 @@ static void mark_point(gm_domain *domain, size_t p, int32_t mark) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *current = &points->buffer[points->cur];
   int dim = domain->dim;
-  const double *const position[2] = {current->position[0],
-                                     current->position[dim > 1 ? 1 : 0]};
-  const double *const deformation[4] = {
-      current->deformation[F_XX], current->deformation[F_XY],
-      current->deformation[F_YX], current->deformation[F_YY]};
-  const double *const size[2] = {points->domain_size[0],
-                                 points->domain_size[dim > 1 ? 1 : 0]};
   gm_point_domain point;
-  gm_load_point_domain(dim, position, deformation, size, p, &point);
+  gm_point_domain_at(domain, current, p, &point);
   gm_support support;
   if (!gm_support_compute(&domain->shape_grid, &point, &support))
     return; /* cannot happen: the binning placed the point by it */

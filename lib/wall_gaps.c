@@ -46,15 +46,8 @@ static void measure_point(gm_domain *domain, uint32_t block, size_t p) {
   const gm_point_buffers *current = &points->buffer[points->cur];
   gm_grid *grid = &domain->grid;
   int dim = domain->dim, walls = domain->wall_count;
-  const double *const position[2] = {current->position[0],
-                                     current->position[dim > 1 ? 1 : 0]};
-  const double *const deformation[4] = {
-      current->deformation[F_XX], current->deformation[F_XY],
-      current->deformation[F_YX], current->deformation[F_YY]};
-  const double *const size[2] = {points->domain_size[0],
-                                 points->domain_size[dim > 1 ? 1 : 0]};
   gm_point_domain point;
-  gm_load_point_domain(dim, position, deformation, size, p, &point);
+  gm_point_domain_at(domain, current, p, &point);
   /* A support reaches at most 9 nodes (8 cells) from the point. */
   double reach = 8.0 * domain->def.cell_size; /* m */
   double distance[GM_MAX_WALLS];

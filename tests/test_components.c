@@ -40,6 +40,8 @@
  */
 #include "test_util.h"
 
+#include "test_random.h"
+
 #include <check.h>
 #include <math.h>
 #include <stdbool.h>
@@ -55,19 +57,6 @@
     if (!(cond))                                                               \
       ck_abort_msg(__VA_ARGS__);                                               \
   } while (0)
-
-/* Deterministic 64-bit LCG (Knuth's MMIX constants) so failures reproduce;
- * the top 53 bits give a double uniform in [0, 1). */
-static uint64_t lcg_state;
-
-static double lcg_uniform(void) {
-  lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(lcg_state >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static double lcg_between(double low, double high) {
-  return low + (high - low) * lcg_uniform();
-}
 
 static const gm_shape all_shapes[4] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
                                        GM_SHAPE_CPGIMP, GM_SHAPE_CPDI};

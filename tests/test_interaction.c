@@ -28,6 +28,8 @@
  */
 #include "interaction.h"
 
+#include "test_random.h"
+
 #include <check.h>
 #include <float.h>
 #include <math.h>
@@ -51,19 +53,6 @@ enum {
     if (!(cond))                                                               \
       ck_abort_msg(__VA_ARGS__);                                               \
   } while (0)
-
-/* Deterministic 64-bit LCG (Knuth's MMIX constants) so failures reproduce;
- * the top 53 bits give a double uniform in [0, 1). */
-static uint64_t lcg_state;
-
-static double lcg_uniform(void) {
-  lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(lcg_state >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static double lcg_between(double low, double high) {
-  return low + (high - low) * lcg_uniform();
-}
 
 static double random_sign(void) {
   return lcg_uniform() < 0.5 ? -1.0 : 1.0;

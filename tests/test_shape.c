@@ -9,6 +9,8 @@
  */
 #include "shape_linear.h"
 
+#include "test_random.h"
+
 #include <check.h>
 #include <math.h>
 #include <stdint.h>
@@ -25,15 +27,6 @@ static double grid_extent(void) {
   double ex = cell_count[0] * cell_size;
   double ey = cell_count[1] * cell_size;
   return ex > ey ? ex : ey;
-}
-
-/* Deterministic 64-bit LCG (Knuth's MMIX constants) so failures reproduce;
- * the top 53 bits give a double uniform in [0, 1). */
-static uint64_t lcg_state;
-
-static double lcg_uniform(void) {
-  lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(lcg_state >> 11) * (1.0 / 9007199254740992.0);
 }
 
 /* A random position (m) strictly inside the grid box. */

@@ -29,6 +29,8 @@
 #include "shape_gimp.h"
 #include "support.h"
 
+#include "test_random.h"
+
 #include <check.h>
 #include <float.h>
 #include <math.h>
@@ -87,19 +89,6 @@ static double node_coordinate(int axis, int64_t node) {
 /* Largest grid extent (m): the scale for position errors. */
 static double grid_extent(void) {
   return (double)(cell_count[0] + 2 * GM_GHOST_LAYERS) * cell_size;
-}
-
-/* Deterministic 64-bit LCG (Knuth's MMIX constants) so failures reproduce;
- * the top 53 bits give a double uniform in [0, 1). */
-static uint64_t lcg_state;
-
-static double lcg_uniform(void) {
-  lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(lcg_state >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static double lcg_between(double low, double high) {
-  return low + (high - low) * lcg_uniform();
 }
 
 /* ------------------------------------------------------ the domain shape */
