@@ -1,1 +1,13 @@
 # examples/silos.mk - silo discharge and filling against Beverloo and Janssen (included by Makefile.am).
+noinst_PROGRAMS += examples/silo_discharge examples/silo_filling_janssen
+examples_silo_discharge_SOURCES = examples/silo_discharge.c $(EXAMPLE_COMMON)
+examples_silo_discharge_LDADD = lib/libgranmpm.la -lm
+examples_silo_discharge_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
+examples_silo_filling_janssen_SOURCES = examples/silo_filling_janssen.c $(EXAMPLE_COMMON)
+examples_silo_filling_janssen_LDADD = lib/libgranmpm.la -lm
+examples_silo_filling_janssen_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
+
+check_PROGRAMS += tests/test_beverloo
+tests_test_beverloo_SOURCES = tests/test_beverloo.c
+tests_test_beverloo_CFLAGS = $(TEST_CFLAGS)
+tests_test_beverloo_LDADD = $(TEST_LDADD)

@@ -354,7 +354,9 @@ typedef struct gm_wall_traction {
   double position;   /* m along the wall from def.point, in the direction
                         (normal_y, -normal_x) */
   double normal;     /* Pa: the node's normal force per cell length (per
-                        unit thickness in plane strain), >= 0 */
+                        unit thickness in plane strain; in axisymmetry the
+                        force on the whole ring, N/m: divide by 2 pi r for
+                        a pressure), >= 0 */
   double tangential; /* Pa: its tangential (friction) force per cell
                         length, signed along the same direction */
 } gm_wall_traction;

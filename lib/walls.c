@@ -19,6 +19,8 @@
 
 /* Contact tolerance of the planar walls, in cells (see gm_walls_contact). */
 #define GM_CONTACT_TOLERANCE 3e-3
+/* Distance (cells) in front of a wall within which a node is on it. */
+#define GM_ON_PLANE 1e-9
 #include <stdlib.h>
 #include <string.h>
 
@@ -109,6 +111,7 @@ gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
 bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
                          int64_t base_y) {
   double h = domain->def.cell_size;
+  double on_plane = GM_ON_PLANE * h; /* m, see gm_walls_contact */
   int64_t edge = (int64_t)1 << domain->grid.shift;
   int corners = domain->dim > 1 ? 4 : 2;
   for (int w = 0; w < domain->wall_count; w++) {
@@ -121,7 +124,7 @@ bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
                      : wall->point[1];
       double distance = (x - wall->point[0]) * wall->normal[0] +
                         (y - wall->point[1]) * wall->normal[1];
-      if (distance <= 0.0)
+      if (distance <= on_plane)
         return true;
     }
   }
@@ -156,11 +159,14 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
                       double *block_force, double mass_over_dt,
                       int *first_wall) {
   bool acted = false;
+  /* A node meant to lie on a wall (a wall on a grid line) may come out a
+   * rounding error in front of it; it counts as on the plane. */
+  double on_plane = GM_ON_PLANE * domain->def.cell_size; /* m */
   for (int w = 0; w < domain->wall_count; w++) {
     const gm_wall *wall = &domain->walls[w];
     double distance = (node_position[0] - wall->point[0]) * wall->normal[0] +
                       (node_position[1] - wall->point[1]) * wall->normal[1];
-    if (distance > 0.0)
+    if (distance > on_plane)
       continue; /* the node is in front of this wall */
     double before[2] = {velocity[0], velocity[1]};
     /* Gaps below GM_CONTACT_TOLERANCE cells count as contact: a resting

@@ -1,0 +1,643 @@
+/*
+ * silo_discharge.c - discharge of a silo through a bottom orifice, compared
+ * with Beverloo's law (Wieckowski, Youn & Yeon 1999 = 002, sec 5, eqs 19-20;
+ * Wieckowski 2004 = 001, sec 5.1.1).
+ *
+ * Scenes: plane-strain flat-bottom silo (funnel flow, 002 sec 5.1) or
+ * trapezoidal hopper (--hopper DEG, mass flow), and the axisymmetric pair
+ * (--geometry axisym, 002 sec 5.2 / 001 sec 5.1.1). Only half of the
+ * symmetric cross-section is modelled: the axis x = 0 is a slip face. The
+ * papers' figures (silo dimensions) did not survive the text extraction, so
+ * the silo is sized by the validity range of Beverloo's law (references.md,
+ * Mankoc et al. 2007): full width >= 2.5 D, fill height >= 1.2 widths.
+ * Material: Drucker-Prager of 002 sec 5 (E = 1 MPa, nu = 0.3, phi = 25 deg,
+ * rho = 1500 kg/m^3), Coulomb silo and hopper walls with phi_w = 20 deg.
+ *
+ * Two phases, as in 002 sec 5 (initial static state, then the flow):
+ *  1. at rest: the orifice is closed by a rigid gate; the fill starts from
+ *     a geostatic stress and settles with local damping. The wall traction
+ *     profile is then compared with Janssen (optional RESULT line).
+ *  2. discharge: the settled points are copied into an undamped domain
+ *     without the gate; a sink just below the orifice removes every point
+ *     that leaves, so the discharged mass is read at any time from
+ *     gm_domain_get_sink_totals().
+ * The flat floor is a rigid (no-slip) layer of points: a planar wall is an
+ * infinite plane and cannot have a hole in it. Hopper walls are inclined
+ * planar Coulomb walls through the orifice edges.
+ *
+ * Beverloo (002 eq 19, W in g/min with cgs units, i.e. C = 45/60 = 0.75 in
+ * SI for W = C rho A' sqrt(g D'_h)): for a slot of width D (per unit
+ * length, hydraulic diameter 2D) W' = 0.75 sqrt(2) rho sqrt(g) (D - k d)^1.5
+ * with k = 0.7; for a circular orifice (eq 20) W = 0.75 pi/4 rho sqrt(g)
+ * (D - k d)^2.5 = 0.59 rho sqrt(g) (D - 1.4 d)^2.5. A continuum has no
+ * grain: the RESULT uses d = 0 (002 compares with d/D = 0 as well), the
+ * law of a vanishing grain size. The grid does shorten the orifice (the edge
+ * node is held by the floor): measured, W' ~ (D - 2.7 h)^1.5 for h = 0.025
+ * m, so the flow is also compared, on a separate line, with the mesh as the
+ * grain, k d = 2.7 h (tests/test_beverloo.c asserts that scaling).
+ *
+ * Runs for at least --t-end s and until 45 % of the fill has left (use a
+ * larger --t-end to watch the silo empty). The default (D = 0.3 m, 0.025 m
+ * cells, 2 x 2 points per cell) takes about 5 s on one core.
+ *
+ * Steady rate: the discharged mass is sampled every --sample s; the rate is
+ * the least-squares slope of mass against time over the window from the
+ * moment a tenth of the fill has left (the start-up transient, a fall of a
+ * few orifice widths, is over) to the moment half of it has left (the
+ * free surface still stands above 1.2 widths for the default sizes).
+ *
+ * Prints: a table of the discharge, then
+ *   RESULT wall_pressure_mid=... (Janssen, at rest; hopper: not printed)
+ *   RESULT flow_rate=... reference=Beverloo (kg/(m s), or kg/s axisym)
+ * Writes <out>/discharge.csv, <out>/rest_wall.csv and <out>/silo.pvd.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#include <granmpm.h>
+
+#include "common.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const double PI = 3.14159265358979323846;
+static const double GRAVITY = 9.81;           /* m/s^2 */
+static const double DENSITY = 1500.0;         /* kg/m^3, 002 sec 5 */
+static const double FRICTION_ANGLE = 25.0;    /* deg, phi of 002 */
+static const double WALL_ANGLE = 20.0;        /* deg, phi_w of 002 */
+static const double POISSON_RATIO = 0.3;      /* -, 002 */
+static const double SETTLE_TIME = 0.6;        /* s, phase 1 */
+static const double SETTLE_DAMPING = 0.1;     /* -, phase 1 only */
+static const double AVERAGING_TIME = 0.1;     /* s, rest tractions */
+static const double WINDOW_START = 0.1;       /* fraction discharged */
+static const double WINDOW_END = 0.4;         /* fraction discharged */
+static const double BEVERLOO_SI = 45.0 / 60.; /* 002 eq 19 in SI units */
+static const double MESH_GRAIN = 2.7; /* k d / h, tests/test_beverloo.c */
+
+enum { MAX_SAMPLES = 100000, MAX_TRACTIONS = 4096 };
+
+/* What the command line chooses, and the derived geometry. */
+typedef struct silo {
+  example_options options;
+  gm_geometry geometry;
+  double orifice;      /* m, D: slot width or orifice diameter */
+  double half_width;   /* m, B: axis to the silo wall */
+  double fill_height;  /* m, H: initial free surface above the floor */
+  double hopper_angle; /* rad, hopper wall from the vertical; 0 = flat */
+  double sample;       /* s, sampling interval of the discharge */
+  double mass;         /* kg (per m, or full ring), the fill's mass */
+} silo;
+
+/* Time-averaged loads of one sampling interval (step hook). */
+typedef struct wall_loads {
+  int wall_count;
+  int walls[2];         /* silo wall, hopper wall */
+  double last_time;     /* s */
+  double span;          /* s, time accumulated */
+  double normal[2];     /* N s, integral of each wall's normal force */
+  double tangential[2]; /* N s, its friction force */
+} wall_loads;
+
+/* x of the silo's wall at height y (m): the hopper wall, then the side. */
+static double wall_x(const silo *s, double y) {
+  if (s->hopper_angle <= 0.0)
+    return s->half_width;
+  return fmin(s->half_width, 0.5 * s->orifice + y * tan(s->hopper_angle));
+}
+
+/* Volume of a point of edge `spacing` at radius r (see gm_points_def). */
+static double point_volume(const silo *s, double r, double spacing) {
+  double area = spacing * spacing; /* m^2 */
+  return s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 2.0 * PI * r * area : area;
+}
+
+static gm_status create_domain(const silo *s, double damping,
+                               gm_domain **domain) {
+  double cell = s->options.cell; /* m */
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = s->geometry;
+  def.shape = s->options.shape;
+  def.family = s->options.family;
+  def.scheme = GM_SCHEME_MUSL; /* 001 sec 3: the smoothed velocity */
+  def.cell_size = cell;
+  def.origin[1] = -3.0 * cell; /* the floor layer and the sink below 0 */
+  def.extent[0] = s->half_width + 2.0 * cell;
+  def.extent[1] = s->fill_height + 5.0 * cell;
+  def.gravity[1] = -GRAVITY;
+  def.walls[GM_FACE_XMIN] = GM_WALL_SLIP; /* the symmetry axis */
+  def.walls[GM_FACE_XMAX] = GM_WALL_SLIP;
+  def.damping = damping;
+  def.worker_count = s->options.workers;
+  return gm_domain_create(&def, domain);
+}
+
+/* The granular material and, for the granular family, its critical density
+ * (the poured density: denser points are quasi-static). */
+static gm_status add_material(gm_domain *domain, int *material) {
+  gm_drucker_prager_def dp = gm_drucker_prager_def_default();
+  dp.density = DENSITY;
+  dp.poisson_ratio = POISSON_RATIO;
+  dp.friction_angle = FRICTION_ANGLE * PI / 180.0;
+  gm_status status = gm_domain_add_drucker_prager(domain, &dp, material);
+  if (status != GM_OK)
+    return status;
+  gm_granular_def granular = gm_granular_def_default();
+  granular.critical_density = DENSITY;
+  return gm_domain_set_granular(domain, *material, &granular);
+}
+
+static gm_status add_wall(gm_domain *domain, const double point[2],
+                          const double normal[2], int *id) {
+  double friction = tan(WALL_ANGLE * PI / 180.0); /* mu_w = tan(phi_w) */
+  gm_wall_def wall = gm_wall_def_default();
+  wall.point[0] = point[0];
+  wall.point[1] = point[1];
+  wall.normal[0] = normal[0];
+  wall.normal[1] = normal[1];
+  wall.friction_static = wall.friction_kinetic = friction;
+  return gm_domain_add_wall(domain, &wall, id);
+}
+
+/* The vertical silo wall and, for a hopper, the inclined wall through the
+ * orifice edge (normal pointing up and towards the axis). */
+static gm_status add_walls(gm_domain *domain, const silo *s,
+                           wall_loads *loads) {
+  /* The wall is meant to lie on the node line x = B. The library decides
+   * contact by the exact sign of a node's distance to the plane, and its
+   * node coordinates (origin + i h) can differ from B = n h by one unit in
+   * the last place: the node line then counts as in front of the wall and
+   * the material runs one cell into it (seen with D = 0.5, cell 0.05). A
+   * shift of 1e-9 cells towards the material keeps the node line behind. */
+  const double side_point[2] = {s->half_width - 1e-9 * s->options.cell, 0.0};
+  const double side_normal[2] = {-1, 0};
+  loads->wall_count = 1;
+  gm_status status =
+      add_wall(domain, side_point, side_normal, &loads->walls[0]);
+  if (status != GM_OK || s->hopper_angle <= 0.0)
+    return status;
+  const double edge[2] = {0.5 * s->orifice, 0.0};
+  const double normal[2] = {-cos(s->hopper_angle), sin(s->hopper_angle)};
+  loads->wall_count = 2;
+  return add_wall(domain, edge, normal, &loads->walls[1]);
+}
+
+/* A rigid layer one cell thick under the floor, from x0 to the grid edge:
+ * the flat bottom (x0 = D/2) or the gate closing the orifice (x0 = 0). */
+static gm_status add_floor(gm_domain *domain, const silo *s, double x0,
+                           double x1) {
+  gm_rigid_def rigid = gm_rigid_def_default();
+  rigid.name = "floor";
+  rigid.density = DENSITY;
+  int material = -1;
+  gm_status status = gm_domain_add_rigid(domain, &rigid, &material);
+  if (status != GM_OK)
+    return status;
+  gm_fill_def fill = gm_fill_def_default();
+  fill.material = material;
+  fill.lower[0] = x0;
+  fill.upper[0] = x1;
+  fill.lower[1] = -s->options.cell;
+  fill.upper[1] = 0.0;
+  return gm_domain_fill_box(domain, &fill, NULL, NULL);
+}
+
+/* Fills the silo on a lattice of n x n points per cell, each with the
+ * geostatic stress sigma_v = -rho g (H - y), sigma_h = K0 sigma_v,
+ * K0 = nu / (1 - nu) (confined elastic column): a start near equilibrium
+ * so that settling needs little time. */
+static gm_status fill_silo(gm_domain *domain, silo *s, int material) {
+  int n = s->options.ppc;
+  double spacing = s->options.cell / n; /* m */
+  size_t columns = (size_t)ceil(s->half_width / spacing);
+  size_t rows = (size_t)llround(s->fill_height / spacing);
+  double *position = malloc(2 * columns * rows * sizeof *position);
+  double *volume = malloc(columns * rows * sizeof *volume);
+  double *stress = calloc(6 * columns * rows, sizeof *stress);
+  double k0 = POISSON_RATIO / (1.0 - POISSON_RATIO);
+  size_t count = 0;
+  s->mass = 0.0;
+  for (size_t row = 0; position && volume && stress && row < rows; row++)
+    for (size_t column = 0; column < columns; column++) {
+      double x = (column + 0.5) * spacing, y = (row + 0.5) * spacing; /* m */
+      if (x >= wall_x(s, y))
+        continue;
+      double vertical = -DENSITY * GRAVITY * (s->fill_height - y); /* Pa */
+      position[2 * count] = x;
+      position[2 * count + 1] = y;
+      volume[count] = point_volume(s, x, spacing);
+      stress[6 * count + GM_XX] = stress[6 * count + GM_ZZ] = k0 * vertical;
+      stress[6 * count + GM_YY] = vertical;
+      s->mass += DENSITY * volume[count];
+      count++;
+    }
+  gm_status status = GM_ERR_NO_MEMORY;
+  if (position && volume && stress) {
+    gm_points_def points = gm_points_def_default();
+    points.count = count;
+    points.material = material;
+    points.position = position;
+    points.volume = volume;
+    points.stress = stress;
+    status = gm_domain_add_points(domain, &points, NULL);
+  }
+  free(position);
+  free(volume);
+  free(stress);
+  return status;
+}
+
+/* Step hook: integrates the wall forces over time. */
+static int integrate_wall_loads(gm_domain *domain, gm_hook_stage stage,
+                                void *user) {
+  wall_loads *loads = user;
+  double time = 0.0; /* s */
+  if (stage != GM_HOOK_AFTER_STEP ||
+      gm_domain_get_time(domain, &time, NULL) != GM_OK)
+    return 0;
+  double dt = time - loads->last_time; /* s */
+  loads->last_time = time;
+  loads->span += dt;
+  for (int k = 0; k < loads->wall_count; k++) {
+    gm_wall_force force = gm_wall_force_default();
+    if (gm_domain_get_wall_force(domain, loads->walls[k], &force) != GM_OK)
+      continue;
+    loads->normal[k] += dt * force.normal;
+    loads->tangential[k] += dt * force.tangential;
+  }
+  return 0;
+}
+
+static void reset_loads(wall_loads *loads) {
+  loads->span = 0.0;
+  memset(loads->normal, 0, sizeof loads->normal);
+  memset(loads->tangential, 0, sizeof loads->tangential);
+}
+
+/* Janssen's wall pressure (Pa) at depth z (m) below the free surface:
+ * sigma_h = K sigma_v, A/U = B for a planar silo (full width 2B between two
+ * walls), B/2 for a cylinder of radius B (references.md). */
+static double janssen_pressure(const silo *s, double k, double z) {
+  double ratio = s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 0.5 * s->half_width
+                                                         : s->half_width;
+  double mu = tan(WALL_ANGLE * PI / 180.0);
+  double decay = mu * k / ratio; /* 1/m */
+  return k * DENSITY * GRAVITY / decay * (1.0 - exp(-decay * z));
+}
+
+/* Adds dt times each wall node's normal traction (Pa) by node row. The
+ * side wall's normal is (-1, 0), so positions along it, in the direction
+ * (normal_y, -normal_x) = (0, 1), are heights above the floor. */
+static void record_tractions(const gm_domain *domain, int wall, double cell,
+                             double dt, double *pressure, size_t rows) {
+  static gm_wall_traction profile[MAX_TRACTIONS];
+  size_t count = 0;
+  if (gm_domain_get_wall_tractions(domain, wall, profile, MAX_TRACTIONS,
+                                   &count) != GM_OK)
+    return;
+  for (size_t i = 0; i < count; i++) {
+    long row = lround(profile[i].position / cell); /* node row */
+    if (row >= 0 && (size_t)row < rows)
+      pressure[row] += dt * profile[i].normal;
+  }
+}
+
+/* Phase 1: settles the closed silo; returns the mid-depth wall pressure
+ * (Pa, time-averaged) or a negative status. Writes rest_wall.csv. */
+static gm_status settle(gm_domain *domain, silo *s, const wall_loads *loads,
+                        double *mid_pressure) {
+  double cell = s->options.cell, time = 0.0; /* m, s */
+  size_t rows = (size_t)(s->fill_height / cell) + 4;
+  double *pressure = calloc(rows, sizeof *pressure); /* Pa s */
+  if (!pressure)
+    return GM_ERR_NO_MEMORY;
+  double averaged = 0.0; /* s */
+  gm_status status = GM_OK;
+  while (status == GM_OK && time < SETTLE_TIME) {
+    double dt = 0.0; /* s */
+    status = gm_domain_stable_dt(domain, &dt);
+    if (status == GM_OK)
+      status = gm_domain_step(domain, dt);
+    time += dt;
+    if (status == GM_OK && time > SETTLE_TIME - AVERAGING_TIME) {
+      record_tractions(domain, loads->walls[0], cell, dt, pressure, rows);
+      averaged += dt;
+    }
+  }
+  gm_summary summary = gm_summary_default();
+  if (status == GM_OK)
+    status = gm_domain_get_summary(domain, &summary);
+  printf("at rest after %g s: kinetic energy %g J (per m or ring)\n", time,
+         summary.kinetic_energy);
+  FILE *csv = example_open_csv(&s->options, "rest_wall.csv",
+                               "depth_m,wall_pressure_Pa,janssen_Pa");
+  double k = 1.0 - sin(FRICTION_ANGLE * PI / 180.0); /* Jaky */
+  long mid_row = lround(0.5 * s->fill_height / cell);
+  /* Axisymmetric wall loads are for the whole ring: per wall area, / 2 pi B */
+  double ring =
+      s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 2.0 * PI * s->half_width : 1.0;
+  *mid_pressure = 0.0;
+  for (size_t row = 0; averaged > 0.0 && row < rows; row++) {
+    double depth = s->fill_height - row * cell;    /* m */
+    double mean = pressure[row] / averaged / ring; /* Pa */
+    if (csv && depth >= 0.0)
+      fprintf(csv, "%g,%g,%g\n", depth, mean, janssen_pressure(s, k, depth));
+    if ((long)row == mid_row)
+      *mid_pressure = mean;
+  }
+  if (csv)
+    fclose(csv);
+  free(pressure);
+  return status;
+}
+
+/* Copies the settled granular points (not the rigid ones) into a new
+ * domain, at rest, with their stress and current volume. */
+static gm_status copy_points(const gm_domain *from, int material, gm_domain *to,
+                             int to_material) {
+  size_t count = gm_domain_point_count(from), dim = 2;
+  double *fields = malloc(count * 12 * sizeof *fields);
+  if (!fields)
+    return GM_ERR_NO_MEMORY;
+  double *position = fields, *volume = fields + 2 * count;
+  double *mass = fields + 3 * count, *id = fields + 4 * count;
+  double *stress = fields + 6 * count;
+  gm_status status =
+      gm_domain_get_field(from, GM_FIELD_POSITION, position, dim * count);
+  if (status == GM_OK)
+    status = gm_domain_get_field(from, GM_FIELD_VOLUME, volume, count);
+  if (status == GM_OK)
+    status = gm_domain_get_field(from, GM_FIELD_MASS, mass, count);
+  if (status == GM_OK)
+    status = gm_domain_get_field(from, GM_FIELD_MATERIAL, id, count);
+  if (status == GM_OK)
+    status = gm_domain_get_field(from, GM_FIELD_STRESS, stress, 6 * count);
+  size_t kept = 0; /* compact the granular points to the front */
+  for (size_t i = 0; status == GM_OK && i < count; i++) {
+    if ((int)id[i] != material)
+      continue;
+    position[2 * kept] = position[2 * i];
+    position[2 * kept + 1] = position[2 * i + 1];
+    volume[kept] = volume[i];
+    mass[kept] = mass[i];
+    memmove(stress + 6 * kept, stress + 6 * i, 6 * sizeof *stress);
+    kept++;
+  }
+  if (status == GM_OK) {
+    gm_points_def points = gm_points_def_default();
+    points.count = kept;
+    points.material = to_material;
+    points.position = position;
+    points.volume = volume;
+    points.mass = mass;
+    points.stress = stress;
+    status = gm_domain_add_points(to, &points, NULL);
+  }
+  free(fields);
+  return status;
+}
+
+/* Sink just below the orifice, and a catch-all under the floor layer. */
+static gm_status add_sinks(gm_domain *domain, const silo *s, int sinks[2]) {
+  double cell = s->options.cell; /* m */
+  gm_sink_def orifice = gm_sink_def_default();
+  orifice.lower[0] = 0.0;
+  orifice.upper[0] = 0.5 * s->orifice;
+  orifice.lower[1] = -3.0 * cell;
+  orifice.upper[1] = 0.0;
+  gm_status status = gm_domain_add_sink(domain, &orifice, &sinks[0]);
+  gm_sink_def below = gm_sink_def_default();
+  below.lower[0] = 0.0;
+  below.upper[0] = s->half_width + 2.0 * cell;
+  below.lower[1] = -3.0 * cell;
+  below.upper[1] = -1.5 * cell;
+  if (status == GM_OK)
+    status = gm_domain_add_sink(domain, &below, &sinks[1]);
+  return status;
+}
+
+/* Discharged mass (kg, per m or full ring) of both sinks. */
+static double discharged_mass(const gm_domain *domain, const int sinks[2]) {
+  double total = 0.0;
+  for (int k = 0; k < 2; k++) {
+    gm_flow_totals totals = gm_flow_totals_default();
+    if (gm_domain_get_sink_totals(domain, sinks[k], &totals) == GM_OK)
+      total += totals.mass;
+  }
+  return total;
+}
+
+/* Least-squares slope of mass against time over samples [first, last). */
+static double fitted_rate(const double *time, const double *mass, size_t first,
+                          size_t last) {
+  double n = (double)(last - first), st = 0, sm = 0, stt = 0, stm = 0;
+  for (size_t i = first; i < last; i++) {
+    st += time[i];
+    sm += mass[i];
+    stt += time[i] * time[i];
+    stm += time[i] * mass[i];
+  }
+  double denominator = n * stt - st * st;
+  return denominator > 0.0 ? (n * stm - st * sm) / denominator : 0.0;
+}
+
+/* Whether sampling can stop: the steady window is over (a little more
+ * than WINDOW_END of the fill has left), or the flow has jammed (nothing
+ * left in the last 0.5 s). */
+static int past_window(const silo *s, const double *time, const double *mass,
+                       size_t last) {
+  double symmetry = s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 1.0 : 2.0;
+  if (mass[last] > (WINDOW_END + 0.05) * symmetry * s->mass)
+    return 1;
+  size_t back = (size_t)ceil(0.5 / s->sample);
+  return last >= back && time[last] > 1.0 && mass[last] == mass[last - back];
+}
+
+/* Beverloo's rate (kg/(m s) for a slot, kg/s for an orifice) with the
+ * orifice shortened by `offset` = k d (m). */
+static double beverloo(const silo *s, double offset) {
+  double width = s->orifice - offset; /* m */
+  if (s->geometry == GM_GEOMETRY_AXISYMMETRIC)
+    return BEVERLOO_SI * PI / 4.0 * DENSITY * sqrt(GRAVITY) * pow(width, 2.5);
+  return BEVERLOO_SI * sqrt(2.0) * DENSITY * sqrt(GRAVITY) * pow(width, 1.5);
+}
+
+/* Phase 2: discharge; samples the sinks, writes CSV and VTU, and returns
+ * the steady rate (full silo: twice the half model's in plane strain). */
+static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
+                     double *rate) {
+  int sinks[2] = {-1, -1};
+  EXAMPLE_CHECK(domain, add_sinks(domain, s, sinks));
+  double symmetry = s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 1.0 : 2.0;
+  size_t samples = MAX_SAMPLES;
+  double *time = calloc(2 * samples, sizeof *time), *mass = time + samples;
+  if (!time)
+    return example_fail(domain, "calloc", GM_ERR_NO_MEMORY);
+  gm_series *series = NULL;
+  if (s->options.out[0]) {
+    char pvd[1200];
+    snprintf(pvd, sizeof pvd, "%s/silo.pvd", s->options.out);
+    EXAMPLE_CHECK(NULL, gm_series_create(pvd, &series));
+    gm_series_set_domains(series, s->options.shape != GM_SHAPE_LINEAR);
+  }
+  FILE *csv = example_open_csv(
+      &s->options, "discharge.csv",
+      "time_s,discharged_kg,flow_rate_kg_s,kinetic_energy_J,points,"
+      "wall_normal_N,wall_tangential_N,hopper_normal_N,hopper_tangential_N");
+  EXAMPLE_CHECK(domain,
+                gm_domain_set_step_hook(domain, integrate_wall_loads, loads));
+  size_t taken = 0;
+  for (; taken < samples; taken++) {
+    double target = taken * s->sample; /* s */
+    if (taken > 0) {
+      reset_loads(loads);
+      EXAMPLE_CHECK(domain,
+                    gm_domain_advance(domain, target, 0.0, example_progress,
+                                      (void *)&s->options));
+    }
+    gm_summary summary = gm_summary_default();
+    EXAMPLE_CHECK(domain, gm_domain_get_summary(domain, &summary));
+    time[taken] = target;
+    mass[taken] = symmetry * discharged_mass(domain, sinks);
+    double flow = taken > 0 ? (mass[taken] - mass[taken - 1]) / s->sample : 0;
+    double span = loads->span > 0.0 ? loads->span : 1.0; /* s */
+    if (csv)
+      fprintf(csv, "%g,%g,%g,%g,%zu,%g,%g,%g,%g\n", target, mass[taken], flow,
+              summary.kinetic_energy, gm_domain_point_count(domain),
+              loads->normal[0] / span, loads->tangential[0] / span,
+              loads->normal[1] / span, loads->tangential[1] / span);
+    if (series && taken % 5 == 0)
+      EXAMPLE_CHECK(domain, gm_series_write(series, domain));
+    if (target >= s->options.t_end && past_window(s, time, mass, taken))
+      break;
+  }
+  if (csv)
+    fclose(csv);
+  gm_series_destroy(series);
+  size_t first = 0, last = 0;
+  double total = symmetry * s->mass; /* kg, the full silo's fill */
+  while (first < taken && mass[first] < WINDOW_START * total)
+    first++;
+  while (last < taken && mass[last] < WINDOW_END * total)
+    last++;
+  printf("steady window: %.3f s to %.3f s (%.0f %% to %.0f %% discharged)\n",
+         first < taken ? time[first] : -1.0, last < taken ? time[last] : -1.0,
+         100 * WINDOW_START, 100 * WINDOW_END);
+  *rate = last > first + 2 ? fitted_rate(time, mass, first, last) : 0.0;
+  if (last >= taken)
+    printf("warning: less than %.0f %% discharged (the flow jammed?); the "
+           "rate is fitted up to the end of the run\n",
+           100 * WINDOW_END);
+  if (last >= taken && first + 2 < taken)
+    *rate = fitted_rate(time, mass, first, taken);
+  free(time);
+  return 0;
+}
+
+/* Parses --geometry, --hopper, --orifice and sizes the silo. */
+static int configure(silo *s, int argc, char **argv) {
+  const char *geometry = "plane", *hopper = "flat";
+  double orifice = 0.3, sample = 0.01; /* m, s */
+  example_extra extras[] = {
+      {"orifice", "orifice width (slot) or diameter D, m", &orifice, NULL},
+      {"geometry", "plane|axisym", NULL, &geometry},
+      {"hopper", "flat or the hopper wall angle from the vertical, deg", NULL,
+       &hopper},
+      {"sample", "sampling interval of the discharged mass, s", &sample, NULL},
+  };
+  int parsed = example_parse(argc, argv,
+                             "Silo discharge through a bottom orifice "
+                             "against Beverloo (002 sec 5, 001 sec 5.1.1).",
+                             &s->options, extras, 4);
+  if (parsed != 0)
+    return parsed;
+  s->geometry = strcmp(geometry, "axisym") == 0 ? GM_GEOMETRY_AXISYMMETRIC
+                                                : GM_GEOMETRY_PLANE_STRAIN;
+  if (strcmp(geometry, "plane") != 0 && strcmp(geometry, "axisym") != 0) {
+    fprintf(stderr, "--geometry: '%s' is not plane or axisym\n", geometry);
+    return 2;
+  }
+  s->hopper_angle = 0.0;
+  if (strcmp(hopper, "flat") != 0) {
+    char *end = NULL;
+    double degrees = strtod(hopper, &end);
+    if (end == hopper || *end || !(degrees > 0.0 && degrees < 80.0)) {
+      fprintf(stderr, "--hopper: '%s' is not flat or an angle in (0, 80)\n",
+              hopper);
+      return 2;
+    }
+    s->hopper_angle = degrees * PI / 180.0;
+  }
+  double cell = s->options.cell; /* the orifice edge on a node line */
+  s->orifice = 2.0 * cell * fmax(1.0, round(0.5 * orifice / cell));
+  if (fabs(s->orifice - orifice) > 1e-9)
+    printf("orifice rounded to %g m (its half on a grid line)\n", s->orifice);
+  s->half_width = cell * ceil(1.25 * s->orifice / cell + 1.0);
+  s->fill_height = 4.0 * s->half_width; /* two full widths */
+  s->sample = sample;
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  silo s = {0};
+  s.options = (example_options){GM_SHAPE_LINEAR,
+                                GM_FAMILY_PLAIN,
+                                2,
+                                0.025,
+                                1,
+                                "out/silo_discharge",
+                                0.5,
+                                0};
+  int parsed = configure(&s, argc, argv);
+  if (parsed != 0)
+    return parsed == 1 ? 0 : parsed;
+  if (example_make_output(&s.options) != 0)
+    return 2;
+  printf("%s silo, %s, D = %g m, B = %g m, H = %g m, cell %g m, %s/%s\n",
+         s.geometry == GM_GEOMETRY_AXISYMMETRIC ? "axisymmetric" : "planar",
+         s.hopper_angle > 0 ? "hopper" : "flat bottom", s.orifice, s.half_width,
+         s.fill_height, s.options.cell, example_shape_name(s.options.shape),
+         example_family_name(s.options.family));
+
+  gm_domain *rest = NULL, *flow = NULL;
+  int material = -1, flow_material = -1;
+  wall_loads rest_loads = {0}, loads = {0};
+  EXAMPLE_CHECK(NULL, create_domain(&s, SETTLE_DAMPING, &rest));
+  EXAMPLE_CHECK(rest, add_material(rest, &material));
+  EXAMPLE_CHECK(rest, add_walls(rest, &s, &rest_loads));
+  EXAMPLE_CHECK(rest,
+                add_floor(rest, &s, 0.0, s.half_width + 2 * s.options.cell));
+  EXAMPLE_CHECK(rest, fill_silo(rest, &s, material));
+  double mid_pressure = 0.0; /* Pa */
+  EXAMPLE_CHECK(rest, settle(rest, &s, &rest_loads, &mid_pressure));
+  double mid_depth =
+      s.fill_height -
+      s.options.cell * lround(0.5 * s.fill_height / s.options.cell); /* m */
+
+  EXAMPLE_CHECK(NULL, create_domain(&s, 0.0, &flow));
+  EXAMPLE_CHECK(flow, add_material(flow, &flow_material));
+  EXAMPLE_CHECK(flow, add_walls(flow, &s, &loads));
+  if (s.hopper_angle <= 0.0)
+    EXAMPLE_CHECK(flow, add_floor(flow, &s, 0.5 * s.orifice,
+                                  s.half_width + 2 * s.options.cell));
+  EXAMPLE_CHECK(flow, copy_points(rest, material, flow, flow_material));
+  gm_domain_destroy(rest);
+  double rate = 0.0; /* kg/(m s) or kg/s */
+  int failed = discharge(flow, &s, &loads, &rate);
+  gm_domain_destroy(flow);
+  if (failed)
+    return failed;
+  double k = 1.0 - sin(FRICTION_ANGLE * PI / 180.0);
+  printf("Beverloo with d = 0: %g; with the mesh as grain (k d = %g h, see "
+         "tests/test_beverloo.c): %g\n",
+         beverloo(&s, 0.0), MESH_GRAIN,
+         beverloo(&s, MESH_GRAIN * s.options.cell));
+  if (s.hopper_angle <= 0.0)
+    example_result("wall_pressure_mid_Pa", mid_pressure,
+                   janssen_pressure(&s, k, mid_depth));
+  example_result(s.geometry == GM_GEOMETRY_AXISYMMETRIC ? "flow_rate_kg_s"
+                                                        : "flow_rate_kg_m_s",
+                 rate, beverloo(&s, 0.0));
+  return 0;
+}
