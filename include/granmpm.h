@@ -64,7 +64,7 @@ GM_API int gm_version_number(void);
   X(GM_ERR_CALLBACK, -8, "a user callback reported a failure")                 \
   X(GM_ERR_UNKNOWN_MATERIAL, -9, "no material with that id")                   \
   X(GM_ERR_UNKNOWN_POINT, -10, "no material point with that id")               \
-  X(GM_ERR_IO, -11, "a file could not be written")                             \
+  X(GM_ERR_IO, -11, "a file could not be read or written")                     \
   X(GM_ERR_BUSY, -12, "the domain is inside a step or callback")               \
   X(GM_ERR_UNSUPPORTED, -13, "not supported for this geometry or setting")
 

@@ -2,7 +2,8 @@
  * checkpoint_format.h - the byte level of checkpoint files (checkpoint.c
  * decides what goes in): a growable output buffer, a bounds-checked
  * reader, the FNV-1a 64 checksum, named setup records and their
- * comparison, the file header, and the atomic write / whole-file read.
+ * comparison (checkpoint_format.c); the file header, the atomic write and
+ * the whole-file read (checkpoint_file.c).
  *
  * File layout (all integers and doubles in the writer's byte order):
  *   offset  0  magic "\x89GMCKPT\n"         8 bytes
@@ -61,6 +62,8 @@ double gm_reader_f64(gm_byte_reader *reader);
  * bytes: returns where they start (unaligned: copy them out with memcpy),
  * or NULL and marks the reader failed. */
 const unsigned char *gm_reader_array(gm_byte_reader *reader, size_t size);
+/* The same for an array of any size: *size receives it. */
+const unsigned char *gm_reader_any_array(gm_byte_reader *reader, size_t *size);
 
 /* FNV-1a 64 of size bytes, continuing from hash (start with
  * GM_FNV_OFFSET). Any single changed byte changes the result: each step
@@ -82,10 +85,8 @@ typedef enum gm_record_kind {
 
 void gm_record_reals(gm_byte_writer *writer, const char *name,
                      const double *values, size_t count);
-void gm_record_integer(gm_byte_writer *writer, const char *name,
-                       int64_t value);
-void gm_record_text(gm_byte_writer *writer, const char *name,
-                    const char *text);
+void gm_record_integer(gm_byte_writer *writer, const char *name, int64_t value);
+void gm_record_text(gm_byte_writer *writer, const char *name, const char *text);
 void gm_record_bytes(gm_byte_writer *writer, const char *name,
                      const void *bytes, size_t size);
 /* Compares two record sequences; on the first difference writes a message
@@ -110,5 +111,34 @@ gm_status gm_checkpoint_write_file(gm_domain *domain, const char *path,
 gm_status gm_checkpoint_read_file(gm_domain *domain, const char *path,
                                   unsigned char **file,
                                   gm_byte_reader *payload);
+
+/* ------------------------------------------- shared by save and load */
+/* Appends the setup records of domain (checkpoint.c). */
+void gm_checkpoint_describe_setup(const gm_domain *domain, gm_byte_writer *out);
+
+/* What load checks in an array before accepting it. */
+typedef enum gm_array_check {
+  GM_CHECK_NONE,     /* material state: its meaning is the material's */
+  GM_CHECK_FINITE,   /* stress, F, granular labels */
+  GM_CHECK_POSITIVE, /* finite and > 0: volumes, masses, domain sizes */
+  GM_CHECK_POSITION, /* finite and inside the grid box */
+  GM_CHECK_INPUT,   /* velocities: host-written ones are screened by the step */
+  GM_CHECK_ID,      /* ids against the id map */
+  GM_CHECK_MATERIAL /* a registered material */
+} gm_array_check;
+
+typedef struct gm_array_slot {
+  void *data;
+  size_t bytes_per_point;
+  gm_array_check check;
+} gm_array_slot;
+
+#define GM_CHECKPOINT_MAX_ARRAYS 32
+
+/* The per-point arrays of the committed state, in file order, into slots
+ * (at most GM_CHECKPOINT_MAX_ARRAYS); returns their number. The list
+ * depends only on the setup, so the saving and the loading domain agree. */
+size_t gm_checkpoint_point_arrays(const gm_domain *domain,
+                                  gm_array_slot *slots);
 
 #endif

@@ -1,0 +1,793 @@
+/*
+ * test_checkpoint.c - gm_domain_save / gm_domain_load (issue 6).
+ *
+ * 1. Restart: run N steps, save, run M more (state A); build the same setup
+ *    fresh, load, run M steps (state B). A and B must be bitwise equal in
+ *    every field, id, total and counter: the restart is exact, so the
+ *    tolerance is zero. Scenes: a plain elastic block pushed by a moving
+ *    rigid plate (with host-edited velocities and external forces pending
+ *    at the save), a granular CPDI scene whose two parallel grids merge
+ *    after the save, the same with uGIMP (interaction boxes kept between
+ *    steps), the CPDI one on 2 workers (and restarted on 2 from a 1-worker
+ *    file), and a stream from a source sliding down a frictional planar
+ *    wall into a sink. The restarted domain takes 3 steps of its own
+ *    before the load, so its caches are stale when the file arrives.
+ * 2. Refusals: every truncation of a small file, every single flipped byte,
+ *    a wrong version (with a valid checksum), another setup: refused with
+ *    the right status, and the domain bitwise unchanged (its observable
+ *    state, and the run it then continues).
+ * 3. Failed saves: a missing directory, a temporary path that cannot be
+ *    created, a rename that fails, a write cut short by RLIMIT_FSIZE: each
+ *    gives GM_ERR_IO, leaves no temporary file, and leaves an existing
+ *    checkpoint byte for byte as it was.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "test_util.h"
+
+#include <check.h>
+#include <signal.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define FIELD_COUNT (GM_FIELD_COMPONENT + 1)
+
+/* TEST_ASSERT_OK for loops: Check reports every ck_assert to its parent
+ * process (a write per call), so hot paths assert only on failure. */
+#define REQUIRE_OK(domain, call)                                               \
+  do {                                                                         \
+    gm_status require_status_ = (call);                                        \
+    if (require_status_ != GM_OK)                                              \
+      ck_abort_msg("%s failed: %s (%s)", #call, gm_strerror(require_status_),  \
+                   gm_domain_last_error(domain));                              \
+  } while (0)
+
+/* ----------------------------------------------------------- the scenes */
+
+/* SMALL: ELASTIC with one point per cell, for the byte-by-byte tests;
+ * GRANULAR_GIMP: GRANULAR with uGIMP, whose interaction boxes the library
+ * keeps from step to step. */
+typedef enum scene_kind {
+  ELASTIC,
+  SMALL,
+  GRANULAR,
+  GRANULAR_GIMP,
+  FLOW
+} scene_kind;
+
+typedef struct scene {
+  gm_domain *domain;
+  int rigid, wall, source, sink; /* ids, -1 when absent */
+  int steps_before, steps_after; /* N and M */
+} scene;
+
+/* An elastic block on a fixed floor, pushed by a rigid plate (linear MPM,
+ * USL). Soft enough (c ~ 37 m/s) for 1.4 ms steps. */
+static scene build_elastic(gm_domain_def def, int points_per_cell_axis) {
+  scene s = {NULL, -1, -1, -1, -1, 21, 40};
+  def.gravity[1] = -9.81; /* m/s^2 */
+  def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
+  def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] = GM_WALL_SLIP;
+  s.domain = test_create_domain(&def);
+  int block = test_add_elastic(s.domain, 1e6, 0.3, 1000.0);
+  gm_rigid_def plate = gm_rigid_def_default();
+  TEST_ASSERT_OK(s.domain, gm_domain_add_rigid(s.domain, &plate, &s.rigid));
+  const double lower[3] = {0.2, 0.1, 0.0}, upper[3] = {0.6, 0.5, 0.0};
+  test_fill_box(s.domain, block, lower, upper, points_per_cell_axis, NULL);
+  const double plate_lower[3] = {0.65, 0.1, 0.0};
+  const double plate_upper[3] = {0.75, 0.4, 0.0};
+  test_fill_box(s.domain, s.rigid, plate_lower, plate_upper,
+                points_per_cell_axis, NULL);
+  return s;
+}
+
+/* Granular CPDI: a Mohr-Coulomb layer on the floor and a block thrown down
+ * onto it; they are separate parallel grids until they meet. */
+static scene build_granular(gm_domain_def def, gm_shape shape) {
+  scene s = {NULL, -1, -1, -1, -1, 60, 140};
+  def.cell_size = 0.05; /* m */
+  def.extent[0] = def.extent[1] = 0.6;
+  def.gravity[1] = -9.81;
+  for (int face = GM_FACE_XMIN; face <= GM_FACE_YMAX; face++)
+    def.walls[face] = GM_WALL_FIXED;
+  def.shape = shape;
+  def.family = GM_FAMILY_GRANULAR;
+  s.domain = test_create_domain(&def);
+  gm_mohr_coulomb_def soil = gm_mohr_coulomb_def_default();
+  soil.youngs_modulus = 1e6; /* Pa */
+  soil.poisson_ratio = 0.3;
+  soil.density = 1500.0;                           /* kg/m^3 */
+  soil.friction_angle = 30.0 * 3.14159265 / 180.0; /* rad */
+  int material = -1;
+  TEST_ASSERT_OK(s.domain,
+                 gm_domain_add_mohr_coulomb(s.domain, &soil, &material));
+  gm_granular_def granular = gm_granular_def_default();
+  granular.critical_density = 1495.0; /* kg/m^3 */
+  TEST_ASSERT_OK(s.domain,
+                 gm_domain_set_granular(s.domain, material, &granular));
+  gm_fill_def fill = gm_fill_def_default();
+  fill.material = material;
+  fill.upper[0] = 0.6;
+  fill.upper[1] = 0.1;
+  TEST_ASSERT_OK(s.domain, gm_domain_fill_box(s.domain, &fill, NULL, NULL));
+  fill.lower[0] = 0.2;
+  fill.lower[1] = 0.25;
+  fill.upper[0] = 0.4;
+  fill.upper[1] = 0.35;
+  fill.velocity[1] = -2.0;       /* m/s */
+  fill.points_per_cell_axis = 3; /* other domain sizes than the layer */
+  TEST_ASSERT_OK(s.domain, gm_domain_fill_box(s.domain, &fill, NULL, NULL));
+  return s;
+}
+
+/* Three points every 0.1 s dropped onto a frictional chute (a planar
+ * wall at 30 degrees, mu = 0.3 < tan 30: they slide), which leads them
+ * into a sink by the right-hand wall (MUSL, as in test_sources). */
+static scene build_flow(gm_domain_def def) {
+  scene s = {NULL, -1, -1, -1, -1, 300, 150};
+  def.scheme = GM_SCHEME_MUSL;
+  def.cell_size = 0.25; /* m */
+  def.extent[0] = 2.0;
+  def.extent[1] = 3.0;
+  def.gravity[1] = -9.81;
+  def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] = GM_WALL_SLIP;
+  s.domain = test_create_domain(&def);
+  int material = test_add_elastic(s.domain, 1e4, 0.3, 16.0);
+  gm_wall_def chute = gm_wall_def_default();
+  chute.point[1] = 2.0;  /* m: y = 2 - x tan 30 */
+  chute.normal[0] = 0.5; /* (sin 30, cos 30) */
+  chute.normal[1] = 0.86602540378443865;
+  chute.friction_static = chute.friction_kinetic = 0.3;
+  TEST_ASSERT_OK(s.domain, gm_domain_add_wall(s.domain, &chute, &s.wall));
+  const double position[6] = {0.75, 2.5, 1.0, 2.5, 1.25, 2.5}; /* m */
+  gm_source_def source = gm_source_def_default();
+  source.material = material;
+  source.count = 3;
+  source.position = position;
+  source.point_size = 0.25; /* m */
+  source.period = 0.1;      /* s */
+  TEST_ASSERT_OK(s.domain, gm_domain_add_source(s.domain, &source, &s.source));
+  gm_sink_def sink = gm_sink_def_default();
+  sink.lower[0] = 1.5; /* m: the foot of the chute */
+  sink.upper[0] = 2.0;
+  sink.upper[1] = 1.5;
+  TEST_ASSERT_OK(s.domain, gm_domain_add_sink(s.domain, &sink, &s.sink));
+  return s;
+}
+
+/* The scene on top of def (the caller's changes to def stay unless the
+ * scene sets that field itself). */
+static scene build_from(scene_kind kind, gm_domain_def def) {
+  switch (kind) {
+  case ELASTIC:
+    return build_elastic(def, 2);
+  case SMALL:
+    return build_elastic(def, 1);
+  case GRANULAR:
+    return build_granular(def, GM_SHAPE_CPDI);
+  case GRANULAR_GIMP:
+    return build_granular(def, GM_SHAPE_UGIMP);
+  case FLOW:
+    break;
+  }
+  return build_flow(def);
+}
+
+static scene build(scene_kind kind, int workers) {
+  gm_domain_def def = gm_domain_def_default();
+  def.worker_count = workers;
+  return build_from(kind, def);
+}
+
+/* Takes steps of the stable dt; returns the fewest parallel grids seen
+ * after a step (0 outside the granular family). */
+static size_t run_steps(const scene *s, int steps) {
+  size_t fewest = SIZE_MAX;
+  for (int k = 0; k < steps; k++) {
+    REQUIRE_OK(s->domain, gm_domain_step(s->domain, 0.0));
+    gm_granular_summary summary = gm_granular_summary_default();
+    REQUIRE_OK(s->domain, gm_domain_get_granular_summary(s->domain, &summary));
+    if (summary.component_count < fewest)
+      fewest = summary.component_count;
+  }
+  return fewest;
+}
+
+/* Host edits pending at the save: they must travel with the file. */
+static void edit_before_save(const scene *s) {
+  if (s->rigid < 0)
+    return;
+  const double plate_velocity[3] = {-0.05, 0.0, 0.0}; /* m/s */
+  REQUIRE_OK(s->domain,
+             gm_domain_set_rigid_velocity(s->domain, s->rigid, plate_velocity));
+  double *force = NULL, *velocity = NULL; /* N, m/s */
+  REQUIRE_OK(s->domain, gm_domain_edit_field(s->domain, GM_FIELD_EXTERNAL_FORCE,
+                                             1, &force));
+  force[3] = -2.0;
+  REQUIRE_OK(s->domain,
+             gm_domain_edit_field(s->domain, GM_FIELD_VELOCITY, 0, &velocity));
+  velocity[5] += 0.25;
+}
+
+/* ------------------------------------------------- observable state */
+
+/* Everything the public API shows of a domain. */
+typedef struct observed {
+  size_t count;
+  double time; /* s */
+  uint64_t step_count;
+  int64_t *ids;
+  double *field[FIELD_COUNT];
+  size_t length[FIELD_COUNT];
+  double totals[8]; /* source kg, points; sink kg, points; wall N x2, rigid */
+  gm_granular_summary granular;
+} observed;
+
+static observed observe(const scene *s) {
+  observed o;
+  memset(&o, 0, sizeof o);
+  gm_domain *d = s->domain;
+  o.count = gm_domain_point_count(d);
+  REQUIRE_OK(d, gm_domain_get_time(d, &o.time, &o.step_count));
+  o.ids = calloc(o.count + 1, sizeof *o.ids);
+  REQUIRE_OK(d, gm_domain_get_ids(d, o.ids, o.count));
+  for (int f = 0; f < FIELD_COUNT; f++) {
+    size_t components = 0;
+    REQUIRE_OK(d, gm_domain_field_components(d, (gm_field)f, &components));
+    o.length[f] = components * o.count;
+    o.field[f] = calloc(o.length[f] + 1, sizeof(double));
+    REQUIRE_OK(d, gm_domain_get_field(d, (gm_field)f, o.field[f], o.length[f]));
+  }
+  gm_flow_totals in = gm_flow_totals_default(), out = gm_flow_totals_default();
+  if (s->source >= 0)
+    REQUIRE_OK(d, gm_domain_get_source_totals(d, s->source, &in));
+  if (s->sink >= 0)
+    REQUIRE_OK(d, gm_domain_get_sink_totals(d, s->sink, &out));
+  gm_wall_force wall = gm_wall_force_default();
+  if (s->wall >= 0)
+    REQUIRE_OK(d, gm_domain_get_wall_force(d, s->wall, &wall));
+  double rigid[3] = {0.0, 0.0, 0.0};
+  if (s->rigid >= 0)
+    REQUIRE_OK(d, gm_domain_get_rigid_force(d, s->rigid, rigid));
+  const double totals[8] = {
+      in.mass,       (double)in.points, out.mass, (double)out.points,
+      wall.force[0], wall.force[1],     rigid[0], rigid[1]};
+  memcpy(o.totals, totals, sizeof totals);
+  o.granular = gm_granular_summary_default();
+  REQUIRE_OK(d, gm_domain_get_granular_summary(d, &o.granular));
+  return o;
+}
+
+static void forget(observed *o) {
+  free(o->ids);
+  for (int f = 0; f < FIELD_COUNT; f++)
+    free(o->field[f]);
+}
+
+/* Index of the first value where two arrays differ bitwise (memcmp: -0.0
+ * and 0.0 differ, NaN payloads count), or count if none. Check sends every
+ * ck_assert to its parent process, so arrays are compared first and only
+ * a difference is asserted. */
+static size_t first_difference(const double *a, const double *b, size_t count) {
+  for (size_t i = 0; i < count; i++)
+    if (memcmp(&a[i], &b[i], sizeof(double)) != 0)
+      return i;
+  return count;
+}
+
+static void assert_same(const observed *a, const observed *b,
+                        const char *what) {
+  ck_assert_msg(a->count == b->count, "%s: %zu points vs %zu", what, a->count,
+                b->count);
+  ck_assert_msg(a->step_count == b->step_count, "%s: step count differs", what);
+  ck_assert_msg(memcmp(&a->time, &b->time, sizeof a->time) == 0,
+                "%s: time %.17g vs %.17g", what, a->time, b->time);
+  ck_assert_msg(memcmp(a->ids, b->ids, a->count * sizeof *a->ids) == 0,
+                "%s: ids differ", what);
+  for (int f = 0; f < FIELD_COUNT; f++) {
+    size_t i = first_difference(a->field[f], b->field[f], a->length[f]);
+    if (i < a->length[f])
+      ck_abort_msg("%s: field %d value %zu: %.17g vs %.17g", what, f, i,
+                   a->field[f][i], b->field[f][i]);
+  }
+  size_t k = first_difference(a->totals, b->totals, 8);
+  if (k < 8)
+    ck_abort_msg("%s: total %zu: %.17g vs %.17g", what, k, a->totals[k],
+                 b->totals[k]);
+  const gm_granular_summary *x = &a->granular, *y = &b->granular;
+  ck_assert_msg(
+      x->component_count == y->component_count &&
+          x->layer_count == y->layer_count &&
+          memcmp(x->state_count, y->state_count, sizeof x->state_count) == 0,
+      "%s: granular summary differs", what);
+}
+
+/* ---------------------------------------------------------- file helpers */
+
+static char temporary_directory[256];
+
+/* In memory (/dev/shm) where there is one: the refusal tests write
+ * thousands of small files, which on a disk costs seconds of write-back. */
+static void make_temporary_directory(void) {
+  struct stat info;
+  bool memory = stat("/dev/shm", &info) == 0 && S_ISDIR(info.st_mode) &&
+                access("/dev/shm", W_OK) == 0;
+  snprintf(temporary_directory, sizeof temporary_directory,
+           "%s/gm_checkpoint_XXXXXX", memory ? "/dev/shm" : "/tmp");
+  ck_assert_ptr_nonnull(mkdtemp(temporary_directory));
+}
+
+static void remove_temporary_directory(void) {
+  char command[320];
+  snprintf(command, sizeof command, "rm -rf '%s'", temporary_directory);
+  ck_assert_int_eq(system(command), 0);
+}
+
+static char *path_in_directory(const char *name) {
+  char *path = malloc(512);
+  snprintf(path, 512, "%s/%s", temporary_directory, name);
+  return path;
+}
+
+static unsigned char *read_file(const char *path, size_t *size) {
+  FILE *file = fopen(path, "rb");
+  ck_assert_ptr_nonnull(file);
+  fseek(file, 0, SEEK_END);
+  *size = (size_t)ftell(file);
+  fseek(file, 0, SEEK_SET);
+  unsigned char *data = malloc(*size + 1);
+  ck_assert_uint_eq(fread(data, 1, *size, file), *size);
+  fclose(file);
+  return data;
+}
+
+static void write_file(const char *path, const unsigned char *data,
+                       size_t size) {
+  FILE *file = fopen(path, "wb");
+  if (!file || fwrite(data, 1, size, file) != size || fclose(file) != 0)
+    ck_abort_msg("cannot write %s", path);
+}
+
+static bool exists(const char *path) {
+  struct stat info;
+  return stat(path, &info) == 0;
+}
+
+/* FNV-1a 64, as documented in gm_checkpoint(3): lets a test re-seal a file
+ * it altered on purpose, so that the check under test is not the
+ * checksum. */
+static uint64_t fnv1a64(const unsigned char *bytes, size_t size,
+                        uint64_t hash) {
+  for (size_t k = 0; k < size; k++) {
+    hash ^= bytes[k];
+    hash *= 0x100000001b3ull;
+  }
+  return hash;
+}
+
+static void reseal(unsigned char *data, size_t size) {
+  uint64_t hash = fnv1a64(data, 24, 0xcbf29ce484222325ull);
+  hash = fnv1a64(data + 32, size - 32, hash);
+  memcpy(data + 24, &hash, sizeof hash);
+}
+
+static bool last_error_mentions(const gm_domain *domain, const char *text) {
+  return strstr(gm_domain_last_error(domain), text) != NULL;
+}
+
+/* ------------------------------------------------------------- restart */
+
+static gm_granular_summary granular_summary(const scene *s) {
+  gm_granular_summary summary = gm_granular_summary_default();
+  TEST_ASSERT_OK(s->domain,
+                 gm_domain_get_granular_summary(s->domain, &summary));
+  return summary;
+}
+
+/* The scene really exercised what the restart is claimed to preserve. */
+static void check_scene_coverage(scene_kind kind, const observed *at_save,
+                                 const observed *at_end,
+                                 size_t fewest_components) {
+  if (kind == ELASTIC) /* the plate touches the block: a force to report */
+    ck_assert_msg(at_save->totals[6] != 0.0, "no rigid force at the save");
+  if (kind == GRANULAR) { /* two grids at the save, merged later; then
+                             points in all three states */
+    const size_t *states = at_end->granular.state_count;
+    ck_assert_msg(at_save->granular.component_count == 2 &&
+                      fewest_components == 1 && states[0] > 0 &&
+                      states[1] > 0 && states[2] > 0,
+                  "components: %zu at the save, at least %zu after; states "
+                  "%zu %zu %zu at the end",
+                  at_save->granular.component_count, fewest_components,
+                  states[0], states[1], states[2]);
+  }
+  if (kind == FLOW) /* injections and removals on both sides of the save */
+    ck_assert_msg(at_save->totals[1] > 0.0 && at_save->totals[3] > 0.0 &&
+                      at_end->totals[1] > at_save->totals[1] &&
+                      at_end->totals[3] > at_save->totals[3] &&
+                      at_save->totals[4] != 0.0,
+                  "flow: injected %g then %g, removed %g then %g, wall "
+                  "force %g",
+                  at_save->totals[1], at_end->totals[1], at_save->totals[3],
+                  at_end->totals[3], at_save->totals[4]);
+}
+
+static void check_restart(scene_kind kind, int workers_before,
+                          int workers_after) {
+  make_temporary_directory();
+  char *path = path_in_directory("run.ckpt");
+  scene a = build(kind, workers_before);
+  run_steps(&a, a.steps_before);
+  edit_before_save(&a);
+  TEST_ASSERT_OK(a.domain, gm_domain_save(a.domain, path));
+  observed at_save = observe(&a);
+  run_steps(&a, 1);
+  gm_granular_summary first_a = granular_summary(&a);
+  size_t fewest = run_steps(&a, a.steps_after - 1);
+  observed state_a = observe(&a);
+
+  /* The restarted domain has run a little on its own first, so every
+   * cache it keeps between steps is stale when the file arrives. */
+  scene b = build(kind, workers_after);
+  run_steps(&b, 3);
+  TEST_ASSERT_OK(b.domain, gm_domain_load(b.domain, path));
+  observed loaded = observe(&b);
+  assert_same(&at_save, &loaded, "right after the load");
+  run_steps(&b, 1);
+  gm_granular_summary first_b = granular_summary(&b);
+  run_steps(&b, b.steps_after - 1);
+  observed state_b = observe(&b);
+  assert_same(&state_a, &state_b, "after the restarted steps");
+  check_scene_coverage(kind, &at_save, &state_a, fewest);
+  if (kind == GRANULAR || kind == GRANULAR_GIMP) { /* the forest differed,
+                                                     the results did not */
+    ck_assert_int_eq(first_a.forest_reused, 1);
+    ck_assert_int_eq(first_b.forest_reused, 0);
+  }
+  forget(&at_save);
+  forget(&state_a);
+  forget(&loaded);
+  forget(&state_b);
+  gm_domain_destroy(a.domain);
+  gm_domain_destroy(b.domain);
+  free(path);
+  remove_temporary_directory();
+}
+
+START_TEST(test_restart_elastic) {
+  check_restart(ELASTIC, 1, 1);
+}
+END_TEST
+
+START_TEST(test_restart_granular_cpdi) {
+  check_restart(GRANULAR, 1, 1);
+}
+END_TEST
+
+START_TEST(test_restart_granular_ugimp) {
+  check_restart(GRANULAR_GIMP, 1, 1);
+}
+END_TEST
+
+START_TEST(test_restart_granular_two_workers) {
+  check_restart(GRANULAR, 2, 2);
+  check_restart(GRANULAR, 1, 2); /* the worker count is not setup */
+}
+END_TEST
+
+START_TEST(test_restart_source_sink_wall) {
+  check_restart(FLOW, 1, 1);
+}
+END_TEST
+
+/* ------------------------------------------------------------ refusals */
+
+/* Loads path into target, expects status, and the target unchanged. */
+static void expect_refused(const scene *target, const observed *before,
+                           const char *path, gm_status expected,
+                           const char *case_name) {
+  gm_status status = gm_domain_load(target->domain, path);
+  if (status != expected)
+    ck_abort_msg("%s: status %s (%s), expected %s", case_name,
+                 gm_strerror(status), gm_domain_last_error(target->domain),
+                 gm_strerror(expected));
+  observed after = observe(target);
+  assert_same(before, &after, case_name);
+  forget(&after);
+}
+
+START_TEST(test_refuses_damaged_files) {
+  make_temporary_directory();
+  char *good = path_in_directory("good.ckpt");
+  char *damaged = path_in_directory("damaged.ckpt");
+  scene saved = build(SMALL, 1);
+  run_steps(&saved, 5);
+  TEST_ASSERT_OK(saved.domain, gm_domain_save(saved.domain, good));
+  /* The target is at another state; its twin takes the same steps
+   * without the failed loads. */
+  scene target = build(SMALL, 1), twin = build(SMALL, 1);
+  run_steps(&target, 3);
+  run_steps(&twin, 3);
+  observed before = observe(&target);
+  size_t size = 0;
+  unsigned char *data = read_file(good, &size);
+  for (size_t length = 0; length < size; length++) {
+    write_file(damaged, data, length);
+    expect_refused(&target, &before, damaged, GM_ERR_IO, "truncated");
+  }
+  for (size_t at = 0; at < size; at++) {
+    data[at] ^= 0x10;
+    write_file(damaged, data, size);
+    data[at] ^= 0x10;
+    expect_refused(&target, &before, damaged, GM_ERR_IO, "flipped byte");
+  }
+  unsigned char *other_version = malloc(size);
+  memcpy(other_version, data, size);
+  other_version[8] += 1; /* the u32 version, little or big end */
+  other_version[11] += 1;
+  reseal(other_version, size);
+  write_file(damaged, other_version, size);
+  expect_refused(&target, &before, damaged, GM_ERR_IO, "version");
+  ck_assert(last_error_mentions(target.domain, "version"));
+  char *missing = path_in_directory("missing.ckpt");
+  expect_refused(&target, &before, missing, GM_ERR_IO, "missing file");
+  /* The untouched target continues exactly like its twin. */
+  run_steps(&target, 30);
+  run_steps(&twin, 30);
+  observed target_end = observe(&target), twin_end = observe(&twin);
+  assert_same(&twin_end, &target_end, "continued after refusals");
+  forget(&before);
+  forget(&target_end);
+  forget(&twin_end);
+  free(data);
+  free(other_version);
+  free(good);
+  free(damaged);
+  free(missing);
+  gm_domain_destroy(saved.domain);
+  gm_domain_destroy(target.domain);
+  gm_domain_destroy(twin.domain);
+  remove_temporary_directory();
+}
+END_TEST
+
+/* Loads the file into a scene of another setup: refused with
+ * GM_ERR_INVALID_ARGUMENT, a message naming `difference` (and `detail`
+ * unless NULL), the scene unchanged; then destroys the scene. */
+static void expect_setup_refused(const char *path, scene other,
+                                 const char *difference, const char *detail) {
+  observed before = observe(&other);
+  expect_refused(&other, &before, path, GM_ERR_INVALID_ARGUMENT, difference);
+  ck_assert_msg(last_error_mentions(other.domain, difference) &&
+                    (!detail || last_error_mentions(other.domain, detail)),
+                "message \"%s\" does not name %s %s",
+                gm_domain_last_error(other.domain), difference,
+                detail ? detail : "");
+  forget(&before);
+  gm_domain_destroy(other.domain);
+}
+
+START_TEST(test_refuses_other_setup) {
+  make_temporary_directory();
+  char *path = path_in_directory("elastic.ckpt");
+  scene saved = build(ELASTIC, 1);
+  run_steps(&saved, 5);
+  TEST_ASSERT_OK(saved.domain, gm_domain_save(saved.domain, path));
+  gm_domain_def def = gm_domain_def_default();
+  def.damping = 0.1;
+  expect_setup_refused(path, build_from(ELASTIC, def), "damping", NULL);
+  expect_setup_refused(path, build(GRANULAR, 1), "gm_domain_def.extent", NULL);
+  scene walled = build(ELASTIC, 1);
+  gm_wall_def wall = gm_wall_def_default();
+  int wall_id = -1;
+  TEST_ASSERT_OK(walled.domain,
+                 gm_domain_add_wall(walled.domain, &wall, &wall_id));
+  expect_setup_refused(path, walled, "planar wall count", NULL);
+  scene softer = build(ELASTIC, 1); /* a third material, differing */
+  test_add_elastic(softer.domain, 1e5, 0.3, 1000.0);
+  expect_setup_refused(path, softer, "material count", NULL);
+  gm_domain_destroy(saved.domain);
+  free(path);
+  remove_temporary_directory();
+}
+END_TEST
+
+/* One material of each built-in kind, the `changed` one (or none, -1)
+ * with one parameter altered that neither its density nor its P-wave
+ * modulus reflects, so only the parameter record can tell. */
+static gm_domain *materials_domain(int changed) {
+  gm_domain_def def = gm_domain_def_default();
+  gm_domain *domain = test_create_domain(&def);
+  int id = -1;
+  gm_mohr_coulomb_def mohr_coulomb = gm_mohr_coulomb_def_default();
+  mohr_coulomb.dilation_angle = changed == 0 ? 0.1 : 0.0; /* rad */
+  TEST_ASSERT_OK(domain,
+                 gm_domain_add_mohr_coulomb(domain, &mohr_coulomb, &id));
+  gm_perzyna_def perzyna = gm_perzyna_def_default();
+  perzyna.always_iterate = changed == 1; /* an int field */
+  TEST_ASSERT_OK(domain, gm_domain_add_perzyna(domain, &perzyna, &id));
+  gm_filling_def filling = gm_filling_def_default();
+  filling.max_iterations += changed == 2; /* the int before the padding */
+  TEST_ASSERT_OK(domain, gm_domain_add_filling(domain, &filling, &id));
+  gm_drucker_prager_def drucker_prager = gm_drucker_prager_def_default();
+  drucker_prager.friction_angle += changed == 3 ? 0.01 : 0.0; /* rad */
+  TEST_ASSERT_OK(domain,
+                 gm_domain_add_drucker_prager(domain, &drucker_prager, &id));
+  gm_von_mises_def von_mises = gm_von_mises_def_default();
+  von_mises.yield_stress *= changed == 4 ? 2.0 : 1.0; /* Pa */
+  TEST_ASSERT_OK(domain, gm_domain_add_von_mises(domain, &von_mises, &id));
+  gm_stress_free_def stress_free = gm_stress_free_def_default();
+  TEST_ASSERT_OK(domain, gm_domain_add_stress_free(domain, &stress_free, &id));
+  gm_rigid_def rigid = gm_rigid_def_default();
+  TEST_ASSERT_OK(domain, gm_domain_add_rigid(domain, &rigid, &id));
+  return domain;
+}
+
+START_TEST(test_material_parameters) {
+  make_temporary_directory();
+  char *path = path_in_directory("materials.ckpt");
+  gm_domain *saved = materials_domain(-1);
+  TEST_ASSERT_OK(saved, gm_domain_save(saved, path));
+  /* Built again the same way: the parameter records agree (no pointer
+   * or padding byte leaks into them). */
+  gm_domain *same = materials_domain(-1);
+  TEST_ASSERT_OK(same, gm_domain_load(same, path));
+  gm_domain_destroy(same);
+  for (int changed = 0; changed < 5; changed++) {
+    scene other = {materials_domain(changed), -1, -1, -1, -1, 0, 0};
+    char expected[32];
+    snprintf(expected, sizeof expected, "material %d (", changed);
+    expect_setup_refused(path, other, expected, "parameters");
+  }
+  gm_domain_destroy(saved);
+  free(path);
+  remove_temporary_directory();
+}
+END_TEST
+
+/* -------------------------------------------------------- failed saves */
+
+/* A failed save: GM_ERR_IO, no temporary file left, and the checkpoint
+ * already at `kept` (if any) byte for byte as before. */
+static void expect_save_failed(const scene *s, const char *path,
+                               const char *kept, const unsigned char *original,
+                               size_t original_size) {
+  gm_status status = gm_domain_save(s->domain, path);
+  ck_assert_msg(status == GM_ERR_IO, "save to %s: %s", path,
+                gm_strerror(status));
+  ck_assert_msg(last_error_mentions(s->domain, path),
+                "message \"%s\" does not name the path",
+                gm_domain_last_error(s->domain));
+  char temporary[600];
+  snprintf(temporary, sizeof temporary, "%s.tmp", path);
+  struct stat info;
+  ck_assert_msg(stat(temporary, &info) != 0 || S_ISDIR(info.st_mode),
+                "temporary file %s left behind", temporary);
+  if (!kept)
+    return;
+  size_t size = 0;
+  unsigned char *now = read_file(kept, &size);
+  ck_assert_msg(size == original_size && memcmp(now, original, size) == 0,
+                "the previous checkpoint %s changed", kept);
+  free(now);
+}
+
+START_TEST(test_failed_saves_keep_previous_file) {
+  make_temporary_directory();
+  char *path = path_in_directory("run.ckpt");
+  scene s = build(ELASTIC, 1);
+  run_steps(&s, 5);
+  TEST_ASSERT_OK(s.domain, gm_domain_save(s.domain, path));
+  size_t size = 0;
+  unsigned char *original = read_file(path, &size);
+  run_steps(&s, 2); /* a later save would write other bytes */
+
+  char *nowhere = path_in_directory("no/such/dir/run.ckpt");
+  expect_save_failed(&s, nowhere, NULL, NULL, 0);
+  ck_assert(!exists(nowhere));
+
+  /* The temporary path cannot be created (it is a directory): works as
+   * root too. The directory is not ours, so it must stay. */
+  char temporary[600];
+  snprintf(temporary, sizeof temporary, "%s.tmp", path);
+  ck_assert_int_eq(mkdir(temporary, 0700), 0);
+  expect_save_failed(&s, path, path, original, size);
+  ck_assert(exists(temporary));
+  ck_assert_int_eq(rmdir(temporary), 0);
+
+  /* The rename fails: the target is a non-empty directory. */
+  char *occupied = path_in_directory("occupied");
+  ck_assert_int_eq(mkdir(occupied, 0700), 0);
+  char *inside = path_in_directory("occupied/file");
+  write_file(inside, original, 1);
+  expect_save_failed(&s, occupied, NULL, NULL, 0);
+  ck_assert(exists(inside));
+
+  /* The write is cut short after 1 kB (the file-size limit, which binds
+   * root as well): a crash mid-write as far as the file is concerned. */
+  struct rlimit saved_limit, small;
+  ck_assert_int_eq(getrlimit(RLIMIT_FSIZE, &saved_limit), 0);
+  small = saved_limit;
+  small.rlim_cur = 1024;
+  void (*saved_handler)(int) = signal(SIGXFSZ, SIG_IGN);
+  ck_assert_int_eq(setrlimit(RLIMIT_FSIZE, &small), 0);
+  gm_status cut_short = gm_domain_save(s.domain, path);
+  ck_assert_int_eq(setrlimit(RLIMIT_FSIZE, &saved_limit), 0);
+  signal(SIGXFSZ, saved_handler);
+  ck_assert_int_eq(cut_short, GM_ERR_IO);
+  size_t now_size = 0;
+  unsigned char *now = read_file(path, &now_size);
+  ck_assert(now_size == size && memcmp(now, original, size) == 0);
+  ck_assert(!exists(temporary));
+  free(now);
+
+  /* A read-only directory stops only unprivileged users. */
+  if (geteuid() != 0) {
+    ck_assert_int_eq(chmod(temporary_directory, 0500), 0);
+    expect_save_failed(&s, path, path, original, size);
+    ck_assert_int_eq(chmod(temporary_directory, 0700), 0);
+  } else {
+    fprintf(stderr, "test_checkpoint: running as root, the read-only "
+                    "directory case is not run (the cases above cover "
+                    "failed creation, rename and write)\n");
+  }
+
+  /* After all that, a save still works and replaces the file. */
+  TEST_ASSERT_OK(s.domain, gm_domain_save(s.domain, path));
+  scene fresh = build(ELASTIC, 1);
+  TEST_ASSERT_OK(fresh.domain, gm_domain_load(fresh.domain, path));
+  uint64_t steps = 0;
+  TEST_ASSERT_OK(fresh.domain, gm_domain_get_time(fresh.domain, NULL, &steps));
+  ck_assert_uint_eq(steps, 7);
+  gm_domain_destroy(fresh.domain);
+  gm_domain_destroy(s.domain);
+  free(original);
+  free(path);
+  free(nowhere);
+  free(occupied);
+  free(inside);
+  remove_temporary_directory();
+}
+END_TEST
+
+START_TEST(test_arguments) {
+  scene s = build(ELASTIC, 1);
+  ck_assert_int_eq(gm_domain_save(NULL, "x"), GM_ERR_NULL);
+  ck_assert_int_eq(gm_domain_save(s.domain, NULL), GM_ERR_NULL);
+  ck_assert_int_eq(gm_domain_load(NULL, "x"), GM_ERR_NULL);
+  ck_assert_int_eq(gm_domain_load(s.domain, NULL), GM_ERR_NULL);
+  gm_domain_destroy(s.domain);
+}
+END_TEST
+
+static Suite *checkpoint_suite(void) {
+  Suite *suite = suite_create("checkpoint");
+  TCase *restart = tcase_create("restart");
+  tcase_set_timeout(restart, 120);
+  tcase_add_test(restart, test_restart_elastic);
+  tcase_add_test(restart, test_restart_granular_cpdi);
+  tcase_add_test(restart, test_restart_granular_ugimp);
+  tcase_add_test(restart, test_restart_granular_two_workers);
+  tcase_add_test(restart, test_restart_source_sink_wall);
+  suite_add_tcase(suite, restart);
+  TCase *refusals = tcase_create("refusals");
+  tcase_set_timeout(refusals, 120);
+  tcase_add_test(refusals, test_refuses_damaged_files);
+  tcase_add_test(refusals, test_refuses_other_setup);
+  tcase_add_test(refusals, test_material_parameters);
+  tcase_add_test(refusals, test_failed_saves_keep_previous_file);
+  tcase_add_test(refusals, test_arguments);
+  suite_add_tcase(suite, refusals);
+  return suite;
+}
+
+int main(void) {
+  return test_run_suite(checkpoint_suite()) ? 1 : 0;
+}
