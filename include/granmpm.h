@@ -156,7 +156,8 @@ typedef struct gm_domain_def {
   double cfl;              /* Courant number in (0, 1]; default 0.5 */
   int refuse_unstable_dt;  /* nonzero: dt above the bound fails; default 0 */
   int max_retries;         /* halvings of dt on a recoverable material
-                              failure; default 4, range 0..20 */
+                              failure or an inverted F; default 4,
+                              range 0..20 */
   int worker_count;        /* built-in pool threads, 1..256; default 1 */
   gm_enqueue_task_fn *enqueue_task; /* NULL: built-in pool */
   gm_finish_task_fn *finish_task;   /* required with enqueue_task */

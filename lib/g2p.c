@@ -225,6 +225,10 @@ static bool deform_chunk(gm_domain *domain, const gather_view *v,
                     "non-finite deformation at t = %g s); reduce dt",
                     (long long)domain->points.id[first + j], jacobian,
                     domain->time + dt);
+    /* A finite inversion is a step too large for the motion (an impact):
+     * the step is retried with a smaller dt (step.c). */
+    if (scratch->error_index == first + j && isfinite(jacobian))
+      scratch->error_inverted = true;
   }
   return false;
 }

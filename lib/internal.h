@@ -176,6 +176,8 @@ typedef struct gm_worker_scratch {
   size_t error_index;
   char error_message[GM_ERROR_MESSAGE_SIZE];
   int callback_result; /* material return code that caused the error */
+  bool error_inverted; /* the recorded error is an inverted F (finite
+                          det F <= 0): a smaller dt may avoid it */
   double max_wave_speed_squared;  /* m^2/s^2, max c_p^2 of the new state */
   double max_point_speed_squared; /* m^2/s^2, max |v_p|^2 of the new state */
   double density_control_seconds; /* this step, this worker */

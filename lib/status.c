@@ -55,6 +55,7 @@ void gm_worker_error(gm_worker_scratch *scratch, gm_status status, size_t index,
     return;
   scratch->error_status = status;
   scratch->error_index = index;
+  scratch->error_inverted = false; /* the caller marks inversions */
   va_list args;
   va_start(args, format);
   vsnprintf(scratch->error_message, sizeof scratch->error_message, format,
@@ -66,6 +67,7 @@ void gm_clear_worker_errors(gm_domain *domain) {
   for (int w = 0; w < domain->worker_count; w++) {
     domain->scratch[w].error_status = GM_OK;
     domain->scratch[w].callback_result = 0;
+    domain->scratch[w].error_inverted = false;
   }
 }
 

@@ -126,7 +126,21 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
   return GM_OK;
 }
 
+/* A failure that a smaller dt may avoid: a material's recoverable return
+ * (> 0), or an inverted F (finite det F <= 0) and nothing else. */
 static bool recoverable_failure(const gm_domain *domain, gm_status status) {
+  if (status == GM_ERR_NOT_FINITE) {
+    bool inverted = false;
+    for (int w = 0; w < domain->worker_count; w++) {
+      const gm_worker_scratch *scratch = &domain->scratch[w];
+      if (scratch->error_status == GM_OK)
+        continue;
+      if (!scratch->error_inverted)
+        return false;
+      inverted = true;
+    }
+    return inverted;
+  }
   if (status != GM_ERR_CALLBACK)
     return false;
   bool recoverable = false;
@@ -203,7 +217,7 @@ static gm_status advance(gm_domain *domain, double dt, int retries_left,
   if (retries_left <= 0) {
     char reason[GM_ERROR_MESSAGE_SIZE];
     snprintf(reason, sizeof reason, "%s", domain->last_error);
-    return gm_set_error(domain, GM_ERR_CALLBACK,
+    return gm_set_error(domain, status,
                         "%.380s; still failing after %d halvings of dt "
                         "(max_retries)",
                         reason, domain->def.max_retries);
