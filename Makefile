@@ -3,6 +3,7 @@
 # Makefile.am; see README.md.
 #
 #   make demo            build everything, run the demo (writes out/)
+#   make bench-chart     speed vs accuracy chart (bench/results/)
 #   make check           build and run the whole test suite
 #   make bench           build and run the benchmark (CSV on stdout)
 #   make install PREFIX=/usr/local DESTDIR=
@@ -14,8 +15,8 @@ DESTDIR ?=
 CONFIGURE_FLAGS ?=
 TOP := $(CURDIR)
 
-FORWARD := all check demo bench install uninstall abi-check abi-dump \
-	check-valgrind installcheck
+FORWARD := all check demo demo-bar demo-collapse bench bench-chart install \
+	uninstall abi-check abi-dump check-valgrind installcheck
 # Forwarded without prefix/DESTDIR: a command-line prefix would reach
 # distcheck's own install step through MAKEFLAGS and override its private
 # temporary prefix (installing into the real PREFIX instead).
