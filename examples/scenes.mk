@@ -1,1 +1,32 @@
 # examples/scenes.mk - the scenes of 000, 001 and 002 (included by Makefile.am).
+# The five examples of 000 sec 4 and Kumar's impact slope (004 sec 3.3.5),
+# and the stability test of issue 6.
+SCENE_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
+SCENE_LDADD = lib/libgranmpm.la -lm
+
+noinst_PROGRAMS += examples/disconnected_1d examples/slope_density \
+	examples/avalanche examples/silo_filling examples/impact_force \
+	examples/impact_slope
+examples_disconnected_1d_SOURCES = examples/disconnected_1d.c $(EXAMPLE_COMMON)
+examples_disconnected_1d_LDADD = $(SCENE_LDADD)
+examples_disconnected_1d_CPPFLAGS = $(SCENE_CPPFLAGS)
+examples_slope_density_SOURCES = examples/slope_density.c $(EXAMPLE_COMMON)
+examples_slope_density_LDADD = $(SCENE_LDADD)
+examples_slope_density_CPPFLAGS = $(SCENE_CPPFLAGS)
+examples_avalanche_SOURCES = examples/avalanche.c $(EXAMPLE_COMMON)
+examples_avalanche_LDADD = $(SCENE_LDADD)
+examples_avalanche_CPPFLAGS = $(SCENE_CPPFLAGS)
+examples_silo_filling_SOURCES = examples/silo_filling.c $(EXAMPLE_COMMON)
+examples_silo_filling_LDADD = $(SCENE_LDADD)
+examples_silo_filling_CPPFLAGS = $(SCENE_CPPFLAGS)
+examples_impact_force_SOURCES = examples/impact_force.c $(EXAMPLE_COMMON)
+examples_impact_force_LDADD = $(SCENE_LDADD)
+examples_impact_force_CPPFLAGS = $(SCENE_CPPFLAGS)
+examples_impact_slope_SOURCES = examples/impact_slope.c $(EXAMPLE_COMMON)
+examples_impact_slope_LDADD = $(SCENE_LDADD)
+examples_impact_slope_CPPFLAGS = $(SCENE_CPPFLAGS)
+
+check_PROGRAMS += tests/test_stability
+tests_test_stability_SOURCES = tests/test_stability.c
+tests_test_stability_CFLAGS = $(TEST_CFLAGS)
+tests_test_stability_LDADD = $(TEST_LDADD)
