@@ -441,6 +441,7 @@ static inline gm_source_def gm_source_def_default(void) {
   return def;
 }
 
+/** Adds a source; *source_id (required, not NULL) receives its id. */
 GM_API gm_status gm_domain_add_source(gm_domain *domain,
                                       const gm_source_def *def, int *source_id);
 
@@ -665,8 +666,11 @@ GM_API gm_status gm_domain_point_index(const gm_domain *domain, int64_t id,
 
 /** Zero-copy access to one component of a stored field (point-index order,
  * point_count values). Valid until the next call that changes the domain.
- * Components that are identically zero in this geometry are not stored and
- * give GM_ERR_UNSUPPORTED. */
+ * Components that are identically zero in this geometry, and computed
+ * fields (GM_FIELD_DENSITY, GM_FIELD_MATERIAL, GM_FIELD_ID,
+ * GM_FIELD_DOMAIN_CORNERS; GM_FIELD_STATE and GM_FIELD_COMPONENT outside the
+ * granular family), are not stored and give GM_ERR_UNSUPPORTED: copy them
+ * with gm_domain_get_field. */
 GM_API gm_status gm_domain_view_field(const gm_domain *domain, gm_field field,
                                       size_t component, const double **data);
 
