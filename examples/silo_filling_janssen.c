@@ -29,9 +29,11 @@
  * t = 0.81 s, with the dt-halving retries too): the model's exponential
  * stiffening against a 6.5 m/s impact. Each portion is therefore released
  * just above the current free surface (001 does not give the drop
- * height); the fill then grows for seven portions, until at t ~ 1.3 s the
- * filling model reports a non-finite trial stress for a point (fatal).
- * Not investigated further yet.
+ * height); the fill then grows for seven portions, until at t ~ 1.3 s a
+ * point near the side wall is thrown out of the top of the grid (before
+ * the filling law was continued linearly past max_pressure, the model
+ * reported a non-finite trial stress there instead). Not investigated
+ * further yet.
  *
  * Prints: the wall pressure profile, then
  *   RESULT wall_pressure_mid_Pa=... reference=Janssen ...

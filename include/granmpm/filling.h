@@ -50,8 +50,11 @@ typedef struct gm_filling_def {
   double reference_stress;   /* Pa, >= 0, as in gm_perzyna_def */
   double max_pressure;       /* Pa, >= p0: the largest pressure expected;
                                 bounds K + 4G/3 for the stable time step
-                                (K <= max_pressure (1 + e0)/kappa). The
-                                bulk viscosity adds its own explicit limit
+                                (K <= max_pressure (1 + e0)/kappa). Past
+                                it eq 24 continues linearly in the log
+                                volume strain with its tangent modulus
+                                there, so the bound still holds. The bulk
+                                viscosity adds its own explicit limit
                                 dt < ~rho h^2 / mu, not checked here. */
   int max_iterations;        /* 1..1000, as in gm_perzyna_def */
 } gm_filling_def;

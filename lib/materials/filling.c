@@ -15,19 +15,42 @@
 /* pi/2, the upper bound of the friction angle (rad). */
 #define FILLING_HALF_PI 1.57079632679489661923
 
-/* Elastic part of eq 24 (Pa) at the log volumetric strain eps_vol (-). */
+/* The log volumetric strain (-) at which eq 24 reaches max_pressure:
+ * p_el = p0 exp(c (1 - J)), J = exp(eps_vol), c = (1 + e0)/kappa. */
+static double filling_cap_strain(const gm_filling_def *def) {
+  double compressibility = (1.0 + def->void_ratio) / def->kappa; /* - */
+  return log(1.0 - log(def->max_pressure / def->reference_pressure) /
+                       compressibility);
+}
+
+/* Elastic part of eq 24 (Pa) at the log volumetric strain eps_vol (-).
+ * Beyond max_pressure the law goes on linearly in eps_vol with its tangent
+ * bulk modulus there, K* = c J* max_pressure <= max_pressure c: the bound
+ * the stable time step was computed with keeps holding (an exponential
+ * past it made impacts blow up: the wave speed outran dt). */
 static double filling_elastic_pressure(const gm_filling_def *def,
                                        double volumetric_strain) {
   double compressibility = (1.0 + def->void_ratio) / def->kappa; /* - */
+  double cap = filling_cap_strain(def);
+  if (volumetric_strain < cap) {
+    double bulk = compressibility * exp(cap) * def->max_pressure; /* Pa */
+    return def->max_pressure + bulk * (cap - volumetric_strain);
+  }
   return def->reference_pressure *
          exp(compressibility * (1.0 - exp(volumetric_strain)));
 }
 
-/* Shear modulus of sec 5.1.2 (Pa) at elastic pressure p_el (Pa). */
+/* Shear modulus of sec 5.1.2 (Pa) at elastic pressure p_el (Pa); held at
+ * its max_pressure value beyond the cap (see above). */
 static double filling_shear_modulus(const gm_filling_def *def,
                                     double elastic_pressure,
                                     double volumetric_strain) {
   double nu = def->poisson_ratio;
+  double cap = filling_cap_strain(def);
+  if (volumetric_strain < cap) {
+    elastic_pressure = def->max_pressure;
+    volumetric_strain = cap;
+  }
   return 1.5 * (1.0 - 2.0 * nu) / (1.0 + nu) * (1.0 + def->void_ratio) /
          def->kappa * elastic_pressure * exp(volumetric_strain);
 }
