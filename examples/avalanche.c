@@ -293,14 +293,8 @@ int main(int argc, char **argv) {
       "lower_normal_N,lower_tangential_N,upper_normal_N,"
       "upper_tangential_N,end_normal_N,end_tangential_N");
   gm_series *series = NULL;
-  if (options.out[0]) {
-    char path[1100];
-    snprintf(path, sizeof path, "%s/avalanche.pvd", options.out);
-    EXAMPLE_CHECK(domain, gm_series_create(path, &series));
-    if (options.shape != GM_SHAPE_LINEAR)
-      gm_series_set_domains(series, 1);
-    EXAMPLE_CHECK(domain, gm_series_write(series, domain));
-  }
+  EXAMPLE_CHECK(domain,
+                example_open_series(&options, "avalanche", domain, &series));
   avalanche_record record = {1.0, &options};
   gm_status status = run(domain, &options, dt, csv, series, &record);
   double time = 0.0, average = 0.0, front = 0.0;

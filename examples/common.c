@@ -194,6 +194,25 @@ FILE *example_open_csv(const example_options *options, const char *file,
   return csv;
 }
 
+gm_status example_open_series(const example_options *options, const char *name,
+                              const gm_domain *domain, gm_series **series) {
+  *series = NULL;
+  if (!options->out[0])
+    return GM_OK;
+  char path[1200];
+  snprintf(path, sizeof path, "%s/%s.pvd", options->out, name);
+  gm_status status = gm_series_create(path, series);
+  if (status == GM_OK && options->shape != GM_SHAPE_LINEAR)
+    status = gm_series_set_domains(*series, 1);
+  if (status == GM_OK)
+    status = gm_series_write(*series, domain);
+  if (status != GM_OK) {
+    gm_series_destroy(*series);
+    *series = NULL;
+  }
+  return status;
+}
+
 int example_progress(const gm_domain *domain, double time, double end_time,
                      void *user) {
   (void)domain;

@@ -51,6 +51,12 @@ int example_make_output(const example_options *options);
 FILE *example_open_csv(const example_options *options, const char *file,
                        const char *header);
 
+/* A ParaView series <out>/<name>.pvd (with the point domains for GIMP and
+ * CPDI) holding the domain's current state as its first frame; *series
+ * stays NULL when out is "". */
+gm_status example_open_series(const example_options *options, const char *name,
+                              const gm_domain *domain, gm_series **series);
+
 /* gm_progress_fn printing a progress line to stderr at most every 2 % of
  * the run; user: the example_options (quiet silences it). */
 int example_progress(const gm_domain *domain, double time, double end_time,

@@ -210,14 +210,8 @@ int main(int argc, char **argv) {
       "components,plate_force_N_per_m,plate_force_N,bed_normal_N_per_m,"
       "bed_tangential_N_per_m");
   gm_series *series = NULL;
-  if (options.out[0]) {
-    char path[1100];
-    snprintf(path, sizeof path, "%s/impact_force.pvd", options.out);
-    EXAMPLE_CHECK(domain, gm_series_create(path, &series));
-    if (options.shape != GM_SHAPE_LINEAR)
-      gm_series_set_domains(series, 1);
-    EXAMPLE_CHECK(domain, gm_series_write(series, domain));
-  }
+  EXAMPLE_CHECK(domain,
+                example_open_series(&options, "impact_force", domain, &series));
   double time = 0.0, next_frame = FRAME_PERIOD; /* s */
   gm_status status = GM_OK;
   while (status == GM_OK && time < options.t_end - 1e-12) {

@@ -204,14 +204,8 @@ int main(int argc, char **argv) {
                                "front_x_m,centre_x_m,floor_normal_N,"
                                "floor_tangential_N");
   gm_series *series = NULL;
-  if (options.out[0]) {
-    char path[1100];
-    snprintf(path, sizeof path, "%s/impact_slope.pvd", options.out);
-    EXAMPLE_CHECK(domain, gm_series_create(path, &series));
-    if (options.shape != GM_SHAPE_LINEAR)
-      gm_series_set_domains(series, 1);
-    EXAMPLE_CHECK(domain, gm_series_write(series, domain));
-  }
+  EXAMPLE_CHECK(domain,
+                example_open_series(&options, "impact_slope", domain, &series));
   double front0 = 0.0, centre0 = 0.0, energy0[2];
   measure(domain, &front0, &centre0, energy0);
   gm_summary start = gm_summary_default();

@@ -134,14 +134,8 @@ int main(int argc, char **argv) {
                                "average_density_kg_m3,lowest_density_kg_m3,"
                                "front_x_m");
   gm_series *series = NULL;
-  if (options.out[0]) {
-    char path[1100];
-    snprintf(path, sizeof path, "%s/slope_density.pvd", options.out);
-    EXAMPLE_CHECK(domain, gm_series_create(path, &series));
-    if (options.shape != GM_SHAPE_LINEAR)
-      gm_series_set_domains(series, 1);
-    EXAMPLE_CHECK(domain, gm_series_write(series, domain));
-  }
+  EXAMPLE_CHECK(
+      domain, example_open_series(&options, "slope_density", domain, &series));
   double time = 0.0, next_frame = FRAME_PERIOD; /* s */
   gm_status status = GM_OK;
   while (status == GM_OK && time < options.t_end - 1e-12) {
