@@ -198,7 +198,7 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   gm_parallel_for(&domain->pool, count, point_geometry, domain);
   gm_shape shape = domain->shape_grid.shape;
   work->boxes_valid = shape == GM_SHAPE_LINEAR || shape == GM_SHAPE_UGIMP;
-  gm_pair_cells_sort(domain);
+  work->cells_sorted = false; /* sorted on the first search (pair_search.c) */
   int max_span[2];
   widest_support(domain, max_span);
   double geometry_done = gm_monotonic_seconds();

@@ -221,7 +221,8 @@ typedef struct gm_granular_work {
   uint64_t *forest;
   size_t forest_count;
   bool forest_valid;
-  uint8_t *visit; /* points to search from when the forest is reused */
+  uint8_t *visit;    /* points to search from when the forest is reused */
+  bool cells_sorted; /* cell_order/cell_start hold this step's buckets */
   /* box_half depends only on per-point constants for linear MPM and uGIMP
    * (the initial domain scaled to V_cr): kept while the points keep their
    * indices, and recomputed after any addition, removal or reordering. */
@@ -451,7 +452,6 @@ gm_status gm_granular_prepare(gm_domain *domain);
 void gm_density_control_chunk(gm_domain *domain, size_t first, size_t count);
 /* Pair search (pair_search.c) and layers (layers.c). */
 typedef enum gm_pair_pass { GM_PASS_JOIN, GM_PASS_CONFLICTS } gm_pair_pass;
-void gm_pair_cells_sort(gm_domain *domain);
 /* Every pair sharing a node: from every point with half windows (subset
  * NULL), or from the points with subset[p] != 0 with full windows. JOIN
  * unites interacting pairs and records the forest; CONFLICTS records the

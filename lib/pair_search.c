@@ -167,6 +167,11 @@ gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
   for (size_t p = 0; p < domain->points.count; p++) {
     if (subset && !subset[p])
       continue;
+    if (!work->cells_sorted) { /* only when some point searches */
+      gm_parallel_for(&domain->pool, grid->block_count, sort_block_cells,
+                      domain);
+      work->cells_sorted = true;
+    }
     /* A partner's lowest node lies in [low - span + 1, high] per axis;
      * with half windows, rows below p's hold no partner later in raster
      * order. */
@@ -195,9 +200,4 @@ gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
     }
   }
   return GM_OK;
-}
-
-void gm_pair_cells_sort(gm_domain *domain) {
-  gm_parallel_for(&domain->pool, domain->grid.block_count, sort_block_cells,
-                  domain);
 }
