@@ -21,12 +21,16 @@ demo-collapse: examples/column_collapse
 	./examples/column_collapse --aspect 3 --length 0.1 --cell 0.005 \
 	  --out $(DEMO_OUT)/column_collapse
 
-# The speed-vs-accuracy chart: bench/results/accuracy_vs_cost.{csv,png} in
-# the source tree (~10 min on 2 cores; CHART_JOBS runs at a time).
+# The speed-vs-accuracy charts in the source tree: column collapse,
+# bench/results/accuracy_vs_cost.{csv,png} (~10 min on 2 cores), and the
+# moderate flow down a slope, accuracy_vs_cost_slope.{csv,png} (~3 min);
+# CHART_JOBS runs at a time.
 CHART_JOBS ?= 2
-bench-chart: examples/column_collapse
-	$(SHELL) $(top_srcdir)/bench/chart.sh ./examples/column_collapse \
-	  $(top_srcdir)/bench/results $(CHART_JOBS)
+bench-chart: examples/column_collapse examples/slope_density
+	SCENE=collapse $(SHELL) $(top_srcdir)/bench/chart.sh \
+	  ./examples/column_collapse $(top_srcdir)/bench/results $(CHART_JOBS)
+	SCENE=slope $(SHELL) $(top_srcdir)/bench/chart.sh \
+	  ./examples/slope_density $(top_srcdir)/bench/results $(CHART_JOBS)
 
 EXTRA_DIST += bench/chart.sh examples/README.md
 .PHONY: demo-collapse bench-chart

@@ -14,18 +14,23 @@
  * paper (the flow never leaves the floor). tests/test_slope_density.c
  * asserts the comparison between families.
  *
- * Prints the average density (total mass / total volume) at the end; the
- * RESULT line compares it with rho_cr. Output: <out>/slope_density.csv
- * (time, kinetic energy, state counts, components, average density, lowest
- * point density, front position) and <out>/slope_density.pvd.
+ * Prints the average density (total mass / total volume) at the end, a
+ * STATS line (points, steps, seconds of the time loop: for bench/chart.sh)
+ * and the RESULT line comparing the average density with rho_cr. Output:
+ * <out>/slope_density.csv (time, kinetic energy, state counts, components,
+ * average density, lowest point density, front position) and
+ * <out>/slope_density.pvd.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
+
 #include <granmpm.h>
 
 #include "common.h"
 
 #include <math.h>
+#include <time.h>
 
 static const double PI = 3.14159265358979323846;
 static const double GRAVITY = 9.81;         /* m/s^2 */
@@ -137,6 +142,8 @@ int main(int argc, char **argv) {
   EXAMPLE_CHECK(
       domain, example_open_series(&options, "slope_density", domain, &series));
   double time = 0.0, next_frame = FRAME_PERIOD; /* s */
+  struct timespec wall_start, wall_end;
+  clock_gettime(CLOCK_MONOTONIC, &wall_start);
   gm_status status = GM_OK;
   while (status == GM_OK && time < options.t_end - 1e-12) {
     double target = fmin(time + SAMPLE_PERIOD, options.t_end);
@@ -152,6 +159,15 @@ int main(int argc, char **argv) {
   if (status != GM_OK)
     printf("FAILED at t = %.4f s: %s (%s)\n", time, gm_strerror(status),
            gm_domain_last_error(domain));
+  clock_gettime(CLOCK_MONOTONIC, &wall_end);
+  double seconds = (double)(wall_end.tv_sec - wall_start.tv_sec) +
+                   1e-9 * (double)(wall_end.tv_nsec - wall_start.tv_nsec);
+  size_t points = gm_domain_point_count(domain);
+  uint64_t steps = 0;
+  gm_domain_get_time(domain, NULL, &steps);
+  printf("STATS points=%zu steps=%llu seconds=%.3f ns_per_point_step=%.1f\n",
+         points, (unsigned long long)steps, seconds,
+         1e9 * seconds / ((double)points * (double)(steps ? steps : 1)));
   double average = 0.0, lowest = 0.0, front = 0.0;
   measure(domain, &average, &lowest, &front);
   printf("slope_density: %s %s, t = %.3f s: average density %.2f kg/m^3, "
