@@ -212,32 +212,18 @@ static void write_row(FILE *csv, const gm_domain *domain) {
   fprintf(csv, "\n");
 }
 
-static gm_update_scheme parse_scheme(const char *word) {
-  return strcmp(word, "usl") == 0   ? GM_SCHEME_USL
-         : strcmp(word, "usf") == 0 ? GM_SCHEME_USF
-                                    : GM_SCHEME_MUSL;
-}
-
 static gm_domain *create_domain(const example_options *options,
                                 const char *scheme, double slope) {
-  gm_domain_def def = gm_domain_def_default();
+  gm_domain_def def = example_domain_def(options);
   def.extent[0] = BOX_LENGTH;
   def.extent[1] = BOX_HEIGHT;
-  def.cell_size = options->cell;
   double angle = slope * PI / 180.0; /* rad */
   def.gravity[0] = GRAVITY * sin(angle);
   def.gravity[1] = -GRAVITY * cos(angle);
   for (int face = GM_FACE_XMIN; face <= GM_FACE_YMAX; face++)
     def.walls[face] = GM_WALL_FIXED; /* "fixed on all the sides" */
-  def.scheme = parse_scheme(scheme);
-  def.shape = options->shape;
-  def.family = options->family;
-  def.worker_count = options->workers;
-  gm_domain *domain = NULL;
-  gm_status status = gm_domain_create(&def, &domain);
-  if (status != GM_OK)
-    example_fail(NULL, "gm_domain_create", status);
-  return domain;
+  def.scheme = example_scheme(scheme);
+  return example_create_domain(&def);
 }
 
 /* Runs to t_end writing samples and frames; returns the status of the

@@ -178,14 +178,10 @@ static gm_status add_wall(gm_domain *domain, double point_x, double normal_x,
 static int build_scene(collapse_run *run) {
   const example_options *options = run->options;
   const collapse_scene *scene = run->scene;
-  gm_domain_def def = gm_domain_def_default();
+  gm_domain_def def = example_domain_def(options);
   def.extent[0] = scene->extent_x;
   def.extent[1] = scene->extent_y;
-  def.cell_size = options->cell;
   def.gravity[1] = -GRAVITY;
-  def.worker_count = options->workers;
-  def.shape = options->shape;
-  def.family = options->family;
   /* The walls below hold the material; a point reaching an open face (the
    * far right or the top) has left the scene and fails the step. */
   EXAMPLE_CHECK(NULL, gm_domain_create(&def, &run->domain));

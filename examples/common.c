@@ -155,6 +155,29 @@ int example_parse(int argc, char **argv, const char *description,
   return 0;
 }
 
+gm_domain_def example_domain_def(const example_options *options) {
+  gm_domain_def def = gm_domain_def_default();
+  def.cell_size = options->cell;
+  def.shape = options->shape;
+  def.family = options->family;
+  def.worker_count = options->workers;
+  return def;
+}
+
+gm_domain *example_create_domain(const gm_domain_def *def) {
+  gm_domain *domain = NULL;
+  gm_status status = gm_domain_create(def, &domain);
+  if (status != GM_OK)
+    example_fail(NULL, "gm_domain_create", status);
+  return domain;
+}
+
+gm_update_scheme example_scheme(const char *word) {
+  if (strcmp(word, "usl") == 0)
+    return GM_SCHEME_USL;
+  return strcmp(word, "usf") == 0 ? GM_SCHEME_USF : GM_SCHEME_MUSL;
+}
+
 int example_make_output(const example_options *options) {
   if (!options->out[0])
     return 0;

@@ -43,6 +43,16 @@ int example_parse(int argc, char **argv, const char *description,
 const char *example_shape_name(gm_shape shape);
 const char *example_family_name(gm_family family);
 
+/* gm_domain_def_default() with the options' cell size, shape functions,
+ * family and worker count. */
+gm_domain_def example_domain_def(const example_options *options);
+
+/* gm_domain_create, reporting a failure on stderr (NULL then). */
+gm_domain *example_create_domain(const gm_domain_def *def);
+
+/* "usl", "usf" or anything else (MUSL), for the examples' --scheme. */
+gm_update_scheme example_scheme(const char *word);
+
 /* Creates options->out (and its parents); 0 on success or when out is "". */
 int example_make_output(const example_options *options);
 

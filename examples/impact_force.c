@@ -157,24 +157,16 @@ static void write_row(FILE *csv, const gm_domain *domain,
 }
 
 static gm_domain *create_domain(const example_options *options) {
-  gm_domain_def def = gm_domain_def_default();
+  gm_domain_def def = example_domain_def(options);
   def.extent[0] = BOX_LENGTH;
   def.extent[1] = BOX_HEIGHT;
-  def.cell_size = options->cell;
   double angle = INCLINATION * PI / 180.0; /* rad */
   def.gravity[0] = GRAVITY * sin(angle);
   def.gravity[1] = -GRAVITY * cos(angle);
   for (int face = GM_FACE_XMIN; face <= GM_FACE_YMAX; face++)
     def.walls[face] = GM_WALL_FIXED; /* "boundaries ... are fixed" */
   def.scheme = GM_SCHEME_MUSL;
-  def.shape = options->shape;
-  def.family = options->family;
-  def.worker_count = options->workers;
-  gm_domain *domain = NULL;
-  gm_status status = gm_domain_create(&def, &domain);
-  if (status != GM_OK)
-    example_fail(NULL, "gm_domain_create", status);
-  return domain;
+  return example_create_domain(&def);
 }
 
 int main(int argc, char **argv) {

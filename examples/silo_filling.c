@@ -201,24 +201,14 @@ static void write_row(FILE *csv, const gm_domain *domain, int material,
 
 static gm_domain *create_domain(const example_options *options,
                                 const char *scheme) {
-  gm_domain_def def = gm_domain_def_default();
+  gm_domain_def def = example_domain_def(options);
   def.extent[0] = SILO_WIDTH + 2 * options->cell;
   def.extent[1] = SILO_HEIGHT + options->cell + HEADROOM;
-  def.cell_size = options->cell;
   def.gravity[1] = -GRAVITY;
   for (int face = GM_FACE_XMIN; face <= GM_FACE_YMAX; face++)
     def.walls[face] = GM_WALL_FIXED;
-  def.scheme = strcmp(scheme, "usl") == 0   ? GM_SCHEME_USL
-               : strcmp(scheme, "usf") == 0 ? GM_SCHEME_USF
-                                            : GM_SCHEME_MUSL;
-  def.shape = options->shape;
-  def.family = options->family;
-  def.worker_count = options->workers;
-  gm_domain *domain = NULL;
-  gm_status status = gm_domain_create(&def, &domain);
-  if (status != GM_OK)
-    example_fail(NULL, "gm_domain_create", status);
-  return domain;
+  def.scheme = example_scheme(scheme);
+  return example_create_domain(&def);
 }
 
 static gm_status run(gm_domain *domain, const example_options *options,

@@ -59,26 +59,20 @@ static void measure(const gm_domain *domain, double *average, double *lowest,
 }
 
 static gm_domain *create_slope(const example_options *options) {
-  gm_domain_def def = gm_domain_def_default();
-  def.cell_size = options->cell;
+  gm_domain_def def = example_domain_def(options);
   def.extent[0] = 0.4, def.extent[1] = 0.1; /* m */
   double angle = SLOPE * PI / 180.0;        /* rad */
   def.gravity[0] = GRAVITY * sin(angle);
   def.gravity[1] = -GRAVITY * cos(angle);
   for (int face = GM_FACE_XMIN; face <= GM_FACE_YMAX; face++)
     def.walls[face] = GM_WALL_FIXED;
-  def.shape = options->shape;
-  def.family = options->family;
-  def.worker_count = options->workers;
-  gm_domain *domain = NULL;
-  gm_status status = gm_domain_create(&def, &domain);
-  if (status != GM_OK) {
-    example_fail(NULL, "gm_domain_create", status);
+  gm_domain *domain = example_create_domain(&def);
+  if (!domain)
     return NULL;
-  }
   gm_mohr_coulomb_def soil = gm_mohr_coulomb_def_default(); /* Table 1 */
   soil.bagnold_viscosity = 0.0;
   int material = -1;
+  gm_status status = GM_OK;
   gm_granular_def granular = gm_granular_def_default();
   granular.critical_density = CRITICAL;
   gm_fill_def block = gm_fill_def_default();
