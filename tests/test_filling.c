@@ -28,6 +28,8 @@ typedef struct filling_points {
   double stress[6][MAX_POINTS];
   double increment[6][MAX_POINTS];
   double state[GM_FILLING_STATE_COUNT][MAX_POINTS];
+  double density[MAX_POINTS]; /* kg/m^3 at the end of the step; 0 = from
+                                 state[0] and the increment */
 } filling_points;
 
 static void run_batch(const gm_filling_def *def, double dt,
@@ -42,7 +44,14 @@ static void run_batch(const gm_filling_def *def, double dt,
   batch.geometry = GM_GEOMETRY_AXISYMMETRIC;
   batch.dt = dt;
   for (size_t i = 0; i < points->count; i++) {
-    density[i] = def->density;
+    /* The density the library hands over: the point's, at the end of the
+     * step, whose volume followed state[0] plus this step's increment
+     * (rho = rho0 exp(-eps_vol)); set_point keeps them in step. */
+    double end_strain = points->state[0][i] + points->increment[GM_XX][i] +
+                        points->increment[GM_YY][i] +
+                        points->increment[GM_ZZ][i];
+    density[i] = points->density[i] > 0.0 ? points->density[i]
+                                          : def->density * exp(-end_strain);
     ids[i] = 100 + (int64_t)i;
   }
   for (int c = 0; c < 6; c++) {
@@ -82,6 +91,7 @@ static void set_point(const gm_filling_def *def, filling_points *points,
   }
   points->state[0][i] = strain;
   points->state[1][i] = 0.0;
+  points->density[i] = 0.0;
 }
 
 static double pressure_of(const filling_points *points, size_t i) {
@@ -128,6 +138,38 @@ START_TEST(test_pressure_after_volumetric_strain) {
     ck_assert_msg(fabs(line) <= 1e-12, "e - e0 + kappa ln(p/p0) = %g", line);
     ck_assert(points.state[1][i] == 0.0);
   }
+}
+END_TEST
+
+/* A point placed looser than rho0, with the library's initial state
+ * (zeros) and stress-free: its pressure follows its density, not the
+ * zero state. 001's portions (20 kg in 0.02 m^3, 1000 kg/m^3) have
+ * eps_vol = ln 1.5 and p = p0 e^-47.5 ~ 1.4e-18 Pa; a point 2 % looser than
+ * rho0 has eps_vol = ln(1/0.98) and p = p0 exp(95 (1 - 1/0.98)) = 0.14
+ * p0, and one placed at rho0 has p0 (the reference state). The closed form
+ * is evaluated independently; 1e-10 relative covers the rounding (see
+ * above). */
+START_TEST(test_pressure_follows_placement_density) {
+  gm_filling_def def = gm_filling_def_default();
+  def.bulk_viscosity = 0.0;
+  const double placed[] = {1000.0, 0.98 * def.density, def.density};
+  filling_points points;
+  memset(&points, 0, sizeof points);
+  points.count = 3;
+  for (size_t i = 0; i < points.count; i++)
+    points.density[i] = placed[i];
+  run_batch(&def, 1e-4, &points);
+  for (size_t i = 0; i < points.count; i++) {
+    double strain = log(def.density / placed[i]);
+    double expected = elastic_pressure(&def, strain);
+    printf("placed at %g kg/m^3: p = %.4g Pa (closed form %.4g)\n", placed[i],
+           pressure_of(&points, i), expected);
+    ck_assert_msg(fabs(pressure_of(&points, i) - expected) <= 1e-10 * expected,
+                  "point %zu: %.17g vs %.17g", i, pressure_of(&points, i),
+                  expected);
+    ck_assert(fabs(points.state[0][i] - strain) <= 1e-15);
+  }
+  ck_assert(pressure_of(&points, 0) < 1e-15 * def.reference_pressure);
 }
 END_TEST
 
@@ -281,6 +323,7 @@ static Suite *filling_suite(void) {
   Suite *suite = suite_create("filling");
   TCase *tcase = tcase_create("filling");
   tcase_add_test(tcase, test_pressure_after_volumetric_strain);
+  tcase_add_test(tcase, test_pressure_follows_placement_density);
   tcase_add_test(tcase, test_bulk_viscosity);
   tcase_add_test(tcase, test_elastic_shear_modulus);
   tcase_add_test(tcase, test_viscoplastic_shear);

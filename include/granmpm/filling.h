@@ -11,10 +11,18 @@
  * where eps_vol = ln(V/V0) is the logarithmic volumetric strain (tension
  * positive) from the reference state of void ratio e0 and pressure p0, so
  * exp(eps_vol) = (1 + e)/(1 + e0) and the elastic part is the soil-mechanics
- * line e - e0 = -kappa ln(p/p0). It is evaluated at the end of the step
- * with the rate (sum of the strain increments)/dt: the paper's "explicit
- * integration" of eq 24. The pressure does not depend on the incoming
- * stress, only on eps_vol: a point starts at p0 (eps_vol = 0).
+ * line e - e0 = -kappa ln(p/p0). eps_vol is read off the point's density
+ * at the end of the step, eps_vol = ln(rho0/rho) with rho0 = density
+ * below (001 computes the pressure from the density for this model, sec
+ * 3.3), and the rate is (sum of the strain increments)/dt: the paper's
+ * "explicit integration" of eq 24. The pressure does not depend on the
+ * incoming stress. A point placed at rho0 starts at p0; one placed looser
+ * starts at p0 exp[(1 + e0)/kappa (1 - rho0/rho)], practically 0 for 001's
+ * portions (20 kg in 0.02 m^3: 1000 kg/m^3, so eps_vol = 0.405 and
+ * p = 600 Pa e^-47.5). Give a source or gm_point_def the placement
+ * density; for the granular family a critical density where the pressure
+ * has dropped to about p0/100, rho0/(1 + kappa ln(100)/(1 + e0)), keeps
+ * the density control from pushing a free surface apart.
  *
  * Deviator: eqs 16-22 as in granmpm/perzyna.h (the same backward Euler
  * viscoplastic return, by calling gm_perzyna_update), with the pressure-
@@ -25,8 +33,9 @@
  * (the viscous part has no stiffness, so p in that formula is p_el), at the
  * end of the step. The cone f = q - m p uses the total pressure p.
  *
- * Per-point state: state[0] = eps_vol (-), state[1] = accumulated
- * equivalent viscoplastic strain (-).
+ * Per-point state: state[0] = eps_vol (-, written for output; read off
+ * the density each step), state[1] = accumulated equivalent viscoplastic
+ * strain (-).
  */
 #ifndef GRANMPM_FILLING_H
 #define GRANMPM_FILLING_H
@@ -36,8 +45,10 @@ enum { GM_FILLING_STATE_COUNT = 2 };
 typedef struct gm_filling_def {
   size_t struct_size;        /* set by gm_filling_def_default() */
   const char *name;          /* copied; for messages and VTU */
-  double density;            /* bulk density (kg/m^3), > 0: skeleton density
-                                rho_s / (1 + e0) (the paper: 2850/1.9 = 1500) */
+  double density;            /* rho0, bulk density at e0 (kg/m^3), > 0:
+                                skeleton density rho_s / (1 + e0) (the
+                                paper: 2850/1.9 = 1500); also the default
+                                density of new points */
   double poisson_ratio;      /* nu, -1 < nu < 0.5 (sets G/K) */
   double kappa;              /* elastic coefficient of e - e0 = -kappa
                                 ln(p/p0), -, > 0 (sands ~0.001-0.05) */

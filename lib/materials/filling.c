@@ -78,7 +78,12 @@ static int filling_update_point(const gm_material_batch *batch,
   const double *const *increment = batch->strain_increment;
   double volumetric_increment =
       increment[GM_XX][i] + increment[GM_YY][i] + increment[GM_ZZ][i];
-  double volumetric_strain = batch->state[0][i] + volumetric_increment;
+  /* eps_vol = ln(V/V0) = ln(rho0/rho) (001 sec 5.1.2: exp(eps_vol) = (1 +
+   * e)/(1 + e0)), from the point's density rather than summed increments:
+   * a point placed looser than rho0 starts with (almost) no pressure, as
+   * 001's released portions do, and a volume the granular density control
+   * returns carries its pressure with it. */
+  double volumetric_strain = log(def->density / batch->density[i]);
   double elastic_pressure = filling_elastic_pressure(def, volumetric_strain);
   double rate = batch->dt > 0.0 ? volumetric_increment / batch->dt : 0.0;
   /* Eq 24: the viscous part only resists compaction, (-mu rate)^+. */
