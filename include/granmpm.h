@@ -162,12 +162,20 @@ typedef struct gm_domain_def {
   gm_enqueue_task_fn *enqueue_task; /* NULL: built-in pool */
   gm_finish_task_fn *finish_task;   /* required with enqueue_task */
   void *task_user;                  /* passed to the two functions above */
-  double damping;   /* local non-viscous damping in [0, 1): every nodal force
-                       component f loses damping * |f| against the node's
-                       motion (Cundall's damping, for reaching static states;
-                       it vanishes at equilibrium); default 0 = none */
-  gm_shape shape;   /* shape functions; default GM_SHAPE_LINEAR */
-  gm_family family; /* default GM_FAMILY_PLAIN */
+  double damping;      /* local non-viscous damping in [0, 1): every nodal force
+                          component f loses damping * |f| against the node's
+                          motion (Cundall's damping, for reaching static states;
+                          it vanishes at equilibrium); default 0 = none */
+  gm_shape shape;      /* shape functions; default GM_SHAPE_LINEAR */
+  gm_family family;    /* default GM_FAMILY_PLAIN */
+  double pic_fraction; /* a in [0, 1], -: share of PIC in the point
+                          velocity update, v_p <- (1 - a) (v_p + dt sum N_i
+                          a_i) + a sum N_i v_i (the FLIP-PIC blend).
+                          Default 0 = FLIP (004 eq 3.17), which keeps the
+                          kinetic energy of point velocity patterns the grid
+                          cannot see (with more points than nodes) for
+                          ever: a few percent lets a scene come to rest
+                          (gm_domain_create(3)); 1 = PIC, dissipative. */
 } gm_domain_def;
 
 static inline gm_domain_def gm_domain_def_default(void) {
@@ -496,7 +504,9 @@ typedef enum gm_density_control {
 
 typedef struct gm_granular_def {
   size_t struct_size;
-  double critical_density; /* kg/m^3, rho_cr > 0: V_cr = m / rho_cr */
+  double critical_density; /* kg/m^3, rho_cr > 0: V_cr = m / rho_cr, the
+                              largest volume of a point (granular family:
+                              points are placed at rho >= rho_cr - TOL) */
   double tolerance;        /* kg/m^3, TOL >= 0; default 1e-6 */
   gm_density_control density_control; /* default ..._RETURN */
 } gm_granular_def;
@@ -512,7 +522,13 @@ static inline gm_granular_def gm_granular_def_default(void) {
  * on its points. Call before adding its points. Points of other materials
  * (elastic walls, rigid plates) take part in the granular method with
  * their own current domain as domain of interaction, and two such points
- * interact whenever they share a grid node, as in plain MPM. */
+ * interact whenever they share a grid node, as in plain MPM.
+ * In the granular family V_cr = m / rho_cr is the largest volume a point
+ * may have (000 sec 3.3): gm_domain_add_points, gm_domain_fill_box and
+ * gm_domain_add_source refuse points of a granular material placed below
+ * rho_cr - TOL (GM_ERR_INVALID_ARGUMENT), and this call refuses a rho_cr
+ * that would leave an existing point of the material, or a source of it
+ * with injections left, below rho_cr - TOL (gm_granular(3)). */
 GM_API gm_status gm_domain_set_granular(gm_domain *domain, int material,
                                         const gm_granular_def *def);
 

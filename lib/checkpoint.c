@@ -49,6 +49,7 @@ static void describe_def(const gm_domain *domain, gm_byte_writer *out) {
   gm_record_reals(out, "gm_domain_def.damping", &def->damping, 1);
   gm_record_integer(out, "gm_domain_def.shape", def->shape);
   gm_record_integer(out, "gm_domain_def.family", def->family);
+  gm_record_reals(out, "gm_domain_def.pic_fraction", &def->pic_fraction, 1);
   /* worker_count and the task system are left out on purpose: results do
    * not depend on them, so a run may restart with other threads. */
 }

@@ -37,13 +37,14 @@ static const char *face_name(int face) {
 
 /* Is struct_size the size of a gm_domain_def layout some caller may have
  * been compiled against: the current one or an earlier one ending before
- * a field appended since (damping, shape, family)? Those fields then take
- * their defaults. */
+ * a field appended since (damping, shape, family, pic_fraction)? Those
+ * fields then take their defaults. */
 static bool known_def_size(size_t size) {
   return size >= sizeof(gm_domain_def) ||
          size == offsetof(gm_domain_def, damping) ||
          size == offsetof(gm_domain_def, shape) ||
-         size == offsetof(gm_domain_def, family);
+         size == offsetof(gm_domain_def, family) ||
+         size == offsetof(gm_domain_def, pic_fraction);
 }
 
 /* The caller's def completed with defaults for fields its struct_size does
@@ -123,6 +124,10 @@ static gm_status validate_def(const gm_domain_def *def) {
   if (!(def->damping >= 0.0 && def->damping < 1.0))
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.damping is %g, must be in [0, 1)", def->damping);
+  if (!(def->pic_fraction >= 0.0 && def->pic_fraction <= 1.0))
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.pic_fraction is %g, must be in [0, 1]",
+                def->pic_fraction);
   if (def->shape != GM_SHAPE_LINEAR && def->shape != GM_SHAPE_UGIMP &&
       def->shape != GM_SHAPE_CPGIMP && def->shape != GM_SHAPE_CPDI)
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,

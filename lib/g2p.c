@@ -117,15 +117,25 @@ static void gather_chunk_1d(const gather_view *v, size_t first, size_t count,
   }
 }
 
-/* Particle velocities, FLIP: v_p += dt * sum N_i a_i (004 eq 3.17). */
+/* Particle velocities, FLIP: v_p += dt * sum N_i a_i (004 eq 3.17),
+ * blended with PIC, v_p = sum N_i v_i, by gm_domain_def.pic_fraction. The
+ * nodal velocities here are already the updated ones (grid_update.c). */
 static void flip_chunk(const gather_view *v, size_t first, size_t count,
                        const chunk_gather *g, double dt) {
+  double pic = v->pic_fraction, flip = 1.0 - pic; /* - */
   for (int k = 0; k < v->dim; k++) {
     const double *restrict velocity = v->velocity[k] + first;
     const double *restrict acceleration = g->acceleration[k];
+    const double *restrict grid_velocity = g->velocity[k];
     double *restrict next = v->next_velocity[k] + first;
+    if (pic == 0.0) { /* FLIP: bitwise as before the blend existed */
+      for (size_t j = 0; j < count; j++)
+        next[j] = velocity[j] + dt * acceleration[j];
+      continue;
+    }
     for (size_t j = 0; j < count; j++)
-      next[j] = velocity[j] + dt * acceleration[j];
+      next[j] =
+          flip * (velocity[j] + dt * acceleration[j]) + pic * grid_velocity[j];
   }
 }
 
@@ -384,6 +394,7 @@ static void make_view(gm_domain *domain, gather_view *view) {
   view->material = points->material;
   view->next_volume = to->volume;
   view->inv_cell = domain->inv_cell;
+  view->pic_fraction = domain->def.pic_fraction;
   view->shift = grid->shift;
   view->dim = domain->dim;
   view->axisymmetric = domain->axisymmetric;

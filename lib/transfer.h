@@ -63,7 +63,8 @@ typedef struct gather_view {
   double *next_volume;
   double origin[2];
   double inv_cell;
-  double cells[2]; /* cells per axis, as doubles */
+  double cells[2];     /* cells per axis, as doubles */
+  double pic_fraction; /* -, gm_domain_def.pic_fraction */
   int shift;
   int dim;
   bool axisymmetric;
