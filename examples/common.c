@@ -236,6 +236,16 @@ gm_status example_open_series(const example_options *options, const char *name,
   return status;
 }
 
+void example_write_states(FILE *csv, const gm_domain *domain) {
+  gm_granular_summary granular = gm_granular_summary_default();
+  if (gm_domain_get_granular_summary(domain, &granular) != GM_OK)
+    granular.state_count[GM_STATE_QUASI_STATIC] = gm_domain_point_count(domain);
+  fprintf(csv, ",%zu,%zu,%zu,%zu", granular.state_count[GM_STATE_QUASI_STATIC],
+          granular.state_count[GM_STATE_MODERATE],
+          granular.state_count[GM_STATE_DISCONNECTED],
+          granular.component_count);
+}
+
 int example_progress(const gm_domain *domain, double time, double end_time,
                      void *user) {
   (void)domain;

@@ -61,6 +61,14 @@ int example_make_output(const example_options *options);
 FILE *example_open_csv(const example_options *options, const char *file,
                        const char *header);
 
+/* CSV columns of the granular state after the last step: points per
+ * gm_point_state and parallel grids (gm_domain_get_granular_summary; in the
+ * plain and stress_free families every point counts as quasi-static). */
+#define EXAMPLE_STATE_HEADER "quasi_static,moderate,disconnected,components"
+
+/* Writes those four columns, each preceded by a comma, no newline. */
+void example_write_states(FILE *csv, const gm_domain *domain);
+
 /* A ParaView series <out>/<name>.pvd (with the point domains for GIMP and
  * CPDI) holding the domain's current state as its first frame; *series
  * stays NULL when out is "". */

@@ -158,8 +158,10 @@ static void write_row(FILE *csv, const gm_domain *domain) {
   measure(domain, &front, &centre, energy);
   gm_wall_force floor_force = gm_wall_force_default();
   gm_domain_get_wall_force(domain, 0, &floor_force);
-  fprintf(csv, "%.4f,%.6e,%.6e,%.5f,%.5f,%.4f,%.4f\n", time, energy[0],
-          energy[1], front, centre, floor_force.normal, floor_force.tangential);
+  fprintf(csv, "%.4f,%.6e,%.6e,%.5f,%.5f,%.4f,%.4f", time, energy[0], energy[1],
+          front, centre, floor_force.normal, floor_force.tangential);
+  example_write_states(csv, domain);
+  fputc('\n', csv);
 }
 
 int main(int argc, char **argv) {
@@ -194,7 +196,7 @@ int main(int argc, char **argv) {
   FILE *csv = example_open_csv(&options, "impact_slope.csv",
                                "time_s,kinetic_energy_x_J,kinetic_energy_y_J,"
                                "front_x_m,centre_x_m,floor_normal_N,"
-                               "floor_tangential_N");
+                               "floor_tangential_N," EXAMPLE_STATE_HEADER);
   gm_series *series = NULL;
   EXAMPLE_CHECK(domain,
                 example_open_series(&options, "impact_slope", domain, &series));

@@ -484,7 +484,8 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
   FILE *csv = example_open_csv(
       &s->options, "discharge.csv",
       "time_s,discharged_kg,flow_rate_kg_s,kinetic_energy_J,points,"
-      "wall_normal_N,wall_tangential_N,hopper_normal_N,hopper_tangential_N");
+      "wall_normal_N,wall_tangential_N,hopper_normal_N,hopper_tangential_"
+      "N," EXAMPLE_STATE_HEADER);
   EXAMPLE_CHECK(domain,
                 gm_domain_set_step_hook(domain, integrate_wall_loads, loads));
   size_t taken = 0;
@@ -502,11 +503,14 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
     mass[taken] = symmetry * discharged_mass(domain, sinks);
     double flow = taken > 0 ? (mass[taken] - mass[taken - 1]) / s->sample : 0;
     double span = loads->span > 0.0 ? loads->span : 1.0; /* s */
-    if (csv)
-      fprintf(csv, "%g,%g,%g,%g,%zu,%g,%g,%g,%g\n", target, mass[taken], flow,
+    if (csv) {
+      fprintf(csv, "%g,%g,%g,%g,%zu,%g,%g,%g,%g", target, mass[taken], flow,
               summary.kinetic_energy, gm_domain_point_count(domain),
               loads->normal[0] / span, loads->tangential[0] / span,
               loads->normal[1] / span, loads->tangential[1] / span);
+      example_write_states(csv, domain);
+      fputc('\n', csv);
+    }
     if (series && taken % 5 == 0)
       EXAMPLE_CHECK(domain, gm_series_write(series, domain));
     if (target >= s->options.t_end && past_window(s, time, mass, taken))

@@ -179,10 +179,10 @@ static int run(gm_domain *domain, filling *f) {
     EXAMPLE_CHECK(NULL, gm_series_create(pvd, &series));
     gm_series_set_domains(series, f->options.shape != GM_SHAPE_LINEAR);
   }
-  FILE *csv =
-      example_open_csv(&f->options, "filling.csv",
-                       "time_s,kinetic_energy_J,points,"
-                       "wall_normal_N,wall_tangential_N,floor_normal_N");
+  FILE *csv = example_open_csv(
+      &f->options, "filling.csv",
+      "time_s,kinetic_energy_J,points,"
+      "wall_normal_N,wall_tangential_N,floor_normal_N," EXAMPLE_STATE_HEADER);
   double time = 0.0; /* s */
   for (long sample = 1; end - time > 1e-9; sample++) {
     if (f->placed < (int)f->portions && time >= f->placed * PERIOD - 1e-9)
@@ -208,10 +208,13 @@ static int run(gm_domain *domain, filling *f) {
     EXAMPLE_CHECK(domain, gm_domain_get_wall_force(domain, f->walls[0], &side));
     EXAMPLE_CHECK(domain,
                   gm_domain_get_wall_force(domain, f->walls[1], &floor));
-    if (csv)
-      fprintf(csv, "%g,%g,%zu,%g,%g,%g\n", time, summary.kinetic_energy,
+    if (csv) {
+      fprintf(csv, "%g,%g,%zu,%g,%g,%g", time, summary.kinetic_energy,
               gm_domain_point_count(domain), side.normal, side.tangential,
               floor.normal);
+      example_write_states(csv, domain);
+      fputc('\n', csv);
+    }
     if (series && sample % 10 == 0)
       EXAMPLE_CHECK(domain, gm_series_write(series, domain));
   }
