@@ -145,6 +145,14 @@ gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
   gm_status status = validate_fill(domain, def);
   if (status != GM_OK)
     return status;
+  double density = def->density > 0.0
+                       ? def->density
+                       : domain->materials[def->material].density; /* kg/m^3 */
+  if ((status = gm_check_placement_density(
+           domain, def->material, density,
+           "gm_domain_fill_box: the fill (gm_fill_def.density, 0 = "
+           "the material's)")) != GM_OK)
+    return status;
   lattice grid = {{0, 0}, {1, 1}, 0.0, 1};
   grid.spacing = domain->def.cell_size / def->points_per_cell_axis;
   for (int k = 0; k < domain->dim; k++) {
@@ -174,9 +182,6 @@ gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
                         "gm_domain_fill_box: out of memory for %zu points",
                         grid.total);
   }
-  double density = def->density > 0.0
-                       ? def->density
-                       : domain->materials[def->material].density;
   size_t count_before = points->count;
   int64_t id_before = points->next_id;
   for (size_t begin = 0; begin < grid.total && status == GM_OK;

@@ -5,8 +5,53 @@
  */
 #include "internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
+
+/* In the granular family no point of a granular material may be looser
+ * than rho_cr - TOL (V_cr = m / rho_cr is the largest volume a point may
+ * have, 000 sec 3.3; see check_placement_density in points.c). Marking a
+ * material granular, or raising its rho_cr, must not leave an existing
+ * point (at its current volume) or a source of it below that: O(N). The
+ * slack of a few ulps is the rounding of m / V, as in points.c. */
+static gm_status check_existing_density(gm_domain *domain, int material,
+                                        const gm_granular_def *def) {
+  if (domain->def.family != GM_FAMILY_GRANULAR)
+    return GM_OK;
+  double lowest = def->critical_density - def->tolerance; /* kg/m^3 */
+  const gm_points *points = &domain->points;
+  const double *volume = points->buffer[points->cur].volume; /* current */
+  double slack = 4.0 * DBL_EPSILON * def->critical_density;  /* kg/m^3 */
+  for (size_t p = 0; p < points->count; p++) {
+    double density = points->mass[p] / volume[p]; /* kg/m^3 */
+    if (points->material[p] == material && density < lowest - slack)
+      return gm_set_error(
+          domain, GM_ERR_INVALID_ARGUMENT,
+          "gm_domain_set_granular: point id %lld of material %d has density "
+          "%.12g kg/m^3, below critical_density %.12g kg/m^3 (- tolerance "
+          "%g): in the granular family V_cr = m/rho_cr is the largest "
+          "volume a point may have (000 sec 3.3); critical_density must be "
+          "<= %.12g kg/m^3 (its density + tolerance)",
+          (long long)points->id[p], material, density, def->critical_density,
+          def->tolerance, density + def->tolerance);
+  }
+  for (int s = 0; s < domain->source_count; s++) {
+    const gm_source *source = &domain->sources[s];
+    bool injects = source->injections_left != 0; /* 0: finished */
+    if (injects && source->material == material && source->density < lowest)
+      return gm_set_error(
+          domain, GM_ERR_INVALID_ARGUMENT,
+          "gm_domain_set_granular: source %d of material %d injects at "
+          "%.12g kg/m^3, below critical_density %.12g kg/m^3 (- tolerance "
+          "%g): in the granular family V_cr = m/rho_cr is the largest "
+          "volume a point may have (000 sec 3.3); critical_density must be "
+          "<= %.12g kg/m^3 (its density + tolerance)",
+          s, material, source->density, def->critical_density, def->tolerance,
+          source->density + def->tolerance);
+  }
+  return GM_OK;
+}
 
 gm_status gm_domain_set_granular(gm_domain *domain, int material,
                                  const gm_granular_def *def) {
@@ -41,6 +86,8 @@ gm_status gm_domain_set_granular(gm_domain *domain, int material,
                         "gm_granular_def.density_control %d is not a "
                         "gm_density_control value",
                         (int)def->density_control);
+  if ((status = check_existing_density(domain, material, def)) != GM_OK)
+    return status;
   domain->granular.boxes_valid = false; /* domains of interaction change */
   target->granular = true;
   target->critical_density = def->critical_density;

@@ -284,6 +284,11 @@ gm_status gm_set_create_error(gm_status status, const char *format, ...)
 /* Records an error message on the domain and returns status. */
 gm_status gm_set_error(gm_domain *domain, gm_status status, const char *format,
                        ...) __attribute__((format(printf, 3, 4)));
+/* GM_ERR_INVALID_ARGUMENT if a point of granular material material_id
+ * would be placed in the granular family below rho_cr - TOL (points.c says
+ * why); `what` names the caller and the point or def for the message. */
+gm_status gm_check_placement_density(gm_domain *domain, int material_id,
+                                     double density, const char *what);
 /* The same into a per-worker scratch (keeps the lowest point index). */
 void gm_worker_error(gm_worker_scratch *scratch, gm_status status, size_t index,
                      const char *format, ...)

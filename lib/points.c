@@ -4,8 +4,10 @@
  */
 #include "internal.h"
 
+#include <float.h>
 #include <limits.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define GROW(field, elem)                                                      \
@@ -189,6 +191,33 @@ static const char *axis_name(int k) {
   return k == 0 ? "x" : k == 1 ? "y" : "z";
 }
 
+/* In the granular family a point of a granular material may not be
+ * placed looser than rho_cr - TOL: V_cr = m / rho_cr "is the highest volume
+ * a material point can have" (000 sec 3.3). Below it, density control
+ * (eqs 13-15) returns F every step, so the point never compacts, and its
+ * domain of interaction (its domain scaled to V_cr) is smaller than the
+ * point itself, so a loose block falls apart into single points. A
+ * density given by mass is m / V, which may round a few ulps below a
+ * density placed at exactly rho_cr: that slack is allowed. */
+gm_status gm_check_placement_density(gm_domain *domain, int material_id,
+                                     double density, const char *what) {
+  const gm_material *material = &domain->materials[material_id];
+  if (domain->def.family != GM_FAMILY_GRANULAR || !material->granular)
+    return GM_OK;
+  double critical = material->critical_density; /* kg/m^3 */
+  double lowest = critical - material->tolerance -
+                  4.0 * DBL_EPSILON * critical; /* kg/m^3 */
+  if (!(density < lowest))
+    return GM_OK;
+  return gm_set_error(
+      domain, GM_ERR_INVALID_ARGUMENT,
+      "%s has density %.12g kg/m^3, below the critical density %.12g kg/m^3 "
+      "(- tolerance %g) of granular material %d: in the granular family "
+      "V_cr = m/rho_cr is the largest volume a point may have (000 sec "
+      "3.3); place points at rho >= rho_cr",
+      what, density, critical, material->tolerance, material_id);
+}
+
 /* Checks point i of def; the message names the point and the field. */
 static gm_status validate_point(gm_domain *domain, const gm_points_def *def,
                                 size_t i, double density) {
@@ -264,6 +293,13 @@ static gm_status validate_point(gm_domain *domain, const gm_points_def *def,
                           i, 2.0 * shape.half_size[0], 2.0 * shape.half_size[1],
                           position[0], shape.position[1]);
   }
+  double placed = def->mass ? def->mass[i] / volume : density; /* kg/m^3 */
+  char what[64];
+  snprintf(what, sizeof what, "gm_domain_add_points: point %zu", i);
+  gm_status status =
+      gm_check_placement_density(domain, def->material, placed, what);
+  if (status != GM_OK)
+    return status;
   if (def->stress) {
     const double *stress = def->stress + i * 6;
     if (!all_finite(stress, 6))

@@ -45,6 +45,15 @@ static gm_status validate_source(gm_domain *domain, const gm_source_def *def) {
                                true);
   if (status == GM_OK)
     status = gm_check_positive(domain, name, "period", def->period, "s", true);
+  if (status == GM_OK)
+    /* Its density is fixed now: refused here, not at its first injection
+     * inside a step (as gm_domain_add_points refuses points). */
+    status = gm_check_placement_density(
+        domain, def->material,
+        def->density > 0.0 ? def->density
+                           : domain->materials[def->material].density,
+        "gm_domain_add_source: the source (gm_source_def.density, 0 = the "
+        "material's)");
   if (status != GM_OK)
     return status;
   if (!isfinite(def->start_time) || def->max_injections < 0)
