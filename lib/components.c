@@ -20,12 +20,16 @@
  *     With one component, or none sharing nodes, nothing is re-binned.
  *
  * Most steps change few connections. The spanning forest of the last
- * search is kept: if all its edges still interact, the components can only
- * have merged, and every new edge between two of them has an end outside
- * the largest one, so only those points search (with full windows). A
- * broken edge, or points reordered, added or removed, means a full search.
+ * search is kept: its edges that still interact join sets that each lie
+ * inside one component, and every edge between two sets has an end outside
+ * the largest one, so only those points search (with full windows). More
+ * than half the points outside it, or points reordered, added or removed,
+ * mean a full search.
+ * When the kept forest spans all points and every edge holds, there is one
+ * component and the union-find is skipped: only the edges are checked, in
+ * parallel (a connected flow, the common case).
  */
-#include "internal.h"
+#include "pair_rules.h"
 #include "shape_gimp.h"
 
 #include <math.h>
@@ -115,24 +119,68 @@ static void point_geometry(void *context, size_t begin, size_t end,
   }
 }
 
+/* The geometry of linear MPM once the interaction boxes are cached: only
+ * the supports move, the cell of the point and the next node per axis. */
+static void linear_supports(void *context, size_t begin, size_t end,
+                            int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  const gm_points *points = &domain->points;
+  gm_granular_work *work = &domain->granular;
+  const gm_shape_grid *grid = &domain->shape_grid;
+  for (int k = 0; k < domain->dim; k++) {
+    const double *position = points->buffer[points->cur].position[k];
+    int64_t *low = work->support_low[k], *high = work->support_high[k];
+    double origin = grid->origin[k], inv_cell = grid->inv_cell; /* m, 1/m */
+    for (size_t p = begin; p < end; p++) {
+      low[p] = (int64_t)((position[p] - origin) * inv_cell); /* >= 0 */
+      high[p] = low[p] + 1;
+    }
+  }
+  for (size_t p = begin; p < end; p++)
+    work->granular[p] = domain->materials[points->material[p]].granular;
+}
+
 void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch) {
   gm_granular_work *work = &domain->granular;
   if (!work->forest_valid)
     return;
   const gm_points *points = &domain->points;
-  for (size_t k = 0; k < points->count; k++) /* old index -> new index */
+  size_t count = points->count;
+  for (size_t k = 0; k < count; k++) /* old index -> new index */
     scratch[points->order[k]] = (uint32_t)k;
+  /* Renamed edges, counting-sorted by their first end so that the next
+   * steps' checks walk the point arrays in order (the reordering put
+   * neighbours next to each other). Union-find scratch is free here: the
+   * parent array counts, min_id holds the sorted edges. */
+  uint32_t *start = work->parent;
+  uint64_t *sorted = (uint64_t *)work->min_id; /* forest_count < count */
+  memset(start, 0, count * sizeof(uint32_t));
   for (size_t e = 0; e < work->forest_count; e++) {
     uint32_t p = scratch[work->forest[e] >> 32];
     uint32_t q = scratch[work->forest[e] & 0xffffffffu];
     work->forest[e] = (uint64_t)p << 32 | q;
+    start[p]++;
   }
+  uint32_t offset = 0;
+  for (size_t p = 0; p < count; p++) {
+    uint32_t edges = start[p];
+    start[p] = offset;
+    offset += edges;
+  }
+  for (size_t e = 0; e < work->forest_count; e++)
+    sorted[start[work->forest[e] >> 32]++] = work->forest[e];
+  memcpy(work->forest, sorted, work->forest_count * sizeof(uint64_t));
 }
 
-/* The widest support of the step, in nodes per axis. */
+/* The widest support of the step, in nodes per axis (2 for linear MPM,
+ * whose support is always the cell's nodes). */
 static void widest_support(const gm_domain *domain, int max_span[2]) {
   const gm_granular_work *work = &domain->granular;
-  max_span[0] = max_span[1] = 1;
+  max_span[0] = max_span[1] =
+      domain->shape_grid.shape == GM_SHAPE_LINEAR ? 2 : 1;
+  if (max_span[0] == 2)
+    return;
   for (size_t p = 0; p < domain->points.count; p++)
     for (int k = 0; k < domain->dim; k++) {
       int span = (int)(work->support_high[k][p] - work->support_low[k][p] + 1);
@@ -140,31 +188,80 @@ static void widest_support(const gm_domain *domain, int max_span[2]) {
     }
 }
 
-/* Re-joins the previous forest's edges; false if one no longer holds (the
- * sets are then partial: the caller starts again). */
-static bool rejoin_forest(gm_domain *domain) {
-  gm_granular_work *work = &domain->granular;
-  for (size_t e = 0; e < work->forest_count; e++) {
-    uint32_t p = (uint32_t)(work->forest[e] >> 32);
-    uint32_t q = (uint32_t)(work->forest[e] & 0xffffffffu);
-    if (!gm_supports_share_node(work, domain->dim, p, q) ||
-        !gm_pair_interacts(domain, p, q))
-      return false;
-    gm_union_find_join(work->parent, work->set_size, p, q);
-  }
-  return true;
+/* Forest edges per task of the parallel check below. */
+#define FOREST_CHUNK 4096
+
+/* Do p and q, the ends of a kept forest edge, still interact? */
+static bool edge_holds(const gm_domain *domain, uint64_t edge) {
+  uint32_t p = (uint32_t)(edge >> 32), q = (uint32_t)(edge & 0xffffffffu);
+  return gm_supports_share_node(&domain->granular, domain->dim, p, q) &&
+         gm_pair_interacts(domain, p, q);
 }
 
-/* Marks the points outside the largest set (lowest root index on ties). */
-static void mark_outside_largest(gm_domain *domain) {
+/* Flags (in work->visit, one per chunk of FOREST_CHUNK edges) the chunks
+ * holding an edge that no longer holds. */
+static void check_forest_chunks(void *context, size_t begin, size_t end,
+                                int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_granular_work *work = &domain->granular;
+  for (size_t c = begin; c < end; c++) {
+    size_t first = c * FOREST_CHUNK, last = first + FOREST_CHUNK;
+    last = last < work->forest_count ? last : work->forest_count;
+    uint8_t broken = 0;
+    for (size_t e = first; e < last && !broken; e++)
+      broken = !edge_holds(domain, work->forest[e]);
+    work->visit[c] = broken;
+  }
+}
+
+/* Checks the kept forest's edges, in parallel (they are independent);
+ * true if it is valid and every edge holds. The chunk flags stay in
+ * work->visit for rejoin_forest. */
+static bool check_forest(gm_domain *domain) {
+  gm_granular_work *work = &domain->granular;
+  if (!work->forest_valid)
+    return false;
+  size_t chunks = (work->forest_count + FOREST_CHUNK - 1) / FOREST_CHUNK;
+  gm_parallel_for(&domain->pool, chunks, check_forest_chunks, domain);
+  bool all_hold = true;
+  for (size_t c = 0; c < chunks; c++)
+    all_hold = all_hold && !work->visit[c];
+  return all_hold;
+}
+
+/* Re-joins the kept forest's edges that still hold (checked again only in
+ * the chunks check_forest flagged) and drops the others: each set is then
+ * connected by interacting pairs, a part of one component. */
+static void rejoin_forest(gm_domain *domain) {
+  gm_granular_work *work = &domain->granular;
+  size_t kept = 0;
+  for (size_t e = 0; e < work->forest_count; e++) {
+    if (work->visit[e / FOREST_CHUNK] && !edge_holds(domain, work->forest[e]))
+      continue;
+    uint32_t p = (uint32_t)(work->forest[e] >> 32);
+    uint32_t q = (uint32_t)(work->forest[e] & 0xffffffffu);
+    gm_union_find_join(work->parent, work->set_size, p, q);
+    work->forest[kept++] = work->forest[e];
+  }
+  work->forest_count = kept;
+}
+
+/* Marks the points outside the largest set (lowest root index on ties);
+ * returns how many there are. */
+static size_t mark_outside_largest(gm_domain *domain) {
   gm_granular_work *work = &domain->granular;
   size_t count = domain->points.count;
   uint32_t largest = gm_union_find_root(work->parent, 0);
   for (size_t p = 0; p < count; p++)
     if (work->parent[p] == p && work->set_size[p] > work->set_size[largest])
       largest = (uint32_t)p; /* roots hold their set's size */
-  for (size_t p = 0; p < count; p++)
+  size_t outside = 0;
+  for (size_t p = 0; p < count; p++) {
     work->visit[p] = gm_union_find_root(work->parent, (uint32_t)p) != largest;
+    outside += work->visit[p];
+  }
+  return outside;
 }
 
 /* Task 1 and the union-find: the sets of interacting points, and the
@@ -174,10 +271,14 @@ static gm_status join_interacting(gm_domain *domain, const int max_span[2]) {
   size_t count = domain->points.count;
   gm_union_find_init(work->parent, work->set_size, count);
   work->summary.forest_reused = 0;
-  if (work->forest_valid && rejoin_forest(domain)) {
-    mark_outside_largest(domain);
-    work->summary.forest_reused = 1;
-    return gm_pair_search(domain, max_span, GM_PASS_JOIN, work->visit);
+  if (work->forest_valid) {
+    rejoin_forest(domain);
+    /* A point searching for the kept sets takes full windows, twice the
+     * half windows of the full search: past half the points, start over. */
+    if (mark_outside_largest(domain) <= count / 2) {
+      work->summary.forest_reused = 1;
+      return gm_pair_search(domain, max_span, GM_PASS_JOIN, work->visit);
+    }
   }
   gm_union_find_init(work->parent, work->set_size, count);
   work->forest_count = 0;
@@ -195,25 +296,46 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   const gm_point_buffers *current = &points->buffer[points->cur];
   for (int k = 0; k < 2; k++) /* box centres are the points' positions */
     work->box_centre[k] = current->position[k < domain->dim ? k : 0];
-  gm_parallel_for(&domain->pool, count, point_geometry, domain);
   gm_shape shape = domain->shape_grid.shape;
+  gm_parallel_for(&domain->pool, count,
+                  shape == GM_SHAPE_LINEAR && work->boxes_valid
+                      ? linear_supports
+                      : point_geometry,
+                  domain);
   work->boxes_valid = shape == GM_SHAPE_LINEAR || shape == GM_SHAPE_UGIMP;
   work->cells_sorted = false; /* sorted on the first search (pair_search.c) */
   int max_span[2];
   widest_support(domain, max_span);
   double geometry_done = gm_monotonic_seconds();
-  /* The forest is rebuilt whole, or extended from the reused one. */
-  status = join_interacting(domain, max_span);
-  work->forest_valid = status == GM_OK;
-  if (status != GM_OK)
-    return status;
-  double search_done = gm_monotonic_seconds();
-  size_t components = gm_union_find_labels(
-      work->parent, points->id, count, work->label, work->min_id, work->roots);
-  memset(work->component_size, 0, components * sizeof(uint32_t));
-  for (size_t p = 0; p < count; p++)
-    work->component_size[work->label[p]]++;
-  double labels_done = gm_monotonic_seconds();
+  size_t components = 1;
+  double search_done = 0.0, labels_done = 0.0; /* s */
+  /* A kept spanning tree of all points whose edges all hold: one
+   * component, whatever other pairs interact, and neither union-find nor
+   * a search is needed (a connected flow, the common case). */
+  bool one_component = check_forest(domain) && work->forest_count + 1 == count;
+  if (one_component) {
+    work->summary.forest_reused = 1;
+  } else {
+    status = join_interacting(domain, max_span);
+    work->forest_valid = status == GM_OK;
+    if (status != GM_OK)
+      return status;
+    one_component =
+        count > 0 &&
+        work->set_size[gm_union_find_root(work->parent, 0)] == count;
+  }
+  search_done = gm_monotonic_seconds();
+  if (one_component) {
+    memset(work->label, 0, count * sizeof(int32_t));
+    work->component_size[0] = (uint32_t)count;
+  } else {
+    components = gm_union_find_labels(work->parent, points->id, count,
+                                      work->label, work->min_id, work->roots);
+    memset(work->component_size, 0, components * sizeof(uint32_t));
+    for (size_t p = 0; p < count; p++)
+      work->component_size[work->label[p]]++;
+  }
+  labels_done = gm_monotonic_seconds();
   size_t layers = 1;
   memset(work->component_layer, 0, components * sizeof(int32_t));
   if (components > 1) {
@@ -229,8 +351,11 @@ gm_status gm_granular_prepare(gm_domain *domain) {
       return status;
   }
   double *label_out = points->buffer[points->cur ^ 1].component;
-  for (size_t p = 0; p < count; p++)
-    label_out[p] = (double)work->label[p];
+  if (components == 1) /* all-bits-zero is 0.0 in IEEE 754 */
+    memset(label_out, 0, count * sizeof(double));
+  else
+    for (size_t p = 0; p < count; p++)
+      label_out[p] = (double)work->label[p];
   if (layers > 1) {
     int64_t stride = gm_grid_layer_stride(&domain->grid);
     for (size_t p = 0; p < count; p++)

@@ -463,9 +463,6 @@ typedef enum gm_pair_pass { GM_PASS_JOIN, GM_PASS_CONFLICTS } gm_pair_pass;
  * components that share a node. */
 gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
                          gm_pair_pass pass, const uint8_t *subset);
-bool gm_supports_share_node(const gm_granular_work *work, int dim, uint32_t p,
-                            uint32_t q);
-bool gm_pair_interacts(const gm_domain *domain, uint32_t p, uint32_t q);
 gm_status gm_assign_layers(gm_domain *domain, size_t components,
                            size_t *layer_count);
 /* Follows a reordering (points->order: new index k holds old order[k])

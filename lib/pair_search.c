@@ -10,7 +10,7 @@
  * only: O(N), never all pairs. Interaction rules are at the top of
  * components.c.
  */
-#include "internal.h"
+#include "pair_rules.h"
 
 #include <math.h>
 #include <string.h>
@@ -53,16 +53,6 @@ static void sort_block_cells(void *context, size_t begin, size_t end,
   }
 }
 
-/* Do the supports of p and q share a node? */
-bool gm_supports_share_node(const gm_granular_work *work, int dim, uint32_t p,
-                            uint32_t q) {
-  for (int k = 0; k < dim; k++)
-    if (work->support_low[k][p] > work->support_high[k][q] ||
-        work->support_low[k][q] > work->support_high[k][p])
-      return false;
-  return true;
-}
-
 /* Each pair sharing a node lies in both points' candidate windows, so it
  * is visited only from its first point in (lowest node y, x, index) order. */
 static bool later_in_raster(const gm_granular_work *work, uint32_t p,
@@ -72,22 +62,6 @@ static bool later_in_raster(const gm_granular_work *work, uint32_t p,
     return qy > py;
   int64_t px = work->support_low[0][p], qx = work->support_low[0][q];
   return qx != px ? qx > px : q > p;
-}
-
-/* Task 1 for one candidate pair (rules at the top of this file). Domains
- * of the rectangle variants are axis-aligned: interval tests decide. */
-bool gm_pair_interacts(const gm_domain *domain, uint32_t p, uint32_t q) {
-  const gm_granular_work *work = &domain->granular;
-  if (!work->granular[p] && !work->granular[q])
-    return true;
-  if (domain->shape_grid.shape == GM_SHAPE_CPDI)
-    return gm_interaction_overlap(domain->dim, &work->interaction[p],
-                                  &work->interaction[q]);
-  for (int k = 0; k < domain->dim; k++)
-    if (!(fabs(work->box_centre[k][q] - work->box_centre[k][p]) <
-          work->box_half[k][p] + work->box_half[k][q]))
-      return false;
-  return true;
 }
 
 static gm_status add_conflict(gm_domain *domain, int32_t a, int32_t b) {
