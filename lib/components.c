@@ -285,6 +285,21 @@ static gm_status join_interacting(gm_domain *domain, const int max_span[2]) {
   return gm_pair_search(domain, max_span, GM_PASS_JOIN, NULL);
 }
 
+/* Labels by smallest id: through the id map when it is not much longer
+ * than the point list (no sort), else by sorting the roots (after sinks
+ * removed many points, the map is mostly holes). */
+static size_t label_components(gm_domain *domain) {
+  gm_granular_work *work = &domain->granular;
+  const gm_points *points = &domain->points;
+  size_t count = points->count, id_count = (size_t)points->next_id;
+  if (id_count <= 4 * count)
+    return gm_union_find_labels_by_id(work->parent, points->index_of_id,
+                                      id_count, GM_REMOVED_POINT, count,
+                                      work->label, work->component_layer);
+  return gm_union_find_labels(work->parent, points->id, count, work->label,
+                              work->min_id, work->roots);
+}
+
 gm_status gm_granular_prepare(gm_domain *domain) {
   gm_status status = gm_granular_reserve(domain);
   if (status != GM_OK)
@@ -329,8 +344,7 @@ gm_status gm_granular_prepare(gm_domain *domain) {
     memset(work->label, 0, count * sizeof(int32_t));
     work->component_size[0] = (uint32_t)count;
   } else {
-    components = gm_union_find_labels(work->parent, points->id, count,
-                                      work->label, work->min_id, work->roots);
+    components = label_components(domain);
     memset(work->component_size, 0, components * sizeof(uint32_t));
     for (size_t p = 0; p < count; p++)
       work->component_size[work->label[p]]++;

@@ -66,3 +66,23 @@ size_t gm_union_find_labels(uint32_t *parent, const int64_t *id, size_t count,
     label[i] = (int32_t)scratch_min[gm_union_find_root(parent, (uint32_t)i)];
   return components;
 }
+
+size_t gm_union_find_labels_by_id(uint32_t *parent, const uint32_t *index_of_id,
+                                  size_t id_count, uint32_t absent,
+                                  size_t count, int32_t *label,
+                                  int32_t *scratch_label) {
+  for (size_t i = 0; i < count; i++)
+    scratch_label[i] = -1;
+  size_t components = 0;
+  for (size_t id = 0; id < id_count; id++) {
+    uint32_t element = index_of_id[id];
+    if (element == absent)
+      continue;
+    uint32_t root = gm_union_find_root(parent, element);
+    if (scratch_label[root] < 0)
+      scratch_label[root] = (int32_t)components++;
+  }
+  for (size_t i = 0; i < count; i++)
+    label[i] = scratch_label[gm_union_find_root(parent, (uint32_t)i)];
+  return components;
+}

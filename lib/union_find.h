@@ -29,4 +29,14 @@ size_t gm_union_find_labels(uint32_t *parent, const int64_t *id, size_t count,
                             int32_t *label, int64_t *scratch_min,
                             gm_root_order *scratch_roots);
 
+/* The same labels without sorting, for ids that are indices into a map:
+ * walks index_of_id[0..id_count) (entries equal to `absent` skipped) in id
+ * order, so the first element met of each set has its smallest id and the
+ * labels come out in order. O(id_count + count), against the sort's
+ * O(C log C) for C components; scratch_label: count int32, overwritten. */
+size_t gm_union_find_labels_by_id(uint32_t *parent, const uint32_t *index_of_id,
+                                  size_t id_count, uint32_t absent,
+                                  size_t count, int32_t *label,
+                                  int32_t *scratch_label);
+
 #endif

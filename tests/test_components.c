@@ -41,6 +41,7 @@
 #include "test_util.h"
 
 #include "test_random.h"
+#include "union_find.h"
 
 #include <check.h>
 #include <math.h>
@@ -972,12 +973,54 @@ START_TEST(test_rain_conserves_mass) {
 }
 END_TEST
 
+/* The labels through the id map (no sort) equal the sorted ones: random
+ * unions over 3000 elements whose ids are a shuffled subset of 0..3999
+ * (the holes are removed points). Both must give every element the rank of
+ * its set's smallest id, exactly. */
+START_TEST(test_labels_by_id_match_sorted) {
+  enum { ELEMENTS = 3000, IDS = 4000 };
+  static uint32_t parent[ELEMENTS], size[ELEMENTS], index_of_id[IDS];
+  static int64_t id[ELEMENTS], scratch_min[ELEMENTS];
+  static int32_t sorted[ELEMENTS], by_id[ELEMENTS], scratch[ELEMENTS];
+  static gm_root_order roots[ELEMENTS];
+  lcg_state = 271828;
+  int64_t pool[IDS];
+  for (int k = 0; k < IDS; k++)
+    pool[k] = k;
+  for (int k = IDS - 1; k > 0; k--) { /* Fisher-Yates */
+    int j = (int)(lcg_uniform() * (k + 1));
+    int64_t swap = pool[k];
+    pool[k] = pool[j];
+    pool[j] = swap;
+  }
+  for (int k = 0; k < IDS; k++)
+    index_of_id[k] = UINT32_MAX;
+  for (uint32_t e = 0; e < ELEMENTS; e++) {
+    id[e] = pool[e];
+    index_of_id[pool[e]] = e;
+  }
+  gm_union_find_init(parent, size, ELEMENTS);
+  for (int u = 0; u < ELEMENTS * 3 / 4; u++)
+    gm_union_find_join(parent, size, (uint32_t)(lcg_uniform() * ELEMENTS),
+                       (uint32_t)(lcg_uniform() * ELEMENTS));
+  size_t sets =
+      gm_union_find_labels(parent, id, ELEMENTS, sorted, scratch_min, roots);
+  size_t sets_by_id = gm_union_find_labels_by_id(
+      parent, index_of_id, IDS, UINT32_MAX, ELEMENTS, by_id, scratch);
+  ck_assert_uint_eq(sets, sets_by_id);
+  ck_assert_uint_gt(sets, 100); /* many sets, so the order matters */
+  for (int e = 0; e < ELEMENTS; e++)
+    ck_assert_int_eq(sorted[e], by_id[e]);
+}
+END_TEST
+
 static Suite *components_suite(void) {
   Suite *suite = suite_create("components");
   TCase *rules = tcase_create("rules");
   tcase_set_timeout(rules, 120);
   /* 4 variants x {1D, 2D} x {sparse, clustered}. */
   tcase_add_loop_test(rules, test_components_match_reference, 0, 16);
+  tcase_add_test(rules, test_labels_by_id_match_sorted);
   tcase_add_loop_test(rules, test_fig5_grids, 0, 4);
   /* _i: variant all_shapes[_i / 2] in _i % 2 + 1 dimensions. */
   tcase_add_loop_test(rules, test_touching_domains, 0, 8);
