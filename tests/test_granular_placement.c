@@ -33,10 +33,11 @@ static const double EDGE = 0.05;       /* m, point domain edge: half a cell */
 enum { BATCH = 5, LOOSE_INDEX = 3 };
 
 /* A 1 m x 1 m plane-strain box of 0.1 m cells in `family`, with one
- * elastic material of density `density`, made granular (rho_cr CRITICAL,
- * TOL TOLERANCE); *material receives its id. */
-static gm_domain *placement_domain(gm_family family, double density,
-                                   int *material) {
+ * elastic material of density `density`, made granular with rho_cr
+ * `critical` and TOL `tolerance` (kg/m^3); *material receives its id. */
+static gm_domain *granular_domain(gm_family family, double density,
+                                  double critical, double tolerance,
+                                  int *material) {
   gm_domain_def def = gm_domain_def_default();
   def.family = family;
   def.cell_size = 0.1;
@@ -44,10 +45,16 @@ static gm_domain *placement_domain(gm_family family, double density,
   gm_domain *domain = test_create_domain(&def);
   *material = test_add_elastic(domain, 1e6, 0.3, density);
   gm_granular_def granular = gm_granular_def_default();
-  granular.critical_density = CRITICAL;
-  granular.tolerance = TOLERANCE;
+  granular.critical_density = critical;
+  granular.tolerance = tolerance;
   TEST_ASSERT_OK(domain, gm_domain_set_granular(domain, *material, &granular));
   return domain;
+}
+
+/* The same with rho_cr CRITICAL and TOL TOLERANCE. */
+static gm_domain *placement_domain(gm_family family, double density,
+                                   int *material) {
+  return granular_domain(family, density, CRITICAL, TOLERANCE, material);
 }
 
 /* A row of BATCH points along y = 0.5 m, x = 0.15, 0.3, ... m. */
@@ -172,16 +179,9 @@ END_TEST
  * (rounded) has m / V one ulp below rho_cr for some V: still accepted.
  * 200 volumes between 0.4 and 0.6 cells squared cover both roundings. */
 START_TEST(test_rounded_mass_at_critical_is_accepted) {
-  gm_domain_def def = gm_domain_def_default();
-  def.family = GM_FAMILY_GRANULAR;
-  def.cell_size = 0.1;
-  def.extent[0] = def.extent[1] = 1.0; /* m */
-  gm_domain *domain = test_create_domain(&def);
-  int material = test_add_elastic(domain, 1e6, 0.3, DENSE);
-  gm_granular_def granular = gm_granular_def_default();
-  granular.critical_density = CRITICAL;
-  granular.tolerance = 0.0;
-  TEST_ASSERT_OK(domain, gm_domain_set_granular(domain, material, &granular));
+  int material = -1;
+  gm_domain *domain =
+      granular_domain(GM_FAMILY_GRANULAR, DENSE, CRITICAL, 0.0, &material);
   enum { VOLUMES = 200 };
   int rounded_below = 0;
   for (int k = 0; k < VOLUMES; k++) {
@@ -267,16 +267,11 @@ END_TEST
  * rho_cr to 1431 would leave ids 1, 2 and 3 below; id 1 is named. Raising
  * it to 1200 + TOL keeps them all in. */
 START_TEST(test_set_granular_refuses_raising_above_points) {
-  gm_domain_def def = gm_domain_def_default();
-  def.family = GM_FAMILY_GRANULAR;
-  def.cell_size = 0.1;
-  def.extent[0] = def.extent[1] = 1.0; /* m */
-  gm_domain *domain = test_create_domain(&def);
-  int material = test_add_elastic(domain, 1e6, 0.3, DENSE);
+  int material = -1;
+  gm_domain *domain = granular_domain(GM_FAMILY_GRANULAR, DENSE, 1000.0,
+                                      TOLERANCE, &material); /* kg/m^3 */
   gm_granular_def granular = gm_granular_def_default();
-  granular.critical_density = 1000.0; /* kg/m^3 */
   granular.tolerance = TOLERANCE;
-  TEST_ASSERT_OK(domain, gm_domain_set_granular(domain, material, &granular));
   const double densities[4] = {1600.0, 1200.0, 1300.0, 1100.0}; /* kg/m^3 */
   TEST_ASSERT_OK(domain,
                  add_row(domain, material, 4, densities, false, 0.1, NULL));
