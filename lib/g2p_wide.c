@@ -18,11 +18,9 @@ void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
   gm_support support;
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
-    gm_point_domain domain;
-    gm_load_point_domain(dim, v->position, deformation, v->domain_size, p,
-                         &domain);
     /* Cannot fail: the binning placed the point by this support. */
-    gm_support_compute(v->shape_grid, &domain, &support);
+    gm_wide_support(v->shape_grid, dim, v->position, deformation,
+                    v->domain_size, p, &support);
     uint32_t block = v->point_block[p];
     const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
     int64_t base[2];

@@ -60,11 +60,9 @@ void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
     size_t p = v->order[k];
     if (v->skip_rigid && v->rigid[v->material[p]])
       continue; /* rigid points take no part (rigid.c) */
-    gm_point_domain domain;
-    gm_load_point_domain(dim, v->position, v->deformation, v->domain_size, p,
-                         &domain);
     /* Cannot fail: the binning placed the point by this support. */
-    gm_support_compute(v->shape_grid, &domain, &support);
+    gm_wide_support(v->shape_grid, dim, v->position, v->deformation,
+                    v->domain_size, p, &support);
     double m = v->mass[p];
     double momentum[2] = {m * v->velocity[0][p],
                           dim > 1 ? m * v->velocity[1][p] : 0.0};

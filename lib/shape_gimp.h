@@ -36,15 +36,24 @@ static inline double gm_tent_integral(double u) {
   return 1.0;
 }
 
+/* floor(x) as an integer without the libm call (a function call in the
+ * hot loops unless the target has SSE4.1): truncate, then step down for
+ * negative non-integers. x must be finite and within int64 range; the
+ * callers check the support lies inside the grid first. */
+static inline int64_t gm_floor_index(double x) {
+  int64_t truncated = (int64_t)x;
+  return truncated - ((double)truncated > x);
+}
+
 /* Lowest node and node count a domain of centre s and half-length l (both
  * in cells, from node 0) reaches along one axis. */
 static inline int64_t gm_gimp_axis_bounds(double s, double l, int *span) {
   if (l < GM_GIMP_MIN_HALF_LENGTH) {
     *span = 2;
-    return (int64_t)floor(s);
+    return gm_floor_index(s);
   }
-  int64_t lowest = (int64_t)floor(s - l);
-  *span = (int)((int64_t)floor(s + l) + 1 - lowest + 1);
+  int64_t lowest = gm_floor_index(s - l);
+  *span = (int)(gm_floor_index(s + l) + 1 - lowest + 1);
   return lowest;
 }
 

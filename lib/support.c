@@ -82,6 +82,24 @@ static int corners_in_cells(const gm_shape_grid *grid,
   return count;
 }
 
+/* Support bounds of a rectangle (centre x, y and half edges, m); y and
+ * half_y are ignored in 1D. */
+static bool rectangle_bounds(const gm_shape_grid *grid, double x, double y,
+                             double half_x, double half_y, int64_t lowest[2],
+                             int64_t highest[2]) {
+  lowest[1] = highest[1] = 0;
+  for (int k = 0; k < grid->dim; k++) {
+    double s = in_cells(grid, k, k == 0 ? x : y);
+    double l = (k == 0 ? half_x : half_y) * grid->inv_cell;
+    if (!(s - l >= -1.0 && s + l < (double)grid->last_node[k] + 1.0))
+      return false;
+    int span;
+    lowest[k] = gm_gimp_axis_bounds(s, l, &span);
+    highest[k] = lowest[k] + span - 1;
+  }
+  return bounds_valid(grid, lowest, highest);
+}
+
 bool gm_support_bounds(const gm_shape_grid *grid, const gm_point_domain *point,
                        int64_t lowest[2], int64_t highest[2]) {
   lowest[1] = highest[1] = 0;
@@ -96,57 +114,58 @@ bool gm_support_bounds(const gm_shape_grid *grid, const gm_point_domain *point,
       }
       if (!(low >= -1.0 && high < (double)grid->last_node[k] + 1.0))
         return false; /* also catches NaN; keeps the casts in range */
-      lowest[k] = (int64_t)floor(low);
-      highest[k] = (int64_t)floor(high) + 1;
+      lowest[k] = gm_floor_index(low);
+      highest[k] = gm_floor_index(high) + 1;
     }
     return bounds_valid(grid, lowest, highest);
   }
   double half[2] = {0.0, 0.0};
   if (grid->shape != GM_SHAPE_LINEAR)
     rectangle_half_size(grid->shape, point, half);
-  for (int k = 0; k < grid->dim; k++) {
-    double s = in_cells(grid, k, point->position[k]);
-    double l = half[k] * grid->inv_cell;
-    if (!(s - l >= -1.0 && s + l < (double)grid->last_node[k] + 1.0))
-      return false;
-    int span;
-    lowest[k] = gm_gimp_axis_bounds(s, l, &span);
-    highest[k] = lowest[k] + span - 1;
-  }
-  return bounds_valid(grid, lowest, highest);
+  return rectangle_bounds(grid, point->position[0], point->position[1], half[0],
+                          half[1], lowest, highest);
 }
 
-/* Tensor-product support of linear MPM, uGIMP and cpGIMP. */
-static void compute_rectangle(const gm_shape_grid *grid,
-                              const gm_point_domain *point,
+/* Tensor-product support of linear MPM, uGIMP and cpGIMP, for a rectangle
+ * of centre x, y and half edges (m) whose bounds are lowest..highest. */
+static void compute_rectangle(const gm_shape_grid *grid, double x, double y,
+                              double half_x, double half_y,
                               const int64_t lowest[2], const int64_t highest[2],
                               gm_support *out) {
-  double half[2] = {0.0, 0.0};
-  if (grid->shape != GM_SHAPE_LINEAR)
-    rectangle_half_size(grid->shape, point, half);
   double weight[2][GM_SUPPORT_MAX_SPAN], gradient[2][GM_SUPPORT_MAX_SPAN];
   int span[2] = {1, 1};
   weight[1][0] = 1.0;
   gradient[1][0] = 0.0;
   for (int k = 0; k < grid->dim; k++) {
     span[k] = (int)(highest[k] - lowest[k] + 1);
-    gm_gimp_axis(in_cells(grid, k, point->position[k]),
-                 half[k] * grid->inv_cell, lowest[k], span[k], weight[k],
-                 gradient[k]);
-    for (int n = 0; n < span[k]; n++)
-      gradient[k][n] *= grid->inv_cell; /* per cell -> per metre */
+    gm_gimp_axis(in_cells(grid, k, k == 0 ? x : y),
+                 (k == 0 ? half_x : half_y) * grid->inv_cell, lowest[k],
+                 span[k], weight[k], gradient[k]);
   }
+  /* Gradients per cell -> per metre here, not in a pass over gradient[]
+   * right after gm_gimp_axis wrote it: reading back just-stored scalars as
+   * a vector stalls on store forwarding. */
+  double inv_cell = grid->inv_cell; /* 1/m */
   int entry = 0;
   for (int b = 0; b < span[1]; b++) {
     for (int a = 0; a < span[0]; a++, entry++) {
       out->offset[0][entry] = (uint8_t)a;
       out->offset[1][entry] = (uint8_t)b;
       out->weight[entry] = weight[0][a] * weight[1][b];
-      out->gradient[0][entry] = gradient[0][a] * weight[1][b];
-      out->gradient[1][entry] = weight[0][a] * gradient[1][b];
+      out->gradient[0][entry] = inv_cell * gradient[0][a] * weight[1][b];
+      out->gradient[1][entry] = inv_cell * weight[0][a] * gradient[1][b];
     }
   }
   out->count = entry;
+}
+
+bool gm_support_rectangle(const gm_shape_grid *grid, double x, double y,
+                          double half_x, double half_y, gm_support *out) {
+  int64_t highest[2];
+  if (!rectangle_bounds(grid, x, y, half_x, half_y, out->lowest, highest))
+    return false;
+  compute_rectangle(grid, x, y, half_x, half_y, out->lowest, highest, out);
+  return true;
 }
 
 /* CPDI1: four linear corner supports (see the top of this file). */
@@ -182,7 +201,7 @@ static bool compute_cpdi(const gm_shape_grid *grid,
     int64_t cell[2] = {0, 0};
     double fraction[2] = {0.0, 0.0};
     for (int k = 0; k < grid->dim; k++) {
-      cell[k] = (int64_t)floor(cells[c][k]);
+      cell[k] = gm_floor_index(cells[c][k]);
       fraction[k] = cells[c][k] - (double)cell[k];
     }
     for (int b = 0; b < (grid->dim > 1 ? 2 : 1); b++) {
@@ -208,6 +227,10 @@ bool gm_support_compute(const gm_shape_grid *grid, const gm_point_domain *point,
     return false;
   if (grid->shape == GM_SHAPE_CPDI)
     return compute_cpdi(grid, point, out);
-  compute_rectangle(grid, point, out->lowest, highest, out);
+  double half[2] = {0.0, 0.0};
+  if (grid->shape != GM_SHAPE_LINEAR)
+    rectangle_half_size(grid->shape, point, half);
+  compute_rectangle(grid, point->position[0], point->position[1], half[0],
+                    half[1], out->lowest, highest, out);
   return true;
 }

@@ -17,6 +17,7 @@
 
 #include "granmpm.h"
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -76,6 +77,26 @@ bool gm_support_bounds(const gm_shape_grid *grid, const gm_point_domain *point,
 /* The support; false as for gm_support_bounds (out is then undefined). */
 bool gm_support_compute(const gm_shape_grid *grid, const gm_point_domain *point,
                         gm_support *out);
+/* The support of a rectangle variant (linear MPM, uGIMP, cpGIMP) from its
+ * centre x, y and current half edges (m; y and half_y unused in 1D), all
+ * by value: the wide transfers call this once per point and pass, and a
+ * gm_point_domain written just before the call and read back as a vector
+ * stalled on store forwarding. False as gm_support_compute. */
+bool gm_support_rectangle(const gm_shape_grid *grid, double x, double y,
+                          double half_x, double half_y, gm_support *out);
+/* Current half edges (m) of point p of a rectangle variant: the initial
+ * ones, stretched by |F_xx|, |F_yy| for cpGIMP, 0 for linear MPM. */
+static inline void gm_rectangle_half_edges(gm_shape shape, int dim,
+                                           const double *const domain_size[2],
+                                           const double *const deformation[4],
+                                           size_t p, double half[2]) {
+  for (int k = 0; k < 2; k++) {
+    half[k] =
+        shape != GM_SHAPE_LINEAR && k < dim ? 0.5 * domain_size[k][p] : 0.0;
+    if (shape == GM_SHAPE_CPGIMP && k < dim)
+      half[k] *= fabs(deformation[3 * k][p]);
+  }
+}
 /* Corners (m) of the point's current domain, counter-clockwise from the
  * lower left: a rectangle for linear MPM and uGIMP (the initial domain,
  * moved), a rectangle with edges stretched by |F_xx|, |F_yy| for cpGIMP,
@@ -84,5 +105,24 @@ bool gm_support_compute(const gm_shape_grid *grid, const gm_point_domain *point,
 void gm_point_domain_corners(gm_shape shape, int dim,
                              const gm_point_domain *point,
                              double corners[4][2]);
+
+/* The support of point p from SoA arrays, any variant: rectangles by
+ * value through gm_support_rectangle, CPDI through its domain. */
+static inline bool gm_wide_support(const gm_shape_grid *grid, int dim,
+                                   const double *const position[2],
+                                   const double *const deformation[4],
+                                   const double *const domain_size[2], size_t p,
+                                   gm_support *out) {
+  if (grid->shape == GM_SHAPE_CPDI) {
+    gm_point_domain domain;
+    gm_load_point_domain(dim, position, deformation, domain_size, p, &domain);
+    return gm_support_compute(grid, &domain, out);
+  }
+  double half[2];
+  gm_rectangle_half_edges(grid->shape, dim, domain_size, deformation, p, half);
+  return gm_support_rectangle(grid, position[0][p],
+                              dim > 1 ? position[1][p] : 0.0, half[0], half[1],
+                              out);
+}
 
 #endif
