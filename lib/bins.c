@@ -78,10 +78,9 @@ static void key_ranges(void *context, size_t begin, size_t end, int worker) {
   const double *const size[2] = {points->domain_size[0],
                                  points->domain_size[dim > 1 ? 1 : 0]};
   for (size_t i = begin; i < end; i++) {
-    gm_point_domain point;
-    gm_load_point_domain(dim, position, deformation, size, i, &point);
     int64_t lowest[2], highest[2];
-    if (gm_support_bounds(&domain->shape_grid, &point, lowest, highest)) {
+    if (gm_wide_support_bounds(&domain->shape_grid, dim, position, deformation,
+                               size, i, lowest, highest)) {
       points->block_key[i] =
           gm_block_key_of_node(&domain->grid, lowest[0], lowest[1]);
       continue;

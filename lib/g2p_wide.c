@@ -72,13 +72,14 @@ void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
       v->next_deformation[F_XX], v->next_deformation[F_XY],
       v->next_deformation[F_YX], v->next_deformation[F_YY]};
   for (size_t p = first; p < first + count; p++) {
-    gm_point_domain point;
-    gm_load_point_domain(dim, position, deformation, v->domain_size, p, &point);
     int64_t lowest[2], highest[2];
-    if (gm_support_bounds(v->shape_grid, &point, lowest, highest)) {
+    if (gm_wide_support_bounds(v->shape_grid, dim, position, deformation,
+                               v->domain_size, p, lowest, highest)) {
       v->block_key[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);
       continue;
     }
+    gm_point_domain point; /* the failure path only: for the message */
+    gm_load_point_domain(dim, position, deformation, v->domain_size, p, &point);
     double corners[4][2];
     gm_point_domain_corners(v->shape_grid->shape, dim, &point, corners);
     gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,

@@ -82,11 +82,9 @@ static int corners_in_cells(const gm_shape_grid *grid,
   return count;
 }
 
-/* Support bounds of a rectangle (centre x, y and half edges, m); y and
- * half_y are ignored in 1D. */
-static bool rectangle_bounds(const gm_shape_grid *grid, double x, double y,
-                             double half_x, double half_y, int64_t lowest[2],
-                             int64_t highest[2]) {
+bool gm_support_rectangle_bounds(const gm_shape_grid *grid, double x, double y,
+                                 double half_x, double half_y,
+                                 int64_t lowest[2], int64_t highest[2]) {
   lowest[1] = highest[1] = 0;
   for (int k = 0; k < grid->dim; k++) {
     double s = in_cells(grid, k, k == 0 ? x : y);
@@ -122,8 +120,9 @@ bool gm_support_bounds(const gm_shape_grid *grid, const gm_point_domain *point,
   double half[2] = {0.0, 0.0};
   if (grid->shape != GM_SHAPE_LINEAR)
     rectangle_half_size(grid->shape, point, half);
-  return rectangle_bounds(grid, point->position[0], point->position[1], half[0],
-                          half[1], lowest, highest);
+  return gm_support_rectangle_bounds(grid, point->position[0],
+                                     point->position[1], half[0], half[1],
+                                     lowest, highest);
 }
 
 /* Tensor-product support of linear MPM, uGIMP and cpGIMP, for a rectangle
@@ -162,7 +161,8 @@ static void compute_rectangle(const gm_shape_grid *grid, double x, double y,
 bool gm_support_rectangle(const gm_shape_grid *grid, double x, double y,
                           double half_x, double half_y, gm_support *out) {
   int64_t highest[2];
-  if (!rectangle_bounds(grid, x, y, half_x, half_y, out->lowest, highest))
+  if (!gm_support_rectangle_bounds(grid, x, y, half_x, half_y, out->lowest,
+                                   highest))
     return false;
   compute_rectangle(grid, x, y, half_x, half_y, out->lowest, highest, out);
   return true;

@@ -84,6 +84,10 @@ bool gm_support_compute(const gm_shape_grid *grid, const gm_point_domain *point,
  * stalled on store forwarding. False as gm_support_compute. */
 bool gm_support_rectangle(const gm_shape_grid *grid, double x, double y,
                           double half_x, double half_y, gm_support *out);
+/* Its bounds only, as gm_support_bounds. */
+bool gm_support_rectangle_bounds(const gm_shape_grid *grid, double x, double y,
+                                 double half_x, double half_y,
+                                 int64_t lowest[2], int64_t highest[2]);
 /* Current half edges (m) of point p of a rectangle variant: the initial
  * ones, stretched by |F_xx|, |F_yy| for cpGIMP, 0 for linear MPM. */
 static inline void gm_rectangle_half_edges(gm_shape shape, int dim,
@@ -123,6 +127,25 @@ static inline bool gm_wide_support(const gm_shape_grid *grid, int dim,
   return gm_support_rectangle(grid, position[0][p],
                               dim > 1 ? position[1][p] : 0.0, half[0], half[1],
                               out);
+}
+
+/* Bounds of point p's support from SoA arrays, as gm_wide_support. */
+static inline bool gm_wide_support_bounds(const gm_shape_grid *grid, int dim,
+                                          const double *const position[2],
+                                          const double *const deformation[4],
+                                          const double *const domain_size[2],
+                                          size_t p, int64_t lowest[2],
+                                          int64_t highest[2]) {
+  if (grid->shape == GM_SHAPE_CPDI) {
+    gm_point_domain domain;
+    gm_load_point_domain(dim, position, deformation, domain_size, p, &domain);
+    return gm_support_bounds(grid, &domain, lowest, highest);
+  }
+  double half[2];
+  gm_rectangle_half_edges(grid->shape, dim, domain_size, deformation, p, half);
+  return gm_support_rectangle_bounds(grid, position[0][p],
+                                     dim > 1 ? position[1][p] : 0.0, half[0],
+                                     half[1], lowest, highest);
 }
 
 #endif
