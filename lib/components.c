@@ -149,19 +149,24 @@ void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch) {
   size_t count = points->count;
   for (size_t k = 0; k < count; k++) /* old index -> new index */
     scratch[points->order[k]] = (uint32_t)k;
-  /* Renamed edges, counting-sorted by their first end so that the next
-   * steps' checks walk the point arrays in order (the reordering put
-   * neighbours next to each other). Union-find scratch is free here: the
-   * parent array counts, min_id holds the sorted edges. */
-  uint32_t *start = work->parent;
-  uint64_t *sorted = (uint64_t *)work->min_id; /* forest_count < count */
-  memset(start, 0, count * sizeof(uint32_t));
   for (size_t e = 0; e < work->forest_count; e++) {
     uint32_t p = scratch[work->forest[e] >> 32];
     uint32_t q = scratch[work->forest[e] & 0xffffffffu];
     work->forest[e] = (uint64_t)p << 32 | q;
-    start[p]++;
   }
+  /* The renamed edges, counting-sorted by their first end so that the
+   * next steps' checks walk the point arrays in order (the reordering put
+   * neighbours next to each other). Union-find scratch is free here: the
+   * parent array counts, min_id holds the sorted edges; both are sized at
+   * the last granular step, so points added since skip the sort (it only
+   * saves time). */
+  if (work->capacity < count)
+    return;
+  uint32_t *start = work->parent;
+  uint64_t *sorted = (uint64_t *)work->min_id; /* forest_count < count */
+  memset(start, 0, count * sizeof(uint32_t));
+  for (size_t e = 0; e < work->forest_count; e++)
+    start[work->forest[e] >> 32]++;
   uint32_t offset = 0;
   for (size_t p = 0; p < count; p++) {
     uint32_t edges = start[p];
