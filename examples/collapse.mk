@@ -13,7 +13,7 @@ tests_test_column_collapse_CFLAGS = $(TEST_CFLAGS)
 tests_test_column_collapse_LDADD = $(TEST_LDADD)
 
 # The demo: a tall column (a = 3, L0 = 10 cm, 5 mm cells, 4800 points,
-# Granular uGIMP; about a minute on one core), progress on stderr, VTU + CSV +
+# Granular uGIMP; about 20 s on one core), progress on stderr, VTU + CSV +
 # PNG snapshots in $(DEMO_OUT)/column_collapse, run-out against the law as
 # the last line.
 demo-collapse: examples/column_collapse
