@@ -209,7 +209,8 @@ typedef struct gm_granular_work {
   uint32_t *cell_order;     /* points by block, then local cell */
   uint32_t *cell_start;     /* per block, GM_BLOCK_NODES + 1 offsets */
   size_t cell_capacity;     /* blocks cell_start holds */
-  uint64_t *conflict;       /* pairs of components sharing a node */
+  uint64_t *conflict;       /* candidate point pairs of the search, then the
+                               pairs of components sharing a node */
   size_t conflict_count, conflict_capacity;
   uint32_t *adjacency_start; /* CSR of the conflicts per component */
   int32_t *adjacency;
@@ -459,8 +460,11 @@ void gm_density_control_chunk(gm_domain *domain, size_t first, size_t count);
 typedef enum gm_pair_pass { GM_PASS_JOIN, GM_PASS_CONFLICTS } gm_pair_pass;
 /* Every pair sharing a node: from every point with half windows (subset
  * NULL), or from the points with subset[p] != 0 with full windows. JOIN
- * unites interacting pairs and records the forest; CONFLICTS records the
- * components that share a node. */
+ * unites interacting pairs and records the forest; a subset search also
+ * appends the pairs of different sets that do not interact to
+ * work->conflict (point indices p << 32 | q: the candidates for the
+ * conflicts of the layers, kept by components.c). CONFLICTS appends the
+ * pairs of components that share a node (label low << 32 | high). */
 gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
                          gm_pair_pass pass, const uint8_t *subset);
 gm_status gm_assign_layers(gm_domain *domain, size_t components,

@@ -64,7 +64,11 @@ static bool later_in_raster(const gm_granular_work *work, uint32_t p,
   return qx != px ? qx > px : q > p;
 }
 
-static gm_status add_conflict(gm_domain *domain, int32_t a, int32_t b) {
+/* Appends a b to work->conflict: two points that share a node but did not
+ * interact (JOIN pass of a subset search: components.c keeps those of
+ * different components), or two components that share a node (CONFLICTS
+ * pass, as low << 32 | high). */
+static gm_status add_pair(gm_domain *domain, uint32_t a, uint32_t b) {
   gm_granular_work *work = &domain->granular;
   if (work->conflict_count == work->conflict_capacity) {
     size_t capacity =
@@ -75,27 +79,30 @@ static gm_status add_conflict(gm_domain *domain, int32_t a, int32_t b) {
                           "granular: out of memory for grid conflicts");
     work->conflict_capacity = capacity;
   }
-  uint32_t low = (uint32_t)(a < b ? a : b), high = (uint32_t)(a < b ? b : a);
-  work->conflict[work->conflict_count++] = (uint64_t)low << 32 | high;
+  work->conflict[work->conflict_count++] = (uint64_t)a << 32 | b;
   return GM_OK;
 }
 
-/* One pair in one pass: join if it interacts (skipping the test when the
- * two are already joined through others), or record the conflict of two
- * components that share a node. */
+/* One pair sharing a node. JOIN: nothing if the two are already joined
+ * through others; joined if they interact; else, in a subset search, a
+ * candidate conflict. CONFLICTS: the pair of their components if those
+ * differ. */
 static gm_status handle_pair(gm_domain *domain, gm_pair_pass pass, uint32_t p,
-                             uint32_t q, uint32_t *root_p) {
+                             uint32_t q, uint32_t *root_p, bool subset) {
   gm_granular_work *work = &domain->granular;
-  if (pass == GM_PASS_CONFLICTS)
-    return work->label[p] == work->label[q]
-               ? GM_OK
-               : add_conflict(domain, work->label[p], work->label[q]);
-  if (*root_p != gm_union_find_root(work->parent, q) &&
-      gm_pair_interacts(domain, p, q)) {
-    gm_union_find_join(work->parent, work->set_size, *root_p, q);
-    *root_p = gm_union_find_root(work->parent, p);
-    work->forest[work->forest_count++] = (uint64_t)p << 32 | q;
+  if (pass == GM_PASS_CONFLICTS) {
+    int32_t a = work->label[p], b = work->label[q];
+    return a == b ? GM_OK
+                  : add_pair(domain, (uint32_t)(a < b ? a : b),
+                             (uint32_t)(a < b ? b : a));
   }
+  if (*root_p == gm_union_find_root(work->parent, q))
+    return GM_OK;
+  if (!gm_pair_interacts(domain, p, q))
+    return subset ? add_pair(domain, p, q) : GM_OK;
+  gm_union_find_join(work->parent, work->set_size, *root_p, q);
+  *root_p = gm_union_find_root(work->parent, p);
+  work->forest[work->forest_count++] = (uint64_t)p << 32 | q;
   return GM_OK;
 }
 
@@ -122,7 +129,7 @@ static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
         if ((half && !later_in_raster(work, p, q)) || q == p ||
             !gm_supports_share_node(work, dim, p, q))
           continue;
-        gm_status status = handle_pair(domain, pass, p, q, root_p);
+        gm_status status = handle_pair(domain, pass, p, q, root_p, !half);
         if (status != GM_OK)
           return status;
       }

@@ -41,7 +41,7 @@
 #include "test_util.h"
 
 #include "test_random.h"
-#include "union_find.h"
+#include "internal.h"
 
 #include <check.h>
 #include <math.h>
@@ -370,12 +370,14 @@ static bool boxes_share_node(int dim, const reference_point *a,
 typedef struct reference {
   size_t count, components, interactions;
   bool *interacts;        /* count x count */
+  bool *shares;           /* count x count: the supports share a node */
   int32_t *label;         /* by id */
   size_t *component_size; /* by label */
 } reference;
 
 static void free_reference(reference *r) {
   free(r->interacts);
+  free(r->shares);
   free(r->label);
   free(r->component_size);
 }
@@ -417,10 +419,11 @@ static reference build_reference(gm_shape shape, const grid_frame *grid,
   r.count = n;
   r.interactions = 0;
   r.interacts = calloc(n * n, sizeof *r.interacts);
+  r.shares = calloc(n * n, sizeof *r.shares);
   r.label = malloc(n * sizeof *r.label);
   r.component_size = calloc(n, sizeof *r.component_size);
   reference_point *points = malloc(n * sizeof *points);
-  ck_assert(r.interacts && r.label && r.component_size && points);
+  ck_assert(r.interacts && r.shares && r.label && r.component_size && points);
   bool fragile = false;
   for (size_t p = 0; p < n; p++) {
     check_corners(shape, s, p);
@@ -436,6 +439,7 @@ static reference build_reference(gm_shape shape, const grid_frame *grid,
     for (size_t q = p + 1; q < n; q++) {
       if (!boxes_share_node(s->dim, &points[p], &points[q]))
         continue;
+      r.shares[p * n + q] = r.shares[q * n + p] = true;
       bool plain_p = !(critical_density[(int)s->material[p]] > 0.0);
       bool plain_q = !(critical_density[(int)s->material[q]] > 0.0);
       bool ambiguous = false;
@@ -475,6 +479,17 @@ static void check_against_reference(const gm_domain *domain, const reference *r,
     REQUIRE(state[p] >= 0 && state[p] <= 2, "%s: state %g", what, state[p]);
     state_count[(int)state[p]]++;
   }
+  /* White box: two components whose points share a node must be on
+   * different node layers (parallel grids), or the grid would couple
+   * them. Labels equal the reference's (checked above). */
+  const int32_t *layer = domain->granular.component_layer;
+  for (size_t p = 0; p < n; p++)
+    for (size_t q = p + 1; q < n; q++)
+      if (r->shares[p * n + q] && r->label[p] != r->label[q])
+        REQUIRE(layer[r->label[p]] != layer[r->label[q]],
+                "%s: points id %zu and %zu share a node, are on grids %d and "
+                "%d, but both on node layer %d",
+                what, p, q, r->label[p], r->label[q], layer[r->label[p]]);
   gm_granular_summary summary = gm_granular_summary_default();
   TEST_ASSERT_OK(domain, gm_domain_get_granular_summary(domain, &summary));
   ck_assert_msg(summary.component_count == r->components,
