@@ -40,8 +40,8 @@
  */
 #include "test_util.h"
 
-#include "test_random.h"
 #include "internal.h"
+#include "test_random.h"
 
 #include <check.h>
 #include <math.h>
