@@ -11,7 +11,7 @@
 
 /* In the granular family no point of a granular material may be looser
  * than rho_cr - TOL (V_cr = m / rho_cr is the largest volume a point may
- * have, 000 sec 3.3; see check_placement_density in points.c). Marking a
+ * have, 000 sec 3.3; see gm_check_placement_density in points.c). Marking a
  * material granular, or raising its rho_cr, must not leave an existing
  * point (at its current volume) or a source of it below that: O(N). The
  * slack of a few ulps is the rounding of m / V, as in points.c. */
@@ -39,7 +39,8 @@ static gm_status check_existing_density(gm_domain *domain, int material,
   for (int s = 0; s < domain->source_count; s++) {
     const gm_source *source = &domain->sources[s];
     bool injects = source->injections_left != 0; /* 0: finished */
-    if (injects && source->material == material && source->density < lowest)
+    if (injects && source->material == material &&
+        source->density < lowest - slack)
       return gm_set_error(
           domain, GM_ERR_INVALID_ARGUMENT,
           "gm_domain_set_granular: source %d of material %d injects at "
