@@ -326,16 +326,14 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
       deformed = false;
     }
     /* A wide support depends on F too: keys once F is final. */
-    if (move && wide && deformed)
+    bool finish = ctx->pass->finish; /* the new state is complete */
+    if (finish && wide && deformed)
       gm_wide_keys_chunk(domain, v, scratch, first, count);
-    if (move) /* the last pass of every scheme: the new state is complete */
+    if (finish)
       chunk_signal_speed(domain, v, scratch, first, count);
   }
 }
 
-static void g2p_update_all(void *c, size_t b, size_t e, int w) {
-  g2p_chunks_kind(c, b, e, w, true, true, true); /* USL */
-}
 static void g2p_flip_only(void *c, size_t b, size_t e, int w) {
   g2p_chunks_kind(c, b, e, w, true, false, false); /* MUSL, first */
 }
@@ -343,15 +341,15 @@ static void g2p_move_deform(void *c, size_t b, size_t e, int w) {
   g2p_chunks_kind(c, b, e, w, false, true, true); /* MUSL, second */
 }
 static void g2p_deform_only(void *c, size_t b, size_t e, int w) {
-  g2p_chunks_kind(c, b, e, w, false, false, true); /* USF, first */
+  g2p_chunks_kind(c, b, e, w, false, false, true); /* USF first, USL second */
 }
 static void g2p_flip_move(void *c, size_t b, size_t e, int w) {
-  g2p_chunks_kind(c, b, e, w, true, true, false); /* USF, second */
+  g2p_chunks_kind(c, b, e, w, true, true, false); /* USL first, USF second */
 }
 
+/* The passes of the three schemes (step.c): USL flip+move then deform,
+ * MUSL flip then move+deform, USF deform then flip+move. */
 static gm_parallel_fn *pass_kernel(const gm_g2p_pass *pass) {
-  if (pass->flip_velocity && pass->move_points && pass->deform)
-    return g2p_update_all;
   if (pass->flip_velocity && pass->move_points)
     return g2p_flip_move;
   if (pass->flip_velocity)

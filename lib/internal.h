@@ -385,6 +385,9 @@ typedef struct gm_g2p_pass {
   bool flip_velocity; /* v_p += dt * sum N a_i  */
   bool move_points;   /* x_p += dt * sum N v_i (nodal velocity) */
   bool deform;        /* L from nodal velocity: F, V, stress */
+  bool finish;        /* the last pass of the step: block keys of wide
+                         supports (they need the final F) and the
+                         signal-speed bound of the new state */
   double dt;
 } gm_g2p_pass;
 void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);

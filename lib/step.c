@@ -18,6 +18,35 @@ static gm_status collect(gm_domain *domain) {
   return gm_collect_worker_errors(domain);
 }
 
+/* The nodal velocities re-mapped from the updated particle momenta
+ * (Sulsky, Zhou & Schreyer 1995): m_i v_i = sum_p N_ip m_p v_p^{t+dt},
+ * with the wall conditions applied again. */
+static void remap_velocities(gm_domain *domain, double dt) {
+  int cur = domain->points.cur;
+  gm_p2g_pass remap = {false, true, false, cur ^ 1, cur, false};
+  gm_p2g(domain, &remap);
+  gm_grid_update(domain, dt, GM_GRID_VELOCITY_ONLY);
+}
+
+/* USL and MUSL share the first half: mass, momentum and forces to the
+ * grid, nodal update, particle velocities (004 eqs 3.13-3.17).
+ *
+ * USL (004 sec 3.2, after eq 3.17: "the updated particle momentums are
+ * used to calculate the nodal velocities, which are then used to update
+ * the particle strain and stress"): points move with the updated nodal
+ * velocities v_i^L = v_i + a_i dt (eq 3.17), and the strain rate comes
+ * from the nodal velocities re-mapped from the updated particle momenta,
+ * the remedy of Sulsky, Zhou & Schreyer (1995) for the cell-crossing
+ * instability (004 sec 3.3). Taking the strain rate from v_i^L itself,
+ * as Sulsky, Chen & Schreyer (1994) do, is unstable with linear shape
+ * functions: a point that has just entered a cell gives its new nodes a
+ * mass N m_p with N -> 0 while its stress gradient force on them does not
+ * vanish, so a_i = f_i / m_i grows without bound and the next strain
+ * increment inverts F (an elastic block resting on a floor failed after
+ * ~200 steps once its sides bulged into empty cells).
+ *
+ * MUSL (002 sec 4.4 steps 6-9): the re-mapped velocities also move the
+ * points. */
 static gm_status run_usl(gm_domain *domain, double dt, bool modified) {
   int cur = domain->points.cur;
   /* Host-written inputs are screened only when the host had the chance to
@@ -28,20 +57,13 @@ static gm_status run_usl(gm_domain *domain, double dt, bool modified) {
   if (status != GM_OK)
     return status;
   gm_grid_update(domain, dt, GM_GRID_FULL);
-  if (!modified) {
-    gm_g2p_pass update = {true, true, true, dt};
-    gm_g2p(domain, &update);
-    return collect(domain);
-  }
-  /* MUSL (002 sec 4.4 steps 6-9): particle velocities first, then the
-   * nodal velocities re-mapped from them give positions and strain rate. */
-  gm_g2p_pass velocities = {true, false, false, dt};
+  gm_g2p_pass velocities = {true, !modified, false, false, dt};
   gm_g2p(domain, &velocities);
-  gm_p2g_pass remap = {false, true, false, cur ^ 1, cur, false};
-  gm_p2g(domain, &remap);
-  gm_grid_update(domain, dt, GM_GRID_VELOCITY_ONLY);
-  gm_g2p_pass motion = {false, true, true, dt};
-  gm_g2p(domain, &motion);
+  if ((status = collect(domain)) != GM_OK)
+    return status;
+  remap_velocities(domain, dt);
+  gm_g2p_pass strain = {false, modified, true, true, dt};
+  gm_g2p(domain, &strain);
   return collect(domain);
 }
 
@@ -53,7 +75,7 @@ static gm_status run_usf(gm_domain *domain, double dt) {
   if (status != GM_OK)
     return status;
   gm_grid_update(domain, dt, GM_GRID_VELOCITY_ONLY);
-  gm_g2p_pass stress = {false, false, true, dt};
+  gm_g2p_pass stress = {false, false, true, false, dt};
   gm_g2p(domain, &stress);
   if ((status = collect(domain)) != GM_OK)
     return status;
@@ -63,7 +85,7 @@ static gm_status run_usf(gm_domain *domain, double dt) {
   gm_p2g_pass forces = {false, true, true, cur, cur ^ 1, false};
   gm_p2g(domain, &forces);
   gm_grid_update(domain, dt, GM_GRID_FULL);
-  gm_g2p_pass motion = {true, true, false, dt};
+  gm_g2p_pass motion = {true, true, false, true, dt};
   gm_g2p(domain, &motion);
   return collect(domain);
 }
