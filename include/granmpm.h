@@ -219,7 +219,11 @@ GM_API const char *gm_domain_last_error(const gm_domain *domain);
 
 /** Stress and strain components, Voigt order. Shear strains are tensor
  * components (eps_xy), not engineering strains. In 1D and 2D the yz and zx
- * components are identically zero (not stored). */
+ * components are identically zero. Points do not store them
+ * (gm_domain_view_field gives GM_ERR_UNSUPPORTED, gm_domain_get_field
+ * copies zeros), but a gm_material_batch has all six rows: the yz and zx
+ * rows of strain_increment and stress arrive zero, and values a material
+ * writes into the stress ones are discarded. */
 enum {
   GM_XX = 0,
   GM_YY = 1,
@@ -241,8 +245,9 @@ typedef struct gm_material_batch {
   double dt;                         /* s */
   const double *strain_increment[6]; /* D dt per component (GM_XX..) */
   const double *density;             /* kg/m^3 at the end of the step */
-  double *stress[6];                 /* Pa, in: rotated sigma_t, out: t+dt */
-  double *const *state;              /* state[k][i], k < state_count */
+  double *stress[6];    /* Pa, in: rotated sigma_t, out: t+dt; all six
+                           valid (yz, zx: see GM_YZ above) */
+  double *const *state; /* state[k][i], k < state_count */
   size_t state_count;
   const int64_t *point_id; /* ids, for error messages */
 } gm_material_batch;
