@@ -51,7 +51,7 @@ distclean:
 CLANG_FORMAT ?= clang-format
 FORMAT_FILES = $(wildcard include/*.h include/granmpm/*.h lib/*.c lib/*.h \
 	lib/materials/*.c lib/materials/*.h \
-	tests/*.c tests/*.h examples/*.c bench/*.c .ci/*.c)
+	tests/*.c tests/*.h examples/*.c bench/*.c .ci/*.c .ci/*.cpp)
 format:
 	$(CLANG_FORMAT) -i $(FORMAT_FILES)
 format-check:

@@ -4,8 +4,14 @@
  *
  * Conventions (see granmpm(3)):
  *  - one opaque handle, gm_domain; no internal layout is public;
- *  - every *_def struct starts with `size_t struct_size` and has an inline
- *    gm_*_def_default() initialiser: always start from it, then set fields;
+ *  - every *_def struct (and every result struct such as gm_summary)
+ *    starts with `size_t struct_size`. Its defaults come from the exported
+ *    gm_status gm_X_init(gm_X *out, size_t struct_size) (the gm_*_init
+ *    convention: pass sizeof *out; GM_ERR_NULL, or GM_ERR_STRUCT_SIZE for a
+ *    size the library does not know; struct_size is set to the bytes
+ *    filled), callable from any language, and from the inline
+ *    gm_X_default(), which returns the same values by calling it. Always
+ *    start from one of them, then set fields;
  *  - every fallible call returns a gm_status (0 = GM_OK, negative = error);
  *    gm_domain_last_error() holds a message naming the point, material or
  *    parameter at fault;
@@ -178,17 +184,16 @@ typedef struct gm_domain_def {
                           (gm_domain_create(3)); 1 = PIC, dissipative. */
 } gm_domain_def;
 
+/** Defaults: the values in the field comments above, with extent 1 m
+ * per axis and cell_size 0.1 m. gm_*_init convention (top of file):
+ * gm_domain_def_init(&d, sizeof d) writes them, gm_domain_def_default() returns
+ * them. */
+GM_API gm_status gm_domain_def_init(gm_domain_def *out, size_t struct_size);
+
 static inline gm_domain_def gm_domain_def_default(void) {
-  gm_domain_def def = {0};
-  def.struct_size = sizeof(gm_domain_def);
-  def.geometry = GM_GEOMETRY_PLANE_STRAIN;
-  def.extent[0] = def.extent[1] = def.extent[2] = 1.0;
-  def.cell_size = 0.1;
-  def.scheme = GM_SCHEME_USL;
-  def.cfl = 0.5;
-  def.max_retries = 4;
-  def.worker_count = 1;
-  return def;
+  gm_domain_def value;
+  (void)gm_domain_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Number of vector components for a geometry (1, 2 or 3); 0 if unknown. */
@@ -214,7 +219,11 @@ GM_API const char *gm_domain_last_error(const gm_domain *domain);
 
 /** Stress and strain components, Voigt order. Shear strains are tensor
  * components (eps_xy), not engineering strains. In 1D and 2D the yz and zx
- * components are identically zero (not stored). */
+ * components are identically zero. Points do not store them
+ * (gm_domain_view_field gives GM_ERR_UNSUPPORTED, gm_domain_get_field
+ * copies zeros), but a gm_material_batch has all six rows: the yz and zx
+ * rows of strain_increment and stress arrive zero, and values a material
+ * writes into the stress ones are discarded. */
 enum {
   GM_XX = 0,
   GM_YY = 1,
@@ -236,8 +245,9 @@ typedef struct gm_material_batch {
   double dt;                         /* s */
   const double *strain_increment[6]; /* D dt per component (GM_XX..) */
   const double *density;             /* kg/m^3 at the end of the step */
-  double *stress[6];                 /* Pa, in: rotated sigma_t, out: t+dt */
-  double *const *state;              /* state[k][i], k < state_count */
+  double *stress[6];    /* Pa, in: rotated sigma_t, out: t+dt; all six
+                           valid (yz, zx: see GM_YZ above) */
+  double *const *state; /* state[k][i], k < state_count */
   size_t state_count;
   const int64_t *point_id; /* ids, for error messages */
 } gm_material_batch;
@@ -263,11 +273,16 @@ typedef struct gm_material_def {
   double density;                /* kg/m^3, default for new points (> 0) */
 } gm_material_def;
 
+/** Defaults: name "user", every other field 0 or NULL (update,
+ * p_wave_modulus and density must be set). gm_*_init convention (top of file):
+ * gm_material_def_init(&d, sizeof d) writes them, gm_material_def_default()
+ * returns them. */
+GM_API gm_status gm_material_def_init(gm_material_def *out, size_t struct_size);
+
 static inline gm_material_def gm_material_def_default(void) {
-  gm_material_def def = {0};
-  def.struct_size = sizeof(gm_material_def);
-  def.name = "user";
-  return def;
+  gm_material_def value;
+  (void)gm_material_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Registers a user material; *material_id receives its id (0, 1, ...). */
@@ -284,14 +299,15 @@ typedef struct gm_elastic_def {
   double density;        /* kg/m^3, > 0 */
 } gm_elastic_def;
 
+/** Defaults: E = 1 MPa, nu = 0.3, density 1000 kg/m^3. gm_*_init convention
+ * (top of file): gm_elastic_def_init(&d, sizeof d) writes them,
+ * gm_elastic_def_default() returns them. */
+GM_API gm_status gm_elastic_def_init(gm_elastic_def *out, size_t struct_size);
+
 static inline gm_elastic_def gm_elastic_def_default(void) {
-  gm_elastic_def def = {0};
-  def.struct_size = sizeof(gm_elastic_def);
-  def.name = "elastic";
-  def.youngs_modulus = 1e6;
-  def.poisson_ratio = 0.3;
-  def.density = 1000.0;
-  return def;
+  gm_elastic_def value;
+  (void)gm_elastic_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Registers the built-in linear elastic material (written against the same
@@ -325,11 +341,16 @@ typedef struct gm_wall_def {
   double friction_kinetic; /* mu_k, 0 <= mu_k <= mu_s */
 } gm_wall_def;
 
+/** Defaults: a frictionless floor through the origin (normal
+ * (0, 1, 0), friction 0). gm_*_init convention (top of file):
+ * gm_wall_def_init(&d, sizeof d) writes them, gm_wall_def_default() returns
+ * them. */
+GM_API gm_status gm_wall_def_init(gm_wall_def *out, size_t struct_size);
+
 static inline gm_wall_def gm_wall_def_default(void) {
-  gm_wall_def def = {0};
-  def.struct_size = sizeof(gm_wall_def);
-  def.normal[1] = 1.0;
-  return def;
+  gm_wall_def value;
+  (void)gm_wall_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Adds a wall; *wall_id receives its id (0, 1, ...). At most 64 walls. */
@@ -348,10 +369,15 @@ typedef struct gm_wall_force {
   double tangential; /* N, |force - normal * n| */
 } gm_wall_force;
 
+/** Defaults: zeros. gm_*_init convention (top of file):
+ * gm_wall_force_init(&d, sizeof d) writes them, gm_wall_force_default() returns
+ * them. */
+GM_API gm_status gm_wall_force_init(gm_wall_force *out, size_t struct_size);
+
 static inline gm_wall_force gm_wall_force_default(void) {
-  gm_wall_force force = {0};
-  force.struct_size = sizeof(gm_wall_force);
-  return force;
+  gm_wall_force value;
+  (void)gm_wall_force_init(&value, sizeof value);
+  return value;
 }
 
 GM_API gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
@@ -396,12 +422,15 @@ typedef struct gm_rigid_def {
                          gm_domain_set_rigid_velocity() */
 } gm_rigid_def;
 
+/** Defaults: name "rigid", density 1000 kg/m^3, at rest. gm_*_init convention
+ * (top of file): gm_rigid_def_init(&d, sizeof d) writes them,
+ * gm_rigid_def_default() returns them. */
+GM_API gm_status gm_rigid_def_init(gm_rigid_def *out, size_t struct_size);
+
 static inline gm_rigid_def gm_rigid_def_default(void) {
-  gm_rigid_def def = {0};
-  def.struct_size = sizeof(gm_rigid_def);
-  def.name = "rigid";
-  def.density = 1000.0;
-  return def;
+  gm_rigid_def value;
+  (void)gm_rigid_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Registers a rigid material; add its points with gm_domain_add_points()
@@ -443,10 +472,16 @@ typedef struct gm_source_def {
   int max_injections;     /* 0 = no limit */
 } gm_source_def;
 
+/** Defaults: every field 0 or NULL (material, count, position and
+ * point_size must be set). gm_*_init convention (top of file):
+ * gm_source_def_init(&d, sizeof d) writes them, gm_source_def_default() returns
+ * them. */
+GM_API gm_status gm_source_def_init(gm_source_def *out, size_t struct_size);
+
 static inline gm_source_def gm_source_def_default(void) {
-  gm_source_def def = {0};
-  def.struct_size = sizeof(gm_source_def);
-  return def;
+  gm_source_def value;
+  (void)gm_source_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Adds a source; *source_id (required, not NULL) receives its id. */
@@ -462,10 +497,15 @@ typedef struct gm_sink_def {
   double upper[3]; /* m, opposite corner; ... and x < upper */
 } gm_sink_def;
 
+/** Defaults: an empty box at the origin (zeros). gm_*_init convention (top of
+ * file): gm_sink_def_init(&d, sizeof d) writes them, gm_sink_def_default()
+ * returns them. */
+GM_API gm_status gm_sink_def_init(gm_sink_def *out, size_t struct_size);
+
 static inline gm_sink_def gm_sink_def_default(void) {
-  gm_sink_def def = {0};
-  def.struct_size = sizeof(gm_sink_def);
-  return def;
+  gm_sink_def value;
+  (void)gm_sink_def_init(&value, sizeof value);
+  return value;
 }
 
 GM_API gm_status gm_domain_add_sink(gm_domain *domain, const gm_sink_def *def,
@@ -478,10 +518,15 @@ typedef struct gm_flow_totals {
   uint64_t points; /* count */
 } gm_flow_totals;
 
+/** Defaults: zeros. gm_*_init convention (top of file):
+ * gm_flow_totals_init(&d, sizeof d) writes them, gm_flow_totals_default()
+ * returns them. */
+GM_API gm_status gm_flow_totals_init(gm_flow_totals *out, size_t struct_size);
+
 static inline gm_flow_totals gm_flow_totals_default(void) {
-  gm_flow_totals totals = {0};
-  totals.struct_size = sizeof(gm_flow_totals);
-  return totals;
+  gm_flow_totals value;
+  (void)gm_flow_totals_init(&value, sizeof value);
+  return value;
 }
 
 GM_API gm_status gm_domain_get_source_totals(const gm_domain *domain,
@@ -511,11 +556,16 @@ typedef struct gm_granular_def {
   gm_density_control density_control; /* default ..._RETURN */
 } gm_granular_def;
 
+/** Defaults: critical_density 0 (must be set), tolerance 1e-6 kg/m^3,
+ * GM_DENSITY_CONTROL_RETURN. gm_*_init convention (top of file):
+ * gm_granular_def_init(&d, sizeof d) writes them, gm_granular_def_default()
+ * returns them. */
+GM_API gm_status gm_granular_def_init(gm_granular_def *out, size_t struct_size);
+
 static inline gm_granular_def gm_granular_def_default(void) {
-  gm_granular_def def = {0};
-  def.struct_size = sizeof(gm_granular_def);
-  def.tolerance = 1e-6;
-  return def;
+  gm_granular_def value;
+  (void)gm_granular_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Makes a material granular: the stress_free and granular families act
@@ -562,10 +612,16 @@ typedef struct gm_granular_summary {
       density_control_seconds;
 } gm_granular_summary;
 
+/** Defaults: zeros. gm_*_init convention (top of file):
+ * gm_granular_summary_init(&d, sizeof d) writes them,
+ * gm_granular_summary_default() returns them. */
+GM_API gm_status gm_granular_summary_init(gm_granular_summary *out,
+                                          size_t struct_size);
+
 static inline gm_granular_summary gm_granular_summary_default(void) {
-  gm_granular_summary summary = {0};
-  summary.struct_size = sizeof(gm_granular_summary);
-  return summary;
+  gm_granular_summary value;
+  (void)gm_granular_summary_init(&value, sizeof value);
+  return value;
 }
 
 /** Statistics of the last committed step. state_count counts
@@ -598,10 +654,16 @@ typedef struct gm_points_def {
   const double *stress;      /* Pa, count*6 (Voigt, GM_XX..); NULL = 0 */
 } gm_points_def;
 
+/** Defaults: every field 0 or NULL (count, position and volume must
+ * be set). gm_*_init convention (top of file):
+ * gm_points_def_init(&d, sizeof d) writes them, gm_points_def_default() returns
+ * them. */
+GM_API gm_status gm_points_def_init(gm_points_def *out, size_t struct_size);
+
 static inline gm_points_def gm_points_def_default(void) {
-  gm_points_def def = {0};
-  def.struct_size = sizeof(gm_points_def);
-  return def;
+  gm_points_def value;
+  (void)gm_points_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Adds points. Ids are first_id, first_id+1, ...; they never change and are
@@ -621,11 +683,15 @@ typedef struct gm_fill_def {
   double density;           /* kg/m^3; 0 = the material's density */
 } gm_fill_def;
 
+/** Defaults: points_per_cell_axis 2, every other field 0. gm_*_init convention
+ * (top of file): gm_fill_def_init(&d, sizeof d) writes them,
+ * gm_fill_def_default() returns them. */
+GM_API gm_status gm_fill_def_init(gm_fill_def *out, size_t struct_size);
+
 static inline gm_fill_def gm_fill_def_default(void) {
-  gm_fill_def def = {0};
-  def.struct_size = sizeof(gm_fill_def);
-  def.points_per_cell_axis = 2;
-  return def;
+  gm_fill_def value;
+  (void)gm_fill_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Fills the box with points on a regular lattice of spacing
@@ -742,10 +808,15 @@ typedef struct gm_summary {
   double centre_of_mass[3]; /* m */
 } gm_summary;
 
+/** Defaults: zeros. gm_*_init convention (top of file):
+ * gm_summary_init(&d, sizeof d) writes them, gm_summary_default() returns them.
+ */
+GM_API gm_status gm_summary_init(gm_summary *out, size_t struct_size);
+
 static inline gm_summary gm_summary_default(void) {
-  gm_summary summary = {0};
-  summary.struct_size = sizeof(gm_summary);
-  return summary;
+  gm_summary value;
+  (void)gm_summary_init(&value, sizeof value);
+  return value;
 }
 
 /** Totals over all points (summed in index-independent order). */

@@ -39,7 +39,7 @@ static const char *face_name(int face) {
  * been compiled against: the current one or an earlier one ending before
  * a field appended since (damping, shape, family, pic_fraction)? Those
  * fields then take their defaults. */
-static bool known_def_size(size_t size) {
+bool gm_domain_def_size_known(size_t size) {
   return size >= sizeof(gm_domain_def) ||
          size == offsetof(gm_domain_def, damping) ||
          size == offsetof(gm_domain_def, shape) ||
@@ -174,7 +174,7 @@ gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
   *out = NULL;
   if (!def)
     CREATE_FAIL(GM_ERR_NULL, "gm_domain_create: def is NULL");
-  if (!known_def_size(def->struct_size))
+  if (!gm_domain_def_size_known(def->struct_size))
     CREATE_FAIL(GM_ERR_STRUCT_SIZE,
                 "gm_domain_def.struct_size is %zu, expected %zu (or the size "
                 "of an earlier layout): initialise with "

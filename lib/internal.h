@@ -49,6 +49,11 @@ void gm_free(void *pointer);
  * keeping contents; returns false (array untouched) when out of memory. */
 bool gm_grow(void **array, size_t elem, size_t old_count, size_t new_count);
 
+/* Is size the struct_size of a gm_domain_def layout some caller may have
+ * been compiled against (the current one, or an earlier one ending before
+ * a field appended since)? domain.c; also used by gm_domain_def_init. */
+bool gm_domain_def_size_known(size_t size);
+
 /* ------------------------------------------------------------ materials */
 typedef struct gm_material {
   char name[64];

@@ -51,15 +51,15 @@ typedef struct gm_drucker_prager_def {
 
 /* Defaults: the stored granular material of Wieckowski 2004 (001 sec 5.1.1):
  * E = 1 MPa, nu = 0.3, phi = 25 degrees, density 1500 kg/m^3. */
+/** gm_drucker_prager_def_init(&d, sizeof d) writes these defaults (gm_*_init
+ * convention, granmpm.h); gm_drucker_prager_def_default() returns them. */
+GM_API gm_status gm_drucker_prager_def_init(gm_drucker_prager_def *out,
+                                            size_t struct_size);
+
 static inline gm_drucker_prager_def gm_drucker_prager_def_default(void) {
-  gm_drucker_prager_def def = {0};
-  def.struct_size = sizeof(gm_drucker_prager_def);
-  def.name = "drucker_prager";
-  def.youngs_modulus = 1e6;
-  def.poisson_ratio = 0.3;
-  def.density = 1500.0;
-  def.friction_angle = 0.43633231299858239; /* 25 degrees in radians */
-  return def;
+  gm_drucker_prager_def value;
+  (void)gm_drucker_prager_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Registers a Drucker-Prager material (GM_DRUCKER_PRAGER_STATE_COUNT state

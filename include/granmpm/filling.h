@@ -73,23 +73,14 @@ typedef struct gm_filling_def {
 /* Defaults: the filling data of 001 sec 5.1.2 (kappa = 0.02, nu = 0.3,
  * e0 = 0.9, p0 = 600 Pa, phi = 30 deg, mu = 1e4 Pa s, gamma = 1e4 1/s,
  * N = 1, rho_s = 2850 kg/m^3); max_pressure 1e5 Pa (a silo ~6 m deep). */
+/** gm_filling_def_init(&d, sizeof d) writes these defaults (gm_*_init
+ * convention, granmpm.h); gm_filling_def_default() returns them. */
+GM_API gm_status gm_filling_def_init(gm_filling_def *out, size_t struct_size);
+
 static inline gm_filling_def gm_filling_def_default(void) {
-  gm_filling_def def = {0};
-  def.struct_size = sizeof(gm_filling_def);
-  def.name = "filling";
-  def.density = 1500.0;
-  def.poisson_ratio = 0.3;
-  def.kappa = 0.02;
-  def.void_ratio = 0.9;
-  def.reference_pressure = 600.0;
-  def.bulk_viscosity = 1e4;
-  def.friction_angle = 0.5235987755982988; /* 30 degrees */
-  def.fluidity = 1e4;
-  def.exponent = 1.0;
-  def.reference_stress = 0.0;
-  def.max_pressure = 1e5;
-  def.max_iterations = 60;
-  return def;
+  gm_filling_def value;
+  (void)gm_filling_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Registers the filling material (GM_FILLING_STATE_COUNT state doubles

@@ -53,17 +53,15 @@ typedef struct gm_mohr_coulomb_def {
 
 /** Defaults: the granular material of 000 Table 3 (E = 1 GPa, nu = 0.3,
  * phi = 30 deg, psi = 0, eta = 0.15, taken as Pa s^2, rho = 2250 kg/m^3). */
+/** gm_mohr_coulomb_def_init(&d, sizeof d) writes these defaults (gm_*_init
+ * convention, granmpm.h); gm_mohr_coulomb_def_default() returns them. */
+GM_API gm_status gm_mohr_coulomb_def_init(gm_mohr_coulomb_def *out,
+                                          size_t struct_size);
+
 static inline gm_mohr_coulomb_def gm_mohr_coulomb_def_default(void) {
-  gm_mohr_coulomb_def def = {0};
-  def.struct_size = sizeof(gm_mohr_coulomb_def);
-  def.name = "mohr_coulomb";
-  def.youngs_modulus = 1e9;
-  def.poisson_ratio = 0.3;
-  def.density = 2250.0;
-  def.friction_angle = 0.52359877559829887; /* 30 degrees */
-  def.dilation_angle = 0.0;
-  def.bagnold_viscosity = 0.15;
-  return def;
+  gm_mohr_coulomb_def value;
+  (void)gm_mohr_coulomb_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Registers the built-in Mohr-Coulomb material (the domain keeps a copy of

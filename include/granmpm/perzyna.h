@@ -52,20 +52,14 @@ typedef struct gm_perzyna_def {
 
 /* Defaults: the silo discharge data of 001 sec 5.1.1 (E = 1e6 Pa, nu = 0.3,
  * phi = 25 deg, gamma = 50 1/s, N = 1, density 1500 kg/m^3). */
+/** gm_perzyna_def_init(&d, sizeof d) writes these defaults (gm_*_init
+ * convention, granmpm.h); gm_perzyna_def_default() returns them. */
+GM_API gm_status gm_perzyna_def_init(gm_perzyna_def *out, size_t struct_size);
+
 static inline gm_perzyna_def gm_perzyna_def_default(void) {
-  gm_perzyna_def def = {0};
-  def.struct_size = sizeof(gm_perzyna_def);
-  def.name = "perzyna";
-  def.youngs_modulus = 1e6;
-  def.poisson_ratio = 0.3;
-  def.density = 1500.0;
-  def.friction_angle = 0.4363323129985824; /* 25 degrees */
-  def.fluidity = 50.0;
-  def.exponent = 1.0;
-  def.reference_stress = 0.0;
-  def.max_iterations = 60;
-  def.always_iterate = 0;
-  return def;
+  gm_perzyna_def value;
+  (void)gm_perzyna_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Registers the Perzyna Drucker-Prager material (GM_PERZYNA_STATE_COUNT

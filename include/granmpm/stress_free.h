@@ -34,13 +34,15 @@ typedef struct gm_stress_free_def {
 /* Defaults: density 1500 kg/m^3 and p_wave_modulus 1.35e6 Pa, the
  * constrained modulus of the default gm_drucker_prager_def (E = 1 MPa,
  * nu = 0.3). */
+/** gm_stress_free_def_init(&d, sizeof d) writes these defaults (gm_*_init
+ * convention, granmpm.h); gm_stress_free_def_default() returns them. */
+GM_API gm_status gm_stress_free_def_init(gm_stress_free_def *out,
+                                         size_t struct_size);
+
 static inline gm_stress_free_def gm_stress_free_def_default(void) {
-  gm_stress_free_def def = {0};
-  def.struct_size = sizeof(gm_stress_free_def);
-  def.name = "stress_free";
-  def.density = 1500.0;
-  def.p_wave_modulus = 1.3461538461538462e6; /* 1e6 * 0.7 / (1.3 * 0.4) */
-  return def;
+  gm_stress_free_def value;
+  (void)gm_stress_free_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Registers a stress-free material (no state). Invalid parameters give

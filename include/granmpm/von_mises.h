@@ -44,15 +44,15 @@ typedef struct gm_von_mises_def {
 
 /* Defaults: the steel of the extrusion example of Wieckowski 2004 (001 sec
  * 5.3.1): E = 2e5 MPa, nu = 0.3, sigma_0 = 20 MPa, density 7800 kg/m^3. */
+/** gm_von_mises_def_init(&d, sizeof d) writes these defaults (gm_*_init
+ * convention, granmpm.h); gm_von_mises_def_default() returns them. */
+GM_API gm_status gm_von_mises_def_init(gm_von_mises_def *out,
+                                       size_t struct_size);
+
 static inline gm_von_mises_def gm_von_mises_def_default(void) {
-  gm_von_mises_def def = {0};
-  def.struct_size = sizeof(gm_von_mises_def);
-  def.name = "von_mises";
-  def.youngs_modulus = 2e11;
-  def.poisson_ratio = 0.3;
-  def.density = 7800.0;
-  def.yield_stress = 2e7;
-  return def;
+  gm_von_mises_def value;
+  (void)gm_von_mises_def_init(&value, sizeof value);
+  return value;
 }
 
 /** Registers a von Mises material (GM_VON_MISES_STATE_COUNT state values
