@@ -207,7 +207,9 @@ static void write_row(FILE *csv, const gm_domain *domain) {
   for (int wall = 0; wall < WALL_COUNT; wall++) {
     gm_wall_force force = gm_wall_force_default();
     gm_domain_get_wall_force(domain, wall, &force);
-    fprintf(csv, ",%.4e,%.4e", force.normal, force.tangential);
+    /* Smoothed (gm_walls(3)): the step that ends a row may be short. */
+    fprintf(csv, ",%.4e,%.4e", force.smoothed_normal,
+            force.smoothed_tangential);
   }
   fprintf(csv, "\n");
 }

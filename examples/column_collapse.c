@@ -328,7 +328,8 @@ static void write_row(collapse_run *run, int row) {
           granular.state_count[GM_STATE_QUASI_STATIC],
           granular.state_count[GM_STATE_MODERATE],
           granular.state_count[GM_STATE_DISCONNECTED], granular.component_count,
-          floor.normal, floor.tangential, back.normal);
+          floor.smoothed_normal, floor.smoothed_tangential,
+          back.smoothed_normal); /* the last step to a row may be short */
 }
 
 /* Progress over the whole run, although gm_domain_advance is called once

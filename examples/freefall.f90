@@ -163,6 +163,7 @@ contains
     type(gm_perzyna_def) :: r
     type(gm_stress_free_def) :: s
     type(gm_von_mises_def) :: t
+    type(gm_rigid_load) :: u
     call size_ok(gm_domain_def_init(a, c_sizeof(a)), a%struct_size, &
       c_sizeof(a), "gm_domain_def")
     call size_ok(gm_material_def_init(b, c_sizeof(b)), b%struct_size, &
@@ -173,6 +174,8 @@ contains
       c_sizeof(d), "gm_wall_def")
     call size_ok(gm_wall_force_init(e, c_sizeof(e)), e%struct_size, &
       c_sizeof(e), "gm_wall_force")
+    call size_ok(gm_rigid_load_init(u, c_sizeof(u)), u%struct_size, &
+      c_sizeof(u), "gm_rigid_load")
     call size_ok(gm_rigid_def_init(f, c_sizeof(f)), f%struct_size, &
       c_sizeof(f), "gm_rigid_def")
     call size_ok(gm_source_def_init(g, c_sizeof(g)), g%struct_size, &

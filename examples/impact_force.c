@@ -62,25 +62,12 @@ static const double SAMPLE_PERIOD = 0.005;  /* s between CSV rows */
 static const double FRAME_PERIOD = 0.05;    /* s between VTU frames */
 
 typedef struct impact_record {
-  int plate;              /* rigid material id */
-  double impulse, window; /* N s, s: over the current CSV row */
-  double peak_force;      /* N per metre, row averages */
-  const example_options *options;
+  int plate;             /* rigid material id */
+  double plate_impulse;  /* N s per metre, plate total at the last row */
+  double bed_impulse[2]; /* N s per metre, bed total at the last row */
+  double duration;       /* s, time the totals covered at the last row */
+  double peak_force;     /* N per metre, row averages */
 } impact_record;
-
-/* Sums the plate's force over the steps of a CSV row: single steps are
- * noisy (gm_walls(3)), the row average is the load-cell signal. */
-static int track_step(const gm_domain *domain, double time, double end_time,
-                      void *user) {
-  impact_record *record = user;
-  static double last_time = 0.0;     /* s */
-  double force[3] = {0.0, 0.0, 0.0}; /* N/m, on the plate */
-  gm_domain_get_rigid_force(domain, record->plate, force);
-  record->impulse += force[0] * (time - last_time);
-  record->window += time - last_time;
-  last_time = time;
-  return example_progress(domain, time, end_time, (void *)record->options);
-}
 
 static gm_status add_sand(gm_domain *domain, const example_options *options,
                           double youngs) {
@@ -134,11 +121,28 @@ static gm_status add_bed(gm_domain *domain) {
   return gm_domain_add_wall(domain, &bed, &id);
 }
 
+/* The row's mean loads, from the impulse totals: single steps are noisy
+ * (gm_walls(3)), and the last step to a row's time may be a sliver whose
+ * force (impulse / dt) spikes; the row's impulse over its duration is the
+ * load-cell signal, however the row was split into steps. */
 static void write_row(FILE *csv, const gm_domain *domain,
                       impact_record *record) {
-  double plate = record->window > 0 ? record->impulse / record->window : 0.0;
+  gm_rigid_load load = gm_rigid_load_default();
+  gm_domain_get_rigid_load(domain, record->plate, &load);
+  gm_wall_force bed = gm_wall_force_default();
+  gm_domain_get_wall_force(domain, 0, &bed);
+  double window = load.total_duration - record->duration; /* s */
+  double plate = 0.0, bed_force[2] = {0.0, 0.0};          /* N per metre */
+  if (window > 0.0) {
+    plate = (load.total_impulse[0] - record->plate_impulse) / window;
+    for (int k = 0; k < 2; k++)
+      bed_force[k] = (bed.total_impulse[k] - record->bed_impulse[k]) / window;
+  }
+  record->plate_impulse = load.total_impulse[0];
+  record->bed_impulse[0] = bed.total_impulse[0];
+  record->bed_impulse[1] = bed.total_impulse[1];
+  record->duration = load.total_duration;
   record->peak_force = fmax(record->peak_force, plate);
-  record->impulse = record->window = 0.0;
   if (!csv)
     return;
   double time = 0.0;
@@ -147,13 +151,11 @@ static void write_row(FILE *csv, const gm_domain *domain,
   gm_domain_get_summary(domain, &summary);
   gm_granular_summary granular = gm_granular_summary_default();
   gm_domain_get_granular_summary(domain, &granular);
-  gm_wall_force bed = gm_wall_force_default();
-  gm_domain_get_wall_force(domain, 0, &bed);
   fprintf(csv, "%.4f,%.6e,%zu,%zu,%zu,%zu,%.4f,%.4f,%.4f,%.4f\n", time,
           summary.kinetic_energy, granular.state_count[0],
           granular.state_count[1], granular.state_count[2],
-          granular.component_count, plate, plate * FLUME_WIDTH, bed.normal,
-          bed.tangential);
+          granular.component_count, plate, plate * FLUME_WIDTH, bed_force[1],
+          fabs(bed_force[0])); /* the bed normal is +y */
 }
 
 static gm_domain *create_domain(const example_options *options) {
@@ -192,7 +194,7 @@ int main(int argc, char **argv) {
   gm_domain *domain = create_domain(&options);
   if (!domain)
     return 2;
-  impact_record record = {-1, 0.0, 0.0, 0.0, &options};
+  impact_record record = {-1, 0.0, {0.0, 0.0}, 0.0, 0.0};
   EXAMPLE_CHECK(domain, add_sand(domain, &options, youngs));
   EXAMPLE_CHECK(domain, add_plate(domain, &options, &record.plate));
   EXAMPLE_CHECK(domain, add_bed(domain));
@@ -208,7 +210,7 @@ int main(int argc, char **argv) {
   gm_status status = GM_OK;
   while (status == GM_OK && time < options.t_end - 1e-12) {
     double target = fmin(time + SAMPLE_PERIOD, options.t_end);
-    status = gm_domain_advance(domain, target, 0.0, track_step, &record);
+    status = gm_domain_advance(domain, target, 0.0, example_progress, &options);
     gm_domain_get_time(domain, &time, NULL);
     write_row(csv, domain, &record);
     if (series && time >= next_frame - 1e-9) {

@@ -248,7 +248,8 @@ static gm_status fill_silo(gm_domain *domain, silo *s, int material) {
   return status;
 }
 
-/* Step hook: integrates the wall forces over time. */
+/* Step hook: sums the walls' impulses (the call's time integral of the
+ * force, exact however short the call). */
 static int integrate_wall_loads(gm_domain *domain, gm_hook_stage stage,
                                 void *user) {
   wall_loads *loads = user;
@@ -263,8 +264,8 @@ static int integrate_wall_loads(gm_domain *domain, gm_hook_stage stage,
     gm_wall_force force = gm_wall_force_default();
     if (gm_domain_get_wall_force(domain, loads->walls[k], &force) != GM_OK)
       continue;
-    loads->normal[k] += dt * force.normal;
-    loads->tangential[k] += dt * force.tangential;
+    loads->normal[k] += force.normal_impulse;
+    loads->tangential[k] += force.tangential_impulse;
   }
   return 0;
 }

@@ -124,8 +124,8 @@ static gm_status add_portion(gm_domain *domain, filling *f, double time) {
   return status;
 }
 
-/* Adds dt times each side-wall node's traction (Pa) by node row, and dt
- * times the wall's total normal force. The wall normal is (-1, 0), so
+/* Adds dt times each side-wall node's traction (Pa) by node row, and the
+ * wall's normal impulse. The wall normal is (-1, 0), so
  * positions along it are heights. */
 static void record_tractions(const gm_domain *domain, filling *f, double dt) {
   static gm_wall_traction profile[MAX_TRACTIONS];
@@ -140,7 +140,7 @@ static void record_tractions(const gm_domain *domain, filling *f, double dt) {
   }
   gm_wall_force side = gm_wall_force_default();
   if (gm_domain_get_wall_force(domain, f->walls[0], &side) == GM_OK)
-    f->wall_impulse += dt * side.normal;
+    f->wall_impulse += side.normal_impulse;
   f->averaged += dt;
 }
 
@@ -188,8 +188,9 @@ static int run(gm_domain *domain, filling *f) {
     if (f->placed < (int)f->portions && time >= f->placed * PERIOD - 1e-9)
       EXAMPLE_CHECK(domain, add_portion(domain, f, time));
     double target = fmin(end, sample * SAMPLE), step_time = time;
-    /* Down to a nanosecond of the target: a sliver step would divide the
-     * wall's contact impulse by a vanishing dt in the CSV's forces. */
+    /* Down to a nanosecond of the target (no sliver step). The CSV's
+     * forces are the smoothed ones (gm_walls(3)), which a sliver step
+     * could not make spike anyway. */
     while (target - time > 1e-9) {
       double dt = 0.0; /* s, the largest stable step, or the first one */
       if (gm_domain_point_count(domain) > 0)
@@ -210,8 +211,8 @@ static int run(gm_domain *domain, filling *f) {
                   gm_domain_get_wall_force(domain, f->walls[1], &floor));
     if (csv) {
       fprintf(csv, "%g,%g,%zu,%g,%g,%g", time, summary.kinetic_energy,
-              gm_domain_point_count(domain), side.normal, side.tangential,
-              floor.normal);
+              gm_domain_point_count(domain), side.smoothed_normal,
+              side.smoothed_tangential, floor.smoothed_normal);
       example_write_states(csv, domain);
       fputc('\n', csv);
     }

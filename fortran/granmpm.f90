@@ -152,7 +152,24 @@ module granmpm
   type, bind(c) :: gm_wall_force
     integer(c_size_t) :: struct_size
     real(c_double) :: force(3), normal, tangential   ! N
+    real(c_double) :: impulse(3), normal_impulse, tangential_impulse ! N s
+    real(c_double) :: duration                       ! s
+    real(c_double) :: total_impulse(3)               ! N s
+    real(c_double) :: total_duration                 ! s
+    real(c_double) :: smoothed_force(3), smoothed_normal, smoothed_tangential ! N
+    real(c_double) :: smoothing_time                 ! s
   end type gm_wall_force
+
+  type, bind(c) :: gm_rigid_load
+    integer(c_size_t) :: struct_size
+    real(c_double) :: force(3)                       ! N
+    real(c_double) :: impulse(3)                     ! N s
+    real(c_double) :: duration                       ! s
+    real(c_double) :: total_impulse(3)               ! N s
+    real(c_double) :: total_duration                 ! s
+    real(c_double) :: smoothed_force(3)              ! N
+    real(c_double) :: smoothing_time                 ! s
+  end type gm_rigid_load
 
   type, bind(c) :: gm_wall_traction
     real(c_double) :: position, normal, tangential
@@ -437,6 +454,32 @@ module granmpm
       integer(c_int), value :: material_id
       real(c_double), intent(out) :: force(3)
     end function gm_domain_get_rigid_force
+
+    function gm_rigid_load_init(out, struct_size) bind(c, name="gm_rigid_load_init")
+      import
+      integer(c_int) :: gm_rigid_load_init
+      type(gm_rigid_load), intent(inout) :: out
+      integer(c_size_t), value :: struct_size
+    end function gm_rigid_load_init
+
+    function gm_domain_get_rigid_load( &
+        domain, material_id, load) &
+        bind(c, name="gm_domain_get_rigid_load")
+      import
+      integer(c_int) :: gm_domain_get_rigid_load
+      type(c_ptr), value :: domain
+      integer(c_int), value :: material_id
+      type(gm_rigid_load), intent(inout) :: load
+    end function gm_domain_get_rigid_load
+
+    function gm_domain_set_force_smoothing_time( &
+        domain, seconds) &
+        bind(c, name="gm_domain_set_force_smoothing_time")
+      import
+      integer(c_int) :: gm_domain_set_force_smoothing_time
+      type(c_ptr), value :: domain
+      real(c_double), value :: seconds
+    end function gm_domain_set_force_smoothing_time
 
     function gm_source_def_init(out, struct_size) bind(c, name="gm_source_def_init")
       import

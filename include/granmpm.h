@@ -357,16 +357,35 @@ static inline gm_wall_def gm_wall_def_default(void) {
 GM_API gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
                                     int *wall_id);
 
-/** Force the wall exerted on the material during the last successful
- * gm_domain_step() call, averaged over its dt (N; per unit thickness in
- * plane strain, per unit area in 1D, the whole ring in axisymmetry), as a
- * vector and split into its normal part (>= 0, pushing along the wall
- * normal) and its tangential (friction) part. */
+/** What a wall did to the material (N; per unit thickness in plane
+ * strain, per unit area in 1D, the whole ring in axisymmetry), see
+ * gm_walls(3). Contact acts on grid nodes as a velocity constraint: the
+ * impulse of one step is the momentum of the nodes moving into the wall,
+ * whatever the step's length, so impulse / dt spikes after a very short
+ * step (a 1e-12 s step right after a gap closed: ~1e12 N). The impulses
+ * are exact; `smoothed_force` is a force that cannot spike. */
 typedef struct gm_wall_force {
   size_t struct_size;
-  double force[3];   /* N */
+  /* The last successful gm_domain_step() call, averaged over its dt: */
+  double force[3];   /* N, impulse / duration */
   double normal;     /* N, force . normal */
   double tangential; /* N, |force - normal * n| */
+  /* Appended (a caller compiled with the struct ending above still works:
+   * only its fields are written): */
+  double impulse[3];         /* N s, of the wall on the material in that call */
+  double normal_impulse;     /* N s, impulse . normal (>= 0) */
+  double tangential_impulse; /* N s, |impulse - normal_impulse * n| */
+  double duration;           /* s, the time that call covered (its dt) */
+  double total_impulse[3];   /* N s, summed over every successful call since
+                                the wall was added */
+  double total_duration;     /* s, the time total_impulse covers */
+  double smoothed_force[3];  /* N, the force through a first-order low-pass
+                                filter of time constant smoothing_time: its
+                                magnitude grows by at most |impulse| /
+                                smoothing_time in any one call */
+  double smoothed_normal;    /* N, smoothed_force . normal */
+  double smoothed_tangential; /* N, |smoothed_force - smoothed_normal * n| */
+  double smoothing_time;      /* s, gm_domain_set_force_smoothing_time() */
 } gm_wall_force;
 
 /** Defaults: zeros. gm_*_init convention (top of file):
@@ -446,9 +465,47 @@ GM_API gm_status gm_domain_set_rigid_velocity(gm_domain *domain,
 
 /** Force (N, units as gm_domain_get_wall_force) the deformable material
  * exerted on the rigid material's points during the last successful
- * gm_domain_step() call, averaged over its dt. */
+ * gm_domain_step() call, averaged over its dt: impulse / dt, which spikes
+ * after a very short step; gm_domain_get_rigid_load() also reports the
+ * impulse and a smoothed force. */
 GM_API gm_status gm_domain_get_rigid_force(const gm_domain *domain,
                                            int material_id, double force[3]);
+
+/** The load the deformable material put on a rigid material: the fields
+ * of gm_wall_force without the wall's normal/tangential split. */
+typedef struct gm_rigid_load {
+  size_t struct_size;
+  double force[3];          /* N, impulse / duration of the last call */
+  double impulse[3];        /* N s, in the last successful step call */
+  double duration;          /* s, the time that call covered (its dt) */
+  double total_impulse[3];  /* N s, summed over every successful call since
+                               the rigid material was added */
+  double total_duration;    /* s, the time total_impulse covers */
+  double smoothed_force[3]; /* N, low-pass filtered force (time constant
+                               smoothing_time) */
+  double smoothing_time;    /* s */
+} gm_rigid_load;
+
+/** Defaults: zeros. gm_*_init convention (top of file):
+ * gm_rigid_load_init(&d, sizeof d) writes them, gm_rigid_load_default()
+ * returns them. */
+GM_API gm_status gm_rigid_load_init(gm_rigid_load *out, size_t struct_size);
+
+static inline gm_rigid_load gm_rigid_load_default(void) {
+  gm_rigid_load value;
+  (void)gm_rigid_load_init(&value, sizeof value);
+  return value;
+}
+
+GM_API gm_status gm_domain_get_rigid_load(const gm_domain *domain,
+                                          int material_id, gm_rigid_load *load);
+
+/** Time constant (s, finite, > 0; default 1e-3 s) of the low-pass filter
+ * behind the smoothed forces of walls and rigid materials: tau dF/dt =
+ * f(t) - F, with f each step call's impulse spread evenly over its dt.
+ * Takes effect from the next step; the filter state carries on. */
+GM_API gm_status gm_domain_set_force_smoothing_time(gm_domain *domain,
+                                                    double seconds);
 
 /* ------------------------------------------------------ sources and sinks */
 

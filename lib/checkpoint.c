@@ -10,8 +10,9 @@
  *      the last reordering, the host-edit flags;
  *   3. the points in index order: every committed double-buffered array,
  *      the single-buffered ones, the id map;
- *   4. totals: sources' clocks and counts, sinks', rigid velocities and
- *      forces, wall forces, the granular summary.
+ *   4. totals: sources' clocks and counts, sinks', rigid velocities, the
+ *      rigid and wall force reports (last call, totals, smoothed force)
+ *      and the smoothing time, the granular summary.
  * Not stored, because each step rebuilds it from the above: the grid, the
  * block keys, the spare point buffer, the granular spanning forest (it
  * only saves search work; the labels are normalised by smallest id) and
@@ -237,6 +238,18 @@ static void write_points(const gm_domain *domain, gm_byte_writer *out) {
                   (size_t)points->next_id * sizeof(uint32_t));
 }
 
+static void write_force_report(const gm_force_report *report,
+                               gm_byte_writer *out) {
+  for (int k = 0; k < 2; k++) {
+    gm_writer_f64(out, report->impulse[k]);        /* N s */
+    gm_writer_f64(out, report->force[k]);          /* N */
+    gm_writer_f64(out, report->total_impulse[k]);  /* N s */
+    gm_writer_f64(out, report->smoothed_force[k]); /* N */
+  }
+  gm_writer_f64(out, report->duration);       /* s */
+  gm_writer_f64(out, report->total_duration); /* s */
+}
+
 static void write_totals(const gm_domain *domain, gm_byte_writer *out) {
   for (int s = 0; s < domain->source_count; s++) {
     const gm_source *source = &domain->sources[s];
@@ -249,14 +262,14 @@ static void write_totals(const gm_domain *domain, gm_byte_writer *out) {
     gm_writer_f64(out, domain->sinks[s].removed_mass); /* kg */
     gm_writer_u64(out, domain->sinks[s].removed_points);
   }
-  for (int m = 0; m < domain->material_count; m++)
-    for (int k = 0; k < 2; k++) {
-      gm_writer_f64(out, domain->materials[m].rigid_velocity[k]); /* m/s */
-      gm_writer_f64(out, domain->materials[m].rigid_force[k]);    /* N */
-    }
-  for (int w = 0; w < domain->wall_count; w++)
+  for (int m = 0; m < domain->material_count; m++) {
     for (int k = 0; k < 2; k++)
-      gm_writer_f64(out, domain->wall_force[w][k]); /* N */
+      gm_writer_f64(out, domain->materials[m].rigid_velocity[k]); /* m/s */
+    write_force_report(&domain->materials[m].rigid_report, out);
+  }
+  for (int w = 0; w < domain->wall_count; w++)
+    write_force_report(&domain->wall_report[w], out);
+  gm_writer_f64(out, domain->force_smoothing_time); /* s */
   const gm_granular_summary *summary = &domain->granular_summary;
   for (int k = 0; k < 3; k++)
     gm_writer_u64(out, summary->state_count[k]);

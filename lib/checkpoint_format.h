@@ -25,7 +25,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define GM_CHECKPOINT_VERSION     1u
+#define GM_CHECKPOINT_VERSION     2u /* 2: force reports (impulses) */
 #define GM_CHECKPOINT_HEADER_SIZE 32u
 
 /* ------------------------------------------------------------- writing */

@@ -29,8 +29,9 @@ typedef struct loaded_state {
   gm_source sources[GM_MAX_SOURCES];          /* clocks and totals only */
   gm_sink sinks[GM_MAX_SOURCES];              /* totals only */
   double rigid_velocity[GM_MAX_MATERIALS][2]; /* m/s */
-  double rigid_force[GM_MAX_MATERIALS][2];    /* N */
-  double wall_force[GM_MAX_WALLS][2];         /* N */
+  gm_force_report rigid_report[GM_MAX_MATERIALS];
+  gm_force_report wall_report[GM_MAX_WALLS];
+  double force_smoothing_time; /* s */
   gm_granular_summary summary;
 } loaded_state;
 
@@ -72,6 +73,17 @@ static void read_points(gm_byte_reader *in, const gm_domain *domain,
       gm_reader_array(in, (size_t)state->next_id * sizeof(uint32_t));
 }
 
+static void read_force_report(gm_byte_reader *in, gm_force_report *report) {
+  for (int k = 0; k < 2; k++) {
+    report->impulse[k] = gm_reader_f64(in);
+    report->force[k] = gm_reader_f64(in);
+    report->total_impulse[k] = gm_reader_f64(in);
+    report->smoothed_force[k] = gm_reader_f64(in);
+  }
+  report->duration = gm_reader_f64(in);
+  report->total_duration = gm_reader_f64(in);
+}
+
 static void read_totals(gm_byte_reader *in, const gm_domain *domain,
                         loaded_state *state) {
   for (int s = 0; s < domain->source_count; s++) {
@@ -88,14 +100,17 @@ static void read_totals(gm_byte_reader *in, const gm_domain *domain,
     state->sinks[s].removed_mass = gm_reader_f64(in);
     state->sinks[s].removed_points = gm_reader_u64(in);
   }
-  for (int m = 0; m < domain->material_count; m++)
-    for (int k = 0; k < 2; k++) {
-      state->rigid_velocity[m][k] = gm_reader_f64(in);
-      state->rigid_force[m][k] = gm_reader_f64(in);
-    }
-  for (int w = 0; w < domain->wall_count; w++)
+  for (int m = 0; m < domain->material_count; m++) {
     for (int k = 0; k < 2; k++)
-      state->wall_force[w][k] = gm_reader_f64(in);
+      state->rigid_velocity[m][k] = gm_reader_f64(in);
+    read_force_report(in, &state->rigid_report[m]);
+  }
+  for (int w = 0; w < domain->wall_count; w++)
+    read_force_report(in, &state->wall_report[w]);
+  state->force_smoothing_time = gm_reader_f64(in);
+  if (!(state->force_smoothing_time > 0.0) ||
+      !isfinite(state->force_smoothing_time))
+    in->failed = true;
   gm_granular_summary *summary = &state->summary;
   *summary = gm_granular_summary_default();
   for (int k = 0; k < 3; k++)
@@ -281,12 +296,14 @@ static void apply_totals(gm_domain *domain, const loaded_state *state) {
     domain->sinks[s].removed_mass = state->sinks[s].removed_mass;
     domain->sinks[s].removed_points = state->sinks[s].removed_points;
   }
-  for (int m = 0; m < domain->material_count; m++)
-    for (int k = 0; k < 2; k++) {
+  for (int m = 0; m < domain->material_count; m++) {
+    for (int k = 0; k < 2; k++)
       domain->materials[m].rigid_velocity[k] = state->rigid_velocity[m][k];
-      domain->materials[m].rigid_force[k] = state->rigid_force[m][k];
-    }
-  memcpy(domain->wall_force, state->wall_force, sizeof domain->wall_force);
+    domain->materials[m].rigid_report = state->rigid_report[m];
+  }
+  for (int w = 0; w < domain->wall_count; w++)
+    domain->wall_report[w] = state->wall_report[w];
+  domain->force_smoothing_time = state->force_smoothing_time;
   domain->granular_summary = state->summary;
 }
 

@@ -14,6 +14,7 @@
  */
 #include "internal.h"
 
+#include <stddef.h>
 #include <string.h>
 
 /* Copies the library's `defaults` (library_size bytes) into the caller's
@@ -91,7 +92,17 @@ gm_status gm_wall_force_init(gm_wall_force *force, size_t struct_size) {
   gm_wall_force value;
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
-  return COPY_DEFAULTS(force, struct_size, value);
+  /* The layout before the impulse fields were appended is known too, as
+   * gm_domain_get_wall_force accepts it. */
+  return copy_defaults(force, struct_size, &value, sizeof value,
+                       struct_size >= offsetof(gm_wall_force, impulse));
+}
+
+gm_status gm_rigid_load_init(gm_rigid_load *load, size_t struct_size) {
+  gm_rigid_load value;
+  memset(&value, 0, sizeof value);
+  value.struct_size = sizeof value;
+  return COPY_DEFAULTS(load, struct_size, value);
 }
 
 gm_status gm_rigid_def_init(gm_rigid_def *def, size_t struct_size) {

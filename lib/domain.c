@@ -197,6 +197,7 @@ gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
         k < domain->dim ? (int64_t)ceil(def->extent[k] / def->cell_size - 1e-9)
                         : 1;
   domain->worker_count = def->worker_count;
+  domain->force_smoothing_time = GM_DEFAULT_FORCE_SMOOTHING_TIME;
   gm_grid *grid = &domain->grid;
   grid->dim = domain->dim;
   grid->shift = domain->dim == 1 ? GM_BLOCK_SHIFT_1D : GM_BLOCK_SHIFT_2D;

@@ -54,6 +54,23 @@ bool gm_grow(void **array, size_t elem, size_t old_count, size_t new_count);
  * a field appended since)? domain.c; also used by gm_domain_def_init. */
 bool gm_domain_def_size_known(size_t size);
 
+/* ------------------------------------------------------- force reports */
+/* What a wall or rigid material reports (force_report.c): the last
+ * successful gm_domain_step() call and running totals. */
+typedef struct gm_force_report {
+  double impulse[2];        /* N s, of the last successful call */
+  double force[2];          /* N, impulse / duration */
+  double duration;          /* s, that call's dt */
+  double total_impulse[2];  /* N s, since the wall or material was added */
+  double total_duration;    /* s */
+  double smoothed_force[2]; /* N, first-order low-pass of the force */
+} gm_force_report;
+#define GM_DEFAULT_FORCE_SMOOTHING_TIME 1e-3 /* s */
+/* Commits a successful call of length dt (s) that exchanged `impulse`
+ * (N s) with the obstacle; tau (s) is the smoothing time. */
+void gm_force_report_commit(gm_force_report *report, const double impulse[2],
+                            double dt, double tau);
+
 /* ------------------------------------------------------------ materials */
 typedef struct gm_material {
   char name[64];
@@ -72,8 +89,8 @@ typedef struct gm_material {
    * force of the last successful call). */
   bool rigid;
   double rigid_velocity[2]; /* m/s */
-  double rigid_impulse[2];  /* N s */
-  double rigid_force[2];    /* N */
+  double rigid_impulse[2];  /* N s, of the call in progress */
+  gm_force_report rigid_report;
   /* Granular material (gm_domain_set_granular). */
   bool granular;
   double critical_density; /* kg/m^3, rho_cr */
@@ -260,8 +277,9 @@ struct gm_domain {
   double max_signal_speed; /* m/s, max c_p + max |v_p|, committed state */
   gm_wall walls[GM_MAX_WALLS];
   int wall_count;
-  double wall_force[GM_MAX_WALLS][2];   /* N, last gm_domain_step call */
-  double wall_impulse[GM_MAX_WALLS][2]; /* N s, of the call in progress */
+  gm_force_report wall_report[GM_MAX_WALLS]; /* last successful call, run */
+  double wall_impulse[GM_MAX_WALLS][2];      /* N s, of the call in progress */
+  double force_smoothing_time;               /* s, tau of the smoothed forces */
   bool wall_profile_valid; /* grid contact records are of a committed step */
   int rigid_count;         /* rigid materials; 0 = no rigid machinery runs */
   gm_source sources[GM_MAX_SOURCES];

@@ -42,6 +42,7 @@ gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
     return status;
   gm_material *material = &domain->materials[*material_id];
   material->rigid = true;
+  material->rigid_report = (gm_force_report){0};
   for (int k = 0; k < 2; k++)
     material->rigid_velocity[k] = k < domain->dim ? def->velocity[k] : 0.0;
   domain->rigid_count++;
@@ -96,9 +97,40 @@ gm_status gm_domain_get_rigid_force(const gm_domain *domain, int material_id,
       rigid_material(mutable_domain, material_id, "gm_domain_get_rigid_force");
   if (!material)
     return GM_ERR_UNKNOWN_MATERIAL;
-  force[0] = material->rigid_force[0];
-  force[1] = material->rigid_force[1];
+  force[0] = material->rigid_report.force[0];
+  force[1] = material->rigid_report.force[1];
   force[2] = 0.0;
+  return GM_OK;
+}
+
+gm_status gm_domain_get_rigid_load(const gm_domain *domain, int material_id,
+                                   gm_rigid_load *load) {
+  if (!domain)
+    return GM_ERR_NULL;
+  gm_domain *mutable_domain = (gm_domain *)domain; /* last_error only */
+  if (!load)
+    return gm_set_error(mutable_domain, GM_ERR_NULL,
+                        "gm_domain_get_rigid_load: load is NULL");
+  if (load->struct_size < sizeof(gm_rigid_load))
+    return gm_set_error(mutable_domain, GM_ERR_STRUCT_SIZE,
+                        "gm_rigid_load.struct_size is %zu, expected %zu",
+                        load->struct_size, sizeof(gm_rigid_load));
+  const gm_material *material =
+      rigid_material(mutable_domain, material_id, "gm_domain_get_rigid_load");
+  if (!material)
+    return GM_ERR_UNKNOWN_MATERIAL;
+  const gm_force_report *report = &material->rigid_report;
+  gm_rigid_load result = gm_rigid_load_default();
+  for (int k = 0; k < 2; k++) {
+    result.force[k] = report->force[k];
+    result.impulse[k] = report->impulse[k];
+    result.total_impulse[k] = report->total_impulse[k];
+    result.smoothed_force[k] = report->smoothed_force[k];
+  }
+  result.duration = report->duration;
+  result.total_duration = report->total_duration;
+  result.smoothing_time = domain->force_smoothing_time;
+  *load = result;
   return GM_OK;
 }
 

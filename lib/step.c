@@ -320,15 +320,17 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
     domain->busy = false;
     return status;
   }
-  /* The wall forces reported for this call: the impulse of its committed
-   * sub-steps over the whole interval (a failed call reports none). */
+  /* The wall and rigid loads reported for this call: the impulse of its
+   * committed sub-steps over the whole interval (a failed call reports
+   * none), and the running totals and smoothed forces (force_report.c). */
+  double tau = domain->force_smoothing_time; /* s */
   for (int w = 0; w < domain->wall_count; w++)
-    for (int k = 0; k < 2; k++)
-      domain->wall_force[w][k] = domain->wall_impulse[w][k] / dt;
+    gm_force_report_commit(&domain->wall_report[w], domain->wall_impulse[w], dt,
+                           tau);
   for (int m = 0; m < domain->material_count; m++)
-    for (int k = 0; k < 2; k++)
-      domain->materials[m].rigid_force[k] =
-          domain->materials[m].rigid_impulse[k] / dt;
+    if (domain->materials[m].rigid)
+      gm_force_report_commit(&domain->materials[m].rigid_report,
+                             domain->materials[m].rigid_impulse, dt, tau);
   gm_sinks_remove(domain);
   run_hook(domain, GM_HOOK_AFTER_STEP);
   domain->busy = false;

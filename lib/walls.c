@@ -72,10 +72,25 @@ gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
   }
   wall->friction_static = mu_s;
   wall->friction_kinetic = mu_k;
-  domain->wall_force[domain->wall_count][0] = 0.0;
-  domain->wall_force[domain->wall_count][1] = 0.0;
+  domain->wall_report[domain->wall_count] = (gm_force_report){0};
   *wall_id = domain->wall_count++;
   return GM_OK;
+}
+
+/* Does size cover a gm_wall_force layout a caller may have been compiled
+ * against: the current one, or the one ending before the impulse fields
+ * were appended (then only that prefix is written)? */
+static bool known_wall_force_size(size_t size) {
+  return size >= sizeof(gm_wall_force) ||
+         size == offsetof(gm_wall_force, impulse);
+}
+
+/* The part of vector along the unit normal, and the length of the rest. */
+static void split_along(const double vector[3], const double normal[2],
+                        double *along, double *across) {
+  *along = vector[0] * normal[0] + vector[1] * normal[1];
+  *across =
+      hypot(vector[0] - *along * normal[0], vector[1] - *along * normal[1]);
 }
 
 gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
@@ -86,7 +101,7 @@ gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
   if (!force)
     return gm_set_error(mutable_domain, GM_ERR_NULL,
                         "gm_domain_get_wall_force: force is NULL");
-  if (force->struct_size < sizeof(gm_wall_force))
+  if (!known_wall_force_size(force->struct_size))
     return gm_set_error(mutable_domain, GM_ERR_STRUCT_SIZE,
                         "gm_wall_force.struct_size is %zu, expected %zu",
                         force->struct_size, sizeof(gm_wall_force));
@@ -96,15 +111,26 @@ gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
                         "walls)",
                         wall_id, domain->wall_count);
   const gm_wall *wall = &domain->walls[wall_id];
+  const gm_force_report *report = &domain->wall_report[wall_id];
   gm_wall_force result = gm_wall_force_default();
-  result.force[0] = domain->wall_force[wall_id][0];
-  result.force[1] = domain->wall_force[wall_id][1];
-  result.normal =
-      result.force[0] * wall->normal[0] + result.force[1] * wall->normal[1];
-  double tangential[2] = {result.force[0] - result.normal * wall->normal[0],
-                          result.force[1] - result.normal * wall->normal[1]};
-  result.tangential = hypot(tangential[0], tangential[1]);
-  *force = result;
+  for (int k = 0; k < 2; k++) {
+    result.force[k] = report->force[k];
+    result.impulse[k] = report->impulse[k];
+    result.total_impulse[k] = report->total_impulse[k];
+    result.smoothed_force[k] = report->smoothed_force[k];
+  }
+  split_along(result.force, wall->normal, &result.normal, &result.tangential);
+  split_along(result.impulse, wall->normal, &result.normal_impulse,
+              &result.tangential_impulse);
+  split_along(result.smoothed_force, wall->normal, &result.smoothed_normal,
+              &result.smoothed_tangential);
+  result.duration = report->duration;
+  result.total_duration = report->total_duration;
+  result.smoothing_time = domain->force_smoothing_time;
+  size_t size =
+      force->struct_size < sizeof result ? force->struct_size : sizeof result;
+  result.struct_size = force->struct_size;
+  memcpy(force, &result, size);
   return GM_OK;
 }
 

@@ -226,7 +226,9 @@ typedef struct observed {
   int64_t *ids;
   double *field[FIELD_COUNT];
   size_t length[FIELD_COUNT];
-  double totals[8]; /* source kg, points; sink kg, points; wall N x2, rigid */
+  double totals[16]; /* source kg, points; sink kg, points; wall N x2, rigid
+                        N x2; wall and rigid impulse totals (N s x2) and
+                        smoothed forces (N x2) */
   gm_granular_summary granular;
 } observed;
 
@@ -254,11 +256,27 @@ static observed observe(const scene *s) {
   if (s->wall >= 0)
     REQUIRE_OK(d, gm_domain_get_wall_force(d, s->wall, &wall));
   double rigid[3] = {0.0, 0.0, 0.0};
-  if (s->rigid >= 0)
+  gm_rigid_load load = gm_rigid_load_default();
+  if (s->rigid >= 0) {
     REQUIRE_OK(d, gm_domain_get_rigid_force(d, s->rigid, rigid));
-  const double totals[8] = {
-      in.mass,       (double)in.points, out.mass, (double)out.points,
-      wall.force[0], wall.force[1],     rigid[0], rigid[1]};
+    REQUIRE_OK(d, gm_domain_get_rigid_load(d, s->rigid, &load));
+  }
+  const double totals[16] = {in.mass,
+                             (double)in.points,
+                             out.mass,
+                             (double)out.points,
+                             wall.force[0],
+                             wall.force[1],
+                             rigid[0],
+                             rigid[1],
+                             wall.total_impulse[0],
+                             wall.total_impulse[1],
+                             wall.smoothed_force[0],
+                             wall.smoothed_force[1],
+                             load.total_impulse[0],
+                             load.total_impulse[1],
+                             load.smoothed_force[0],
+                             load.smoothed_force[1]};
   memcpy(o.totals, totals, sizeof totals);
   o.granular = gm_granular_summary_default();
   REQUIRE_OK(d, gm_domain_get_granular_summary(d, &o.granular));
@@ -297,8 +315,8 @@ static void assert_same(const observed *a, const observed *b,
       ck_abort_msg("%s: field %d value %zu: %.17g vs %.17g", what, f, i,
                    a->field[f][i], b->field[f][i]);
   }
-  size_t k = first_difference(a->totals, b->totals, 8);
-  if (k < 8)
+  size_t k = first_difference(a->totals, b->totals, 16);
+  if (k < 16)
     ck_abort_msg("%s: total %zu: %.17g vs %.17g", what, k, a->totals[k],
                  b->totals[k]);
   const gm_granular_summary *x = &a->granular, *y = &b->granular;

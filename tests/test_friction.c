@@ -89,7 +89,7 @@ static double centre_along(const gm_domain *domain, const double direction[2]) {
 }
 
 /* Runs for `duration`; returns the time-averaged normal force of the wall
- * (N): sum of force * dt over the steps, divided by the duration. */
+ * (N): the sum of the steps' normal impulses, divided by the duration. */
 static double run(gm_domain *domain, int wall_id, double duration) {
   double time = 0.0, normal_impulse = 0.0;
   while (time < duration) {
@@ -100,7 +100,7 @@ static double run(gm_domain *domain, int wall_id, double duration) {
     TEST_ASSERT_OK(domain, gm_domain_step(domain, dt));
     gm_wall_force force = gm_wall_force_default();
     TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, wall_id, &force));
-    normal_impulse += force.normal * dt;
+    normal_impulse += force.normal_impulse;
     time += dt;
   }
   return normal_impulse / duration;

@@ -206,12 +206,12 @@ static void record_loads(silo *s, double dt) {
     gm_wall_force force = gm_wall_force_default();
     TEST_ASSERT_OK(s->domain, gm_domain_get_wall_force(
                                   s->domain, s->side_walls[side], &force));
-    s->loads.wall_friction += force.force[1] * dt;
+    s->loads.wall_friction += force.impulse[1];
   }
   gm_wall_force floor = gm_wall_force_default();
   TEST_ASSERT_OK(s->domain,
                  gm_domain_get_wall_force(s->domain, s->floor, &floor));
-  s->loads.floor_reaction += floor.force[1] * dt;
+  s->loads.floor_reaction += floor.impulse[1];
   s->loads.duration += dt;
 }
 
