@@ -25,7 +25,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define GM_CHECKPOINT_VERSION     1u
+/* Version 2 added the CPDI domain map (cpdi_reset.c) to the point
+ * arrays; version 1 files are refused with a message that says so. */
+#define GM_CHECKPOINT_VERSION     2u
 #define GM_CHECKPOINT_HEADER_SIZE 32u
 
 /* ------------------------------------------------------------- writing */
