@@ -72,9 +72,8 @@ static void key_ranges(void *context, size_t begin, size_t end, int worker) {
                               origin, domain->inv_cell);
     return;
   }
-  const double *const deformation[4] = {
-      current->deformation[F_XX], current->deformation[F_XY],
-      current->deformation[F_YX], current->deformation[F_YY]};
+  const double *deformation[4];
+  gm_support_tensor(domain, current, deformation);
   const double *const size[2] = {points->domain_size[0],
                                  points->domain_size[dim > 1 ? 1 : 0]};
   for (size_t i = begin; i < end; i++) {
@@ -153,6 +152,10 @@ static void permute_buffers(void *context, size_t begin, size_t end,
   for (int k = 0; k < GM_F_STORED; k++)
     if (from->deformation[k])
       permute_doubles(to->deformation[k], from->deformation[k], order, begin,
+                      end);
+  for (int k = 0; k < 4; k++)
+    if (from->domain_map[k])
+      permute_doubles(to->domain_map[k], from->domain_map[k], order, begin,
                       end);
   permute_doubles(to->volume, from->volume, order, begin, end);
   if (from->granular_state) {

@@ -25,7 +25,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define GM_CHECKPOINT_VERSION     2u /* 2: force reports (impulses) */
+/* Version 2 added the force reports of walls and rigid materials (their
+ * impulses) and the CPDI domain map (cpdi_reset.c) to the point arrays;
+ * version 1 files are refused with a message that says so. */
+#define GM_CHECKPOINT_VERSION     2u
 #define GM_CHECKPOINT_HEADER_SIZE 32u
 
 /* ------------------------------------------------------------- writing */

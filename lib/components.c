@@ -93,9 +93,8 @@ static void point_geometry(void *context, size_t begin, size_t end,
   int dim = domain->dim;
   const double *const position[2] = {current->position[0],
                                      current->position[dim > 1 ? 1 : 0]};
-  const double *const deformation[4] = {
-      current->deformation[F_XX], current->deformation[F_XY],
-      current->deformation[F_YX], current->deformation[F_YY]};
+  const double *deformation[4];
+  gm_support_tensor(domain, current, deformation);
   const double *const size[2] = {points->domain_size[0],
                                  points->domain_size[dim > 1 ? 1 : 0]};
   bool parallelograms = domain->shape_grid.shape == GM_SHAPE_CPDI;

@@ -9,6 +9,7 @@
  *  - granular, connected, rho < rho_cr - TOL: stress 0 (eq 13), F back to
  *    the previous step's (eq 14) or scaled to V = V_cr (eq 18), and
  *    V = det F V0 (eq 15). The point is then in the moderate state.
+ * With CPDI the domain map D (cpdi_reset.c) follows F in each case.
  * The result is written to the step's new buffer, with each point's state.
  */
 #include "internal.h"
@@ -27,6 +28,9 @@ static void keep_previous_deformation(const gm_point_buffers *from,
   for (int k = 0; k < GM_F_STORED; k++)
     if (to->deformation[k])
       to->deformation[k][p] = from->deformation[k][p];
+  for (int k = 0; k < 4; k++) /* CPDI: the domain goes back with F */
+    if (to->domain_map[k])
+      to->domain_map[k][p] = from->domain_map[k][p];
   to->volume[p] = from->volume[p];
 }
 
@@ -38,8 +42,11 @@ static void scale_to_critical(const gm_domain *domain, gm_point_buffers *to,
   int dimension = domain->axisymmetric ? 3 : domain->dim;
   double factor = pow(critical_volume / to->volume[p], 1.0 / dimension);
   int components = domain->dim == 1 ? 1 : 4;
-  for (int k = 0; k < components; k++)
+  for (int k = 0; k < components; k++) {
     to->deformation[k][p] *= factor;
+    if (to->domain_map[k]) /* CPDI: the domain scales with F */
+      to->domain_map[k][p] *= factor;
+  }
   double jacobian = to->deformation[F_XX][p] * to->deformation[F_YY][p] -
                     to->deformation[F_XY][p] * to->deformation[F_YX][p];
   if (domain->axisymmetric) {

@@ -4,8 +4,9 @@
  * move points with the nodal velocities, and compute the velocity gradient
  * L = sum v_i (x) grad N_i (plus the hoop rate sum N_i v_ix / x in
  * axisymmetry), from which F <- (I + L dt) F, V = det F V0 (004 eq 3.23)
- * and the stress update follow. Points are processed in chunks of
- * GM_BATCH_SIZE, the unit of a material call.
+ * and the stress update follow; with CPDI the domain map D takes the same
+ * increment and may then be reset (cpdi_reset.c). Points are processed in
+ * chunks of GM_BATCH_SIZE, the unit of a material call.
  */
 #include "shape_linear.h"
 #include "transfer.h"
@@ -214,6 +215,24 @@ static bool deform_chunk(gm_domain *domain, const gather_view *v,
     volume[j] = jacobian * initial_volume[j];
     positive &= jacobian > 0.0 && jacobian < INFINITY;
   }
+  if (v->next_domain_map[0]) { /* CPDI: the domain map takes F's increment */
+    const double *restrict d_xx = v->domain_map[F_XX] + first;
+    const double *restrict d_xy = v->domain_map[F_XY] + first;
+    const double *restrict d_yx = v->domain_map[F_YX] + first;
+    const double *restrict d_yy = v->domain_map[F_YY] + first;
+    double *restrict m_xx = v->next_domain_map[F_XX] + first;
+    double *restrict m_xy = v->next_domain_map[F_XY] + first;
+    double *restrict m_yx = v->next_domain_map[F_YX] + first;
+    double *restrict m_yy = v->next_domain_map[F_YY] + first;
+    for (size_t j = 0; j < count; j++) { /* the same arithmetic as F's */
+      double i_xx = 1.0 + l_xx[j] * dt, i_xy = l_xy[j] * dt;
+      double i_yx = l_yx[j] * dt, i_yy = 1.0 + l_yy[j] * dt;
+      m_xx[j] = i_xx * d_xx[j] + i_xy * d_yx[j];
+      m_xy[j] = i_xx * d_xy[j] + i_xy * d_yy[j];
+      m_yx[j] = i_yx * d_xx[j] + i_yy * d_yx[j];
+      m_yy[j] = i_yx * d_xy[j] + i_yy * d_yy[j];
+    }
+  }
   if (v->axisymmetric) { /* the hoop stretch multiplies det F */
     const double *restrict f_zz = v->deformation[F_ZZ] + first;
     double *restrict n_zz = v->next_deformation[F_ZZ] + first;
@@ -322,10 +341,13 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
         gm_density_control_chunk(domain, first, count);
         scratch->density_control_seconds += gm_monotonic_seconds() - start;
       }
+      if (v->next_domain_map[0]) /* once D is final but for the reset */
+        gm_cpdi_reset_chunk(domain, first, count);
     } else if (deform) {
       deformed = false;
     }
-    /* A wide support depends on F too: keys once F is final. */
+    /* A wide support depends on F (cpGIMP) or D (CPDI) too: keys once
+     * they are final. */
     bool finish = ctx->pass->finish; /* the new state is complete */
     if (finish && wide && deformed)
       gm_wide_keys_chunk(domain, v, scratch, first, count);
@@ -380,6 +402,12 @@ static void make_view(gm_domain *domain, gather_view *view) {
   for (int k = 0; k < GM_F_STORED; k++) {
     view->deformation[k] = from->deformation[k];
     view->next_deformation[k] = to->deformation[k];
+  }
+  gm_support_tensor(domain, from, view->support_tensor);
+  gm_support_tensor(domain, to, view->next_support_tensor);
+  for (int k = 0; k < 4; k++) { /* NULL unless CPDI */
+    view->domain_map[k] = from->domain_map[k];
+    view->next_domain_map[k] = to->domain_map[k];
   }
   view->point_block = points->point_block;
   view->grid = grid;

@@ -12,9 +12,7 @@
 void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
                           chunk_gather *out) {
   int dim = v->dim;
-  const double *const deformation[4] = {
-      v->deformation[F_XX], v->deformation[F_XY], v->deformation[F_YX],
-      v->deformation[F_YY]};
+  const double *const *deformation = v->support_tensor;
   gm_support support;
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
@@ -68,9 +66,7 @@ void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
                         size_t count) {
   int dim = v->dim;
   const double *const position[2] = {v->next_position[0], v->next_position[1]};
-  const double *const deformation[4] = {
-      v->next_deformation[F_XX], v->next_deformation[F_XY],
-      v->next_deformation[F_YX], v->next_deformation[F_YY]};
+  const double *const *deformation = v->next_support_tensor;
   for (size_t p = first; p < first + count; p++) {
     int64_t lowest[2], highest[2];
     if (gm_wide_support_bounds(v->shape_grid, dim, position, deformation,

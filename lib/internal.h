@@ -110,9 +110,15 @@ typedef struct gm_point_buffers {
   double *velocity[3];              /* m/s */
   double *stress[GM_STRESS_STORED]; /* Pa, xx yy zz xy */
   double *deformation[GM_F_STORED]; /* F components, see F_XX.. */
-  double *volume;                   /* current volume (units: gm_points_def) */
-  double *state;                    /* state[i*stride+k]: one pool for all
-                                       materials, stride = max state_count */
+  /* CPDI only (NULL otherwise): the domain map D, F_XX..F_YY slots. The
+   * domain's half edges are r1 = D (l_x/2, 0), r2 = D (0, l_y/2) with l
+   * the initial edges (domain_size). D takes the same increments as F
+   * (and the same density control), so D = F bitwise until the domain of
+   * an over-distorted point is reset (cpdi_reset.c). */
+  double *domain_map[4];
+  double *volume; /* current volume (units: gm_points_def) */
+  double *state;  /* state[i*stride+k]: one pool for all
+                     materials, stride = max state_count */
   /* Granular family only (NULL otherwise): gm_point_state and parallel
    * grid label of the step that produced this buffer. */
   double *granular_state;
@@ -377,6 +383,16 @@ void gm_buffers_free(gm_point_buffers *buffer);
 /* Copies count points of every double-buffered field. */
 void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
                      size_t count, size_t state_stride);
+/* The tensor that deforms the point domains of a buffer set: the CPDI
+ * domain map D, or F (cpGIMP reads its diagonal; uGIMP and linear MPM
+ * ignore it). F_XX..F_YY slots. */
+static inline void gm_support_tensor(const gm_domain *domain,
+                                     const gm_point_buffers *buffer,
+                                     const double *out[4]) {
+  bool cpdi = domain->shape_grid.shape == GM_SHAPE_CPDI;
+  for (int k = 0; k < 4; k++)
+    out[k] = cpdi ? buffer->domain_map[k] : buffer->deformation[k];
+}
 /* Point p's domain (support.h) in one buffer set (points.c). */
 void gm_point_domain_at(const gm_domain *domain, const gm_point_buffers *buffer,
                         size_t p, gm_point_domain *out);
@@ -482,6 +498,18 @@ gm_status gm_granular_prepare(gm_domain *domain);
 /* After the stress update of a chunk: stress-free and density-control
  * rules of the stress_free and granular families (000 eqs 13-15, 18). */
 void gm_density_control_chunk(gm_domain *domain, size_t first, size_t count);
+/* CPDI domain reset (cpdi_reset.c). The largest ratio of the singular
+ * values of a point's domain map D before it is reset to the initial
+ * domain scaled to the same area: a square domain then has an aspect of
+ * at most 3 (see cpdi_reset.c and gm_domain_create(3)). */
+#define GM_CPDI_MAX_DISTORTION 3.0
+/* Resets map (D_xx, D_xy, D_yx, D_yy) to sqrt(det D) I when the ratio of
+ * its singular values exceeds max_distortion and det D > 0; true if it
+ * did. */
+bool gm_cpdi_domain_reset(double map[4], double max_distortion);
+/* The resets of the next buffer's points [first, first + count): after
+ * their deformation and density control (g2p.c); nothing in 1D. */
+void gm_cpdi_reset_chunk(const gm_domain *domain, size_t first, size_t count);
 /* Pair search (pair_search.c) and layers (layers.c). */
 typedef enum gm_pair_pass { GM_PASS_JOIN, GM_PASS_CONFLICTS } gm_pair_pass;
 /* Every pair sharing a node: from every point with half windows (subset

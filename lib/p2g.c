@@ -291,8 +291,7 @@ static void make_view(gm_domain *domain, const gm_p2g_pass *pass,
   view->material = points->material;
   view->shape_grid = &domain->shape_grid;
   view->grid = grid;
-  for (int k = 0; k < 4; k++) /* F_XX..F_YY are the first four */
-    view->deformation[k] = current->deformation[k];
+  gm_support_tensor(domain, current, view->deformation);
   for (int m = 0; m < domain->material_count; m++)
     view->rigid[m] = domain->materials[m].rigid;
 }

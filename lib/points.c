@@ -33,6 +33,9 @@ gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
     GROW(buffer->stress[k], sizeof(double));
   for (int k = 0; k < stored_deformation(domain); k++)
     GROW(buffer->deformation[k], sizeof(double));
+  if (domain->def.shape == GM_SHAPE_CPDI)
+    for (int k = 0; k < 4; k++)
+      GROW(buffer->domain_map[k], sizeof(double));
   GROW(buffer->volume, sizeof(double));
   if (domain->points.state_stride)
     GROW(buffer->state, domain->points.state_stride * sizeof(double));
@@ -123,6 +126,8 @@ void gm_buffers_free(gm_point_buffers *buffer) {
     gm_free(buffer->stress[k]);
   for (int k = 0; k < GM_F_STORED; k++)
     gm_free(buffer->deformation[k]);
+  for (int k = 0; k < 4; k++)
+    gm_free(buffer->domain_map[k]);
   gm_free(buffer->volume);
   gm_free(buffer->state);
   gm_free(buffer->granular_state);
@@ -145,6 +150,8 @@ void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
     copy_array(to->stress[k], from->stress[k], count);
   for (int k = 0; k < GM_F_STORED; k++)
     copy_array(to->deformation[k], from->deformation[k], count);
+  for (int k = 0; k < 4; k++)
+    copy_array(to->domain_map[k], from->domain_map[k], count);
   copy_array(to->volume, from->volume, count);
   copy_array(to->state, from->state, count * state_stride);
   copy_array(to->granular_state, from->granular_state, count);
@@ -354,6 +361,9 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
   buffer->deformation[F_YY][p] = 1.0;
   if (buffer->deformation[F_ZZ])
     buffer->deformation[F_ZZ][p] = 1.0;
+  if (buffer->domain_map[0]) /* CPDI: the initial domain, D = I */
+    for (int k = 0; k < 4; k++)
+      buffer->domain_map[k][p] = k == F_XX || k == F_YY ? 1.0 : 0.0;
   for (size_t k = 0; k < points->state_stride; k++)
     buffer->state[p * points->state_stride + k] =
         k < material->state_count ? material->initial_state[k] : 0.0;
@@ -477,9 +487,8 @@ void gm_point_domain_at(const gm_domain *domain, const gm_point_buffers *buffer,
   int dim = domain->dim;
   const double *const position[2] = {buffer->position[0],
                                      buffer->position[dim > 1 ? 1 : 0]};
-  const double *const deformation[4] = {
-      buffer->deformation[F_XX], buffer->deformation[F_XY],
-      buffer->deformation[F_YX], buffer->deformation[F_YY]};
+  const double *deformation[4];
+  gm_support_tensor(domain, buffer, deformation);
   const double *const size[2] = {points->domain_size[0],
                                  points->domain_size[dim > 1 ? 1 : 0]};
   gm_load_point_domain(dim, position, deformation, size, p, out);

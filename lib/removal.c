@@ -28,6 +28,8 @@ static void move_point(gm_domain *domain, size_t to, size_t from) {
     move_element(buffer->stress[k], sizeof(double), to, from);
   for (int k = 0; k < GM_F_STORED; k++)
     move_element(buffer->deformation[k], sizeof(double), to, from);
+  for (int k = 0; k < 4; k++)
+    move_element(buffer->domain_map[k], sizeof(double), to, from);
   move_element(buffer->volume, sizeof(double), to, from);
   move_element(buffer->granular_state, sizeof(double), to, from);
   move_element(buffer->component, sizeof(double), to, from);

@@ -36,7 +36,9 @@ typedef struct scatter_view {
   /* Wide supports (p2g_wide.c): the domains' shape and size. */
   const gm_shape_grid *shape_grid;
   const gm_grid *grid;
-  const double *deformation[4]; /* F_xx, F_xy, F_yx, F_yy, committed */
+  /* Committed F_xx, F_xy, F_yx, F_yy, or for CPDI the domain map D
+   * (gm_support_tensor): what deforms the domains. */
+  const double *deformation[4];
   const double *domain_size[2]; /* m, initial domain edges */
 } scatter_view;
 
@@ -71,6 +73,13 @@ typedef struct gather_view {
   /* Wide supports (g2p_wide.c). */
   const gm_shape_grid *shape_grid;
   const double *domain_size[2]; /* m, initial domain edges */
+  /* What deforms the domains (gm_support_tensor), committed and next:
+   * F, or for CPDI the domain map D, whose update and reset the deform
+   * pass writes to next_domain_map (NULL unless CPDI). */
+  const double *support_tensor[4];
+  const double *next_support_tensor[4];
+  const double *domain_map[4];
+  double *next_domain_map[4];
 } gather_view;
 
 /* What the grid tells the points of one chunk, SoA: interpolated nodal
