@@ -164,6 +164,7 @@ contains
     type(gm_stress_free_def) :: s
     type(gm_von_mises_def) :: t
     type(gm_rigid_load) :: u
+    type(gm_mu_i_def) :: w
     call size_ok(gm_domain_def_init(a, c_sizeof(a)), a%struct_size, &
       c_sizeof(a), "gm_domain_def")
     call size_ok(gm_material_def_init(b, c_sizeof(b)), b%struct_size, &
@@ -176,6 +177,8 @@ contains
       c_sizeof(e), "gm_wall_force")
     call size_ok(gm_rigid_load_init(u, c_sizeof(u)), u%struct_size, &
       c_sizeof(u), "gm_rigid_load")
+    call size_ok(gm_mu_i_def_init(w, c_sizeof(w)), w%struct_size, &
+      c_sizeof(w), "gm_mu_i_def")
     call size_ok(gm_rigid_def_init(f, c_sizeof(f)), f%struct_size, &
       c_sizeof(f), "gm_rigid_def")
     call size_ok(gm_source_def_init(g, c_sizeof(g)), g%struct_size, &

@@ -85,7 +85,9 @@ module granmpm
   integer(c_int), parameter :: GM_MOHR_COULOMB_PLASTIC_SHEAR_STRAIN = 0, &
     GM_MOHR_COULOMB_STATE_COUNT = 1, GM_DRUCKER_PRAGER_STATE_COUNT = 1, &
     GM_PERZYNA_STATE_COUNT = 1, GM_FILLING_STATE_COUNT = 2, &
-    GM_VON_MISES_PLASTIC_STRAIN = 0, GM_VON_MISES_STATE_COUNT = 1
+    GM_VON_MISES_PLASTIC_STRAIN = 0, GM_VON_MISES_STATE_COUNT = 1, &
+    GM_MU_I_PLASTIC_STRAIN = 0, GM_MU_I_INERTIAL_NUMBER = 1, &
+    GM_MU_I_STATE_COUNT = 2
   ! version of the C header this module matches (GM_VERSION_NUMBER in C;
   ! renamed: Fortran names are case-insensitive and gm_version_number is
   ! the function)
@@ -283,6 +285,18 @@ module granmpm
     type(c_ptr) :: name
     real(c_double) :: youngs_modulus, poisson_ratio, density, yield_stress
   end type gm_von_mises_def
+
+  type, bind(c) :: gm_mu_i_def
+    integer(c_size_t) :: struct_size
+    type(c_ptr) :: name
+    real(c_double) :: youngs_modulus, poisson_ratio   ! Pa, -
+    real(c_double) :: density, grain_density          ! kg/m^3
+    real(c_double) :: grain_diameter                  ! m
+    real(c_double) :: static_friction, limit_friction, inertial_number_scale
+    real(c_double) :: critical_density                ! kg/m^3
+    integer(c_int) :: regularise
+    real(c_double) :: regularisation_exponent
+  end type gm_mu_i_def
 
   interface
     function gm_version() bind(c, name="gm_version")
@@ -945,5 +959,33 @@ module granmpm
       character(kind=c_char), intent(out) :: message(*)
       integer(c_size_t), value :: message_size
     end function gm_von_mises_update
+
+    function gm_mu_i_def_init(out, struct_size) bind(c, name="gm_mu_i_def_init")
+      import
+      integer(c_int) :: gm_mu_i_def_init
+      type(gm_mu_i_def), intent(inout) :: out
+      integer(c_size_t), value :: struct_size
+    end function gm_mu_i_def_init
+
+    function gm_domain_add_mu_i( &
+        domain, def, material_id) &
+        bind(c, name="gm_domain_add_mu_i")
+      import
+      integer(c_int) :: gm_domain_add_mu_i
+      type(c_ptr), value :: domain
+      type(gm_mu_i_def), intent(in) :: def
+      integer(c_int), intent(out) :: material_id
+    end function gm_domain_add_mu_i
+
+    function gm_mu_i_update( &
+        batch, user, message, message_size) &
+        bind(c, name="gm_mu_i_update")
+      import
+      integer(c_int) :: gm_mu_i_update
+      type(gm_material_batch), intent(in) :: batch
+      type(c_ptr), value :: user
+      character(kind=c_char), intent(out) :: message(*)
+      integer(c_size_t), value :: message_size
+    end function gm_mu_i_update
   end interface
 end module granmpm

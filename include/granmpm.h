@@ -957,6 +957,7 @@ GM_API gm_status gm_set_allocator(const gm_allocator *allocator);
 #include "granmpm/drucker_prager.h"
 #include "granmpm/filling.h"
 #include "granmpm/mohr_coulomb.h"
+#include "granmpm/mu_i.h"
 #include "granmpm/perzyna.h"
 #include "granmpm/stress_free.h"
 #include "granmpm/von_mises.h"

@@ -176,11 +176,12 @@ static gm_status check_header(gm_domain *domain, const char *path,
                         "%s: '%s' has checkpoint format "
                         "version %u; this library reads version %u%s",
                         what, path, (unsigned)version, GM_CHECKPOINT_VERSION,
-                        version == 1u ? " (version 1 predates the force reports "
-                                        "and the stored CPDI "
-                                        "domains: restart that run from its "
-                                        "setup with this library)"
-                                      : "");
+                        version == 1u
+                            ? " (version 1 predates the force reports "
+                              "and the stored CPDI "
+                              "domains: restart that run from its "
+                              "setup with this library)"
+                            : "");
   if (payload_size != size - GM_CHECKPOINT_HEADER_SIZE)
     return gm_set_error(
         domain, GM_ERR_IO,

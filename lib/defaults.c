@@ -270,3 +270,22 @@ gm_status gm_von_mises_def_init(gm_von_mises_def *def, size_t struct_size) {
   value.yield_stress = 2e7; /* Pa */
   return COPY_DEFAULTS(def, struct_size, value);
 }
+
+gm_status gm_mu_i_def_init(gm_mu_i_def *def, size_t struct_size) {
+  gm_mu_i_def value;
+  memset(&value, 0, sizeof value);
+  value.struct_size = sizeof value;
+  value.name = "mu_i";
+  value.youngs_modulus = 1e6; /* Pa */
+  value.poisson_ratio = 0.3;
+  value.density = 1500.0;                     /* kg/m^3 */
+  value.grain_density = 2500.0;               /* kg/m^3 */
+  value.grain_diameter = 0.5e-3;              /* m */
+  value.static_friction = 0.3818628674187188; /* tan(20.9 deg) */
+  value.limit_friction = 0.6434683848584607;  /* tan(32.76 deg) */
+  value.inertial_number_scale = 0.279;
+  value.critical_density = 0.0;
+  value.regularise = 1;
+  value.regularisation_exponent = 1.9;
+  return COPY_DEFAULTS(def, struct_size, value);
+}
