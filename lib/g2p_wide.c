@@ -9,6 +9,38 @@
 
 #include <math.h>
 
+/* B_p of point p (entry j of the chunk) from its support: node i of an
+ * entry lies at origin + (lowest + offset) h. */
+static void gather_affine(const gather_view *v, const gm_support *support,
+                          const uint32_t *links, int64_t x0, int64_t y0,
+                          size_t p, chunk_gather *out, size_t j) {
+  int dim = v->dim;
+  double node[2]; /* m, node 0 relative to the point */
+  for (int k = 0; k < 2; k++)
+    node[k] = k < dim ? v->origin[k] - v->position[k][p] : 0.0;
+  double b[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* m^2/s */
+  for (int e = 0; e < support->count; e++) {
+    size_t index = gm_block_node(links, v->shift, x0 + support->offset[0][e],
+                                 y0 + support->offset[1][e]);
+    double offset[2]; /* m, x_i - x_p */
+    for (int k = 0; k < 2; k++)
+      offset[k] =
+          k < dim
+              ? node[k] + (double)(support->lowest[k] + support->offset[k][e]) *
+                              v->cell
+              : 0.0;
+    for (int a = 0; a < dim; a++) {
+      double wv = support->weight[e] * v->grid_velocity[a][index];
+      for (int c = 0; c < dim; c++)
+        b[a][c] += wv * offset[c];
+    }
+  }
+  out->affine[0][j] = b[0][0];
+  out->affine[1][j] = b[0][1];
+  out->affine[2][j] = b[1][0];
+  out->affine[3][j] = b[1][1];
+}
+
 void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
                           chunk_gather *out) {
   int dim = v->dim;
@@ -60,6 +92,8 @@ void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
     /* Hoop strain rate v_r / r (002 sec 3). */
     out->gradient[4][j] =
         v->axisymmetric ? velocity[0] / v->position[0][p] : 0.0;
+    if (v->affine) /* APIC's B_p = sum N_ip v_i (x_i - x_p)^T */
+      gather_affine(v, &support, links, x0, y0, p, out, j);
   }
 }
 
