@@ -9,38 +9,6 @@
 
 #include <math.h>
 
-/* B_p of point p (entry j of the chunk) from its support: node i of an
- * entry lies at origin + (lowest + offset) h. */
-static void gather_affine(const gather_view *v, const gm_support *support,
-                          const uint32_t *links, int64_t x0, int64_t y0,
-                          size_t p, chunk_gather *out, size_t j) {
-  int dim = v->dim;
-  double node[2]; /* m, node 0 relative to the point */
-  for (int k = 0; k < 2; k++)
-    node[k] = k < dim ? v->origin[k] - v->position[k][p] : 0.0;
-  double b[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* m^2/s */
-  for (int e = 0; e < support->count; e++) {
-    size_t index = gm_block_node(links, v->shift, x0 + support->offset[0][e],
-                                 y0 + support->offset[1][e]);
-    double offset[2]; /* m, x_i - x_p */
-    for (int k = 0; k < 2; k++)
-      offset[k] =
-          k < dim
-              ? node[k] + (double)(support->lowest[k] + support->offset[k][e]) *
-                              v->cell
-              : 0.0;
-    for (int a = 0; a < dim; a++) {
-      double wv = support->weight[e] * v->grid_velocity[a][index];
-      for (int c = 0; c < dim; c++)
-        b[a][c] += wv * offset[c];
-    }
-  }
-  out->affine[0][j] = b[0][0];
-  out->affine[1][j] = b[0][1];
-  out->affine[2][j] = b[1][0];
-  out->affine[3][j] = b[1][1];
-}
-
 void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
                           chunk_gather *out) {
   int dim = v->dim;
@@ -62,6 +30,18 @@ void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
     double acceleration[2] = {0.0, 0.0}, velocity[2] = {0.0, 0.0};
     double gradient[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* L_ab = dv_a/dx_b */
     double empty[2] = {0.0, 0.0}; /* gradient sum of massless nodes */
+    /* APIC's B_p = sum N_ip v_i (x_i - x_p)^T: node i of an entry lies at
+     * origin + (lowest + offset) h, node_x/node_y being x_i - x_p of the
+     * support's lowest node (m). */
+    double affine[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* m^2/s */
+    double node_x = 0.0, node_y = 0.0;
+    if (v->affine) {
+      node_x = v->origin[0] + (double)support.lowest[0] * v->cell -
+               v->position[0][p];
+      node_y = dim > 1 ? v->origin[1] + (double)support.lowest[1] * v->cell -
+                             v->position[1][p]
+                       : 0.0;
+    }
     for (int e = 0; e < support.count; e++) {
       size_t node = gm_block_node(links, v->shift, x0 + support.offset[0][e],
                                   y0 + support.offset[1][e]);
@@ -69,12 +49,17 @@ void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
       double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
       for (int b = 0; b < dim; b++)
         empty[b] += is_empty * support.gradient[b][e];
+      double offset[2] = {node_x + (double)support.offset[0][e] * v->cell,
+                          node_y + (double)support.offset[1][e] * v->cell};
       for (int a = 0; a < dim; a++) {
         double nodal = v->grid_velocity[a][node];
         acceleration[a] += weight * v->grid_acceleration[a][node];
         velocity[a] += weight * nodal;
         for (int b = 0; b < dim; b++)
           gradient[a][b] += nodal * support.gradient[b][e];
+        if (v->affine)
+          for (int b = 0; b < dim; b++)
+            affine[a][b] += weight * nodal * offset[b];
       }
     }
     /* Massless nodes: the point's own velocity (see gather_chunk_2d). */
@@ -92,8 +77,10 @@ void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
     /* Hoop strain rate v_r / r (002 sec 3). */
     out->gradient[4][j] =
         v->axisymmetric ? velocity[0] / v->position[0][p] : 0.0;
-    if (v->affine) /* APIC's B_p = sum N_ip v_i (x_i - x_p)^T */
-      gather_affine(v, &support, links, x0, y0, p, out, j);
+    out->affine[0][j] = affine[0][0];
+    out->affine[1][j] = affine[0][1];
+    out->affine[2][j] = affine[1][0];
+    out->affine[3][j] = affine[1][1];
   }
 }
 

@@ -120,13 +120,14 @@ void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
     if (affine) {
       double h = v->cell; /* m */
       for (int axis = 0; axis < 2; axis++) {
-        double node = axis < dim ? v->origin[axis] - v->position[axis][p] : 0.0;
+        /* m, x_i - x_p of the support's lowest node */
+        double node = axis < dim
+                          ? v->origin[axis] + (double)support.lowest[axis] * h -
+                                v->position[axis][p]
+                          : 0.0;
         for (int e = 0; e < support.count; e++)
-          offset[axis][e] = axis < dim
-                                ? node + (double)(support.lowest[axis] +
-                                                  support.offset[axis][e]) *
-                                             h
-                                : 0.0;
+          offset[axis][e] =
+              axis < dim ? node + (double)support.offset[axis][e] * h : 0.0;
       }
       double b[4] = {v->affine[0][p], dim > 1 ? v->affine[1][p] : 0.0,
                      dim > 1 ? v->affine[2][p] : 0.0,
