@@ -119,9 +119,10 @@ typedef enum gm_family {
 /** How velocities travel between points and grid (gm_domain_create(3)). */
 typedef enum gm_transfer {
   GM_TRANSFER_FLIP = 0, /* FLIP, blended with PIC by pic_fraction (default) */
-  GM_TRANSFER_APIC = 1  /* affine PIC (Jiang et al. 2015): each point carries
-                           an affine matrix B_p (GM_FIELD_AFFINE); momentum
-                           and angular momentum survive the transfers */
+  GM_TRANSFER_APIC = 1  /* affine PIC (Jiang et al. 2015): each point also
+                           carries an affine matrix (GM_FIELD_AFFINE);
+                           linear and angular momentum survive the
+                           transfers, without FLIP's noise */
 } gm_transfer;
 
 /** Boundary condition on one face of the grid box. */
@@ -671,9 +672,12 @@ typedef enum gm_field {
   GM_FIELD_COMPONENT = 14,      /* parallel grid of the last step: 0, 1, ...
                                    in order of each grid's smallest point
                                    id; 0 outside the granular family */
-  GM_FIELD_AFFINE = 15          /* m^2/s, APIC's B_p = sum_i N_ip v_i
-                                   (x_i - x_p)^T, dim x dim row-major (B_xx,
-                                   B_xy, B_yx, B_yy in 2D); writable, to start
+  GM_FIELD_AFFINE = 15          /* APIC's affine matrix, dim x dim
+                                   row-major (xx, xy, yx, yy in 2D): B_p =
+                                   sum_i N_ip v_i (x_i - x_p)^T, m^2/s, for
+                                   GIMP and CPDI; C_p = sum_i v_i (x) grad
+                                   N_ip, 1/s, for linear MPM (see
+                                   gm_domain_create(3)); writable, to start
                                    an affine velocity field; stored with
                                    GM_TRANSFER_APIC only (zeros otherwise) */
 } gm_field;
