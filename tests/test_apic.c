@@ -178,9 +178,11 @@ START_TEST(test_disc_keeps_angular_momentum) {
    * sum_i N_ip D_p^-1 (x_i - x_p) x_i^T = I; sum_i grad N_ip x_i^T = I
    * makes the internal forces' moment sigma : eps = 0 for a symmetric
    * stress; USL moves points with v_p itself, so x_p x v_p gains
-   * dt v_p x v_p = 0). What is left is rounding: about 1e-16 per operation,
-   * over ~200 points (0.16 pi m^2 at 0.05 m spacing) and 100 steps; 1e-12
-   * leaves two orders of margin (measured: see the printout, ~1e-14). */
+   * dt v_p x v_p = 0). What is left is rounding: about 1e-16 per
+   * operation, over ~200 points (0.16 pi m^2 at 0.05 m spacing) and 100
+   * steps; measured 2e-14 (uGIMP, CPDI) to 2.4e-13 (cpGIMP), see the
+   * printout, so 1e-12 leaves a margin of 4 or more, while any transfer
+   * error (FLIP's 2 %, linear MPM's 0.6 %) exceeds it by orders. */
   double tolerance = 1e-12;
   /* Linear MPM keeps C_p, not B_p (lib/p2g.c): the affine moment
    * m_p C_p D_p is gathered with the D_p of one position and scattered
