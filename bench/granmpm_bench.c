@@ -18,10 +18,12 @@
  * process's RSS before the domain was created, divided by the points: it
  * includes the grid, the scratch and the transient peaks of creation.
  *
- * Usage: granmpm-bench [--quick] [--case NAME]
+ * Usage: granmpm-bench [--quick] [--case NAME] [--apic]
  *   --quick      only the 1e4 and 1e5 cases (block-1e4, block-1e5,
  *                empty-1e5)
  *   --case NAME  only that case (both worker counts)
+ *   --apic       the APIC velocity transfer (gm_domain_def.transfer)
+ *                instead of FLIP
  *
  * Timing: a few warm-up steps (first-touch allocation of the grid and
  * scratch happens there), then the step count is chosen so each case takes
@@ -223,6 +225,9 @@ static int add_cloud(gm_domain *domain, int material, double cell_size,
   return 0;
 }
 
+/* The velocity transfer of every case (--apic). */
+static gm_transfer bench_transfer = GM_TRANSFER_FLIP;
+
 /* Creates the domain and the block for one case. */
 static int build_scene(const bench_case *scene, int workers,
                        gm_domain **domain) {
@@ -249,6 +254,7 @@ static int build_scene(const bench_case *scene, int workers,
   def.gravity[1] = gravity;
   def.scheme = GM_SCHEME_USL;
   def.shape = scene->shape;
+  def.transfer = bench_transfer;
   def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
   def.worker_count = workers;
   CHECK(*domain, gm_domain_create(&def, domain));
@@ -369,7 +375,8 @@ static bool run_case_isolated(const bench_case *scene, int workers) {
 }
 
 static void print_usage(FILE *stream) {
-  fprintf(stream, "usage: granmpm-bench [--quick] [--case NAME]\ncases:");
+  fprintf(stream,
+          "usage: granmpm-bench [--quick] [--case NAME] [--apic]\ncases:");
   for (int c = 0; c < CASE_COUNT; c++)
     fprintf(stream, " %s", bench_cases[c].name);
   fprintf(stream, "\n");
@@ -383,6 +390,8 @@ int main(int argc, char **argv) {
       quick = true;
     } else if (strcmp(argv[a], "--case") == 0 && a + 1 < argc) {
       only_case = argv[++a];
+    } else if (strcmp(argv[a], "--apic") == 0) {
+      bench_transfer = GM_TRANSFER_APIC;
     } else if (strcmp(argv[a], "--help") == 0) {
       print_usage(stdout);
       return 0;

@@ -77,7 +77,9 @@ module granmpm
     GM_FIELD_STRESS = 7, GM_FIELD_DEFORMATION_GRADIENT = 8, &
     GM_FIELD_MATERIAL = 9, GM_FIELD_ID = 10, GM_FIELD_DOMAIN_SIZE = 11, &
     GM_FIELD_DOMAIN_CORNERS = 12, GM_FIELD_STATE = 13, &
-    GM_FIELD_COMPONENT = 14
+    GM_FIELD_COMPONENT = 14, GM_FIELD_AFFINE = 15
+  ! gm_transfer
+  integer(c_int), parameter :: GM_TRANSFER_FLIP = 0, GM_TRANSFER_APIC = 1
   ! gm_hook_stage
   integer(c_int), parameter :: GM_HOOK_BEFORE_STEP = 0, &
     GM_HOOK_AFTER_STEP = 1
@@ -114,6 +116,7 @@ module granmpm
     real(c_double) :: damping
     integer(c_int) :: shape, family
     real(c_double) :: pic_fraction
+    integer(c_int) :: transfer               ! gm_transfer
   end type gm_domain_def
 
   type, bind(c) :: gm_material_batch

@@ -122,6 +122,15 @@ typedef enum gm_family {
                                 control (000 sec 3) */
 } gm_family;
 
+/** How velocities travel between points and grid (gm_domain_create(3)). */
+typedef enum gm_transfer {
+  GM_TRANSFER_FLIP = 0, /* FLIP, blended with PIC by pic_fraction (default) */
+  GM_TRANSFER_APIC = 1  /* affine PIC (Jiang et al. 2015): each point also
+                           carries an affine matrix (GM_FIELD_AFFINE);
+                           linear and angular momentum survive the
+                           transfers, without FLIP's noise */
+} gm_transfer;
+
 /** Boundary condition on one face of the grid box. */
 typedef enum gm_wall_type {
   GM_WALL_OPEN = 0,  /* no condition: a point crossing it is an error */
@@ -181,7 +190,9 @@ typedef struct gm_domain_def {
                           kinetic energy of point velocity patterns the grid
                           cannot see (with more points than nodes) for
                           ever: a few percent lets a scene come to rest
-                          (gm_domain_create(3)); 1 = PIC, dissipative. */
+                          (gm_domain_create(3)); 1 = PIC, dissipative.
+                          Must be 0 with GM_TRANSFER_APIC. */
+  gm_transfer transfer; /* default GM_TRANSFER_FLIP */
 } gm_domain_def;
 
 /** Defaults: the values in the field comments above, with extent 1 m
@@ -781,9 +792,17 @@ typedef enum gm_field {
                                    counter-clockwise from the lower left
                                    (see gm_shape) */
   GM_FIELD_STATE = 13,          /* gm_point_state of the last step */
-  GM_FIELD_COMPONENT = 14       /* parallel grid of the last step: 0, 1, ...
+  GM_FIELD_COMPONENT = 14,      /* parallel grid of the last step: 0, 1, ...
                                    in order of each grid's smallest point
                                    id; 0 outside the granular family */
+  GM_FIELD_AFFINE = 15          /* APIC's affine matrix, dim x dim
+                                   row-major (xx, xy, yx, yy in 2D): B_p =
+                                   sum_i N_ip v_i (x_i - x_p)^T, m^2/s, for
+                                   GIMP and CPDI; C_p = sum_i v_i (x) grad
+                                   N_ip, 1/s, for linear MPM (see
+                                   gm_domain_create(3)); writable, to start
+                                   an affine velocity field; stored with
+                                   GM_TRANSFER_APIC only (zeros otherwise) */
 } gm_field;
 
 /** Number of components of a field in this domain's geometry. */
@@ -813,9 +832,10 @@ GM_API gm_status gm_domain_point_index(const gm_domain *domain, int64_t id,
 GM_API gm_status gm_domain_view_field(const gm_domain *domain, gm_field field,
                                       size_t component, const double **data);
 
-/** Writable zero-copy access, for GM_FIELD_VELOCITY and
- * GM_FIELD_EXTERNAL_FORCE only, between steps or from a step hook. Values
- * written are validated at the start of the next step. */
+/** Writable zero-copy access, for GM_FIELD_VELOCITY,
+ * GM_FIELD_EXTERNAL_FORCE and (with GM_TRANSFER_APIC) GM_FIELD_AFFINE only,
+ * between steps or from a step hook. Values written are validated at the
+ * start of the next step. */
 GM_API gm_status gm_domain_edit_field(gm_domain *domain, gm_field field,
                                       size_t component, double **data);
 

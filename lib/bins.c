@@ -163,6 +163,9 @@ static void permute_buffers(void *context, size_t begin, size_t end,
                     end);
     permute_doubles(to->component, from->component, order, begin, end);
   }
+  for (int k = 0; k < GM_AFFINE_STORED; k++)
+    if (from->affine[k])
+      permute_doubles(to->affine[k], from->affine[k], order, begin, end);
   size_t stride = points->state_stride;
   for (size_t i = begin; stride && i < end; i++)
     memcpy(to->state + i * stride, from->state + (size_t)order[i] * stride,

@@ -8,8 +8,9 @@
  *      sources, sinks): compared on load, a mismatch names the record;
  *   2. clock and flags: time, step count, cached signal speed, steps since
  *      the last reordering, the host-edit flags;
- *   3. the points in index order: every committed double-buffered array,
- *      the single-buffered ones, the id map;
+ *   3. the points in index order: every committed double-buffered array
+ *      (APIC's affine matrices included), the single-buffered ones, the id
+ *      map;
  *   4. totals: sources' clocks and counts, sinks', rigid velocities, the
  *      rigid and wall force reports (last call, totals, smoothed force)
  *      and the smoothing time, the granular summary.
@@ -51,6 +52,11 @@ static void describe_def(const gm_domain *domain, gm_byte_writer *out) {
   gm_record_integer(out, "gm_domain_def.shape", def->shape);
   gm_record_integer(out, "gm_domain_def.family", def->family);
   gm_record_reals(out, "gm_domain_def.pic_fraction", &def->pic_fraction, 1);
+  /* Written only when not the default, so that files of FLIP domains keep
+   * the version-1 layout they had before APIC existed (and old files load
+   * into FLIP domains); an APIC file names this record on a mismatch. */
+  if (def->transfer != GM_TRANSFER_FLIP)
+    gm_record_integer(out, "gm_domain_def.transfer", def->transfer);
   /* worker_count and the task system are left out on purpose: results do
    * not depend on them, so a run may restart with other threads. */
 }
@@ -213,6 +219,8 @@ size_t gm_checkpoint_point_arrays(const gm_domain *domain,
     SLOT(b->granular_state, d, GM_CHECK_FINITE);
     SLOT(b->component, d, GM_CHECK_FINITE);
   }
+  for (int k = 0; k < gm_affine_stored(domain); k++) /* APIC's B_p */
+    SLOT(b->affine[k], d, GM_CHECK_INPUT);
   SLOT(points->mass, d, GM_CHECK_POSITIVE);
   SLOT(points->initial_volume, d, GM_CHECK_POSITIVE);
   for (int k = 0; k < dim; k++)

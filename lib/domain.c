@@ -37,14 +37,15 @@ static const char *face_name(int face) {
 
 /* Is struct_size the size of a gm_domain_def layout some caller may have
  * been compiled against: the current one or an earlier one ending before
- * a field appended since (damping, shape, family, pic_fraction)? Those
- * fields then take their defaults. */
+ * a field appended since (damping, shape, family, pic_fraction,
+ * transfer)? Those fields then take their defaults. */
 bool gm_domain_def_size_known(size_t size) {
   return size >= sizeof(gm_domain_def) ||
          size == offsetof(gm_domain_def, damping) ||
          size == offsetof(gm_domain_def, shape) ||
          size == offsetof(gm_domain_def, family) ||
-         size == offsetof(gm_domain_def, pic_fraction);
+         size == offsetof(gm_domain_def, pic_fraction) ||
+         size == offsetof(gm_domain_def, transfer);
 }
 
 /* The caller's def completed with defaults for fields its struct_size does
@@ -138,6 +139,18 @@ static gm_status validate_def(const gm_domain_def *def) {
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.family %d is not a gm_family value",
                 (int)def->family);
+  if (def->transfer != GM_TRANSFER_FLIP && def->transfer != GM_TRANSFER_APIC)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.transfer %d is not a gm_transfer value",
+                (int)def->transfer);
+  /* APIC's point velocity is the PIC one, sum N_i v_i; its affine part
+   * keeps what PIC loses, so a FLIP share has no meaning there. */
+  if (def->transfer == GM_TRANSFER_APIC && def->pic_fraction != 0.0)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.pic_fraction is %g but must be 0 with "
+                "GM_TRANSFER_APIC (its point velocity is already the PIC "
+                "one, sum N_i v_i)",
+                def->pic_fraction);
   if ((def->enqueue_task == NULL) != (def->finish_task == NULL))
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.enqueue_task and finish_task must be set "

@@ -7,7 +7,7 @@
 #include <string.h>
 
 static bool field_known(gm_field field) {
-  return field >= GM_FIELD_POSITION && field <= GM_FIELD_COMPONENT;
+  return field >= GM_FIELD_POSITION && field <= GM_FIELD_AFFINE;
 }
 
 static size_t components_of(const gm_domain *domain, gm_field field) {
@@ -23,6 +23,8 @@ static size_t components_of(const gm_domain *domain, gm_field field) {
     return 9;
   case GM_FIELD_DOMAIN_CORNERS: /* 2 ends in 1D, 4 corners x, y in 2D */
     return domain->dim == 1 ? 2 : 8;
+  case GM_FIELD_AFFINE: /* B_p, dim x dim */
+    return (size_t)(domain->dim * domain->dim);
   default:
     return 1;
   }
@@ -78,6 +80,8 @@ static double *stored_component(const gm_domain *domain, gm_field field,
     return buffer->granular_state;
   case GM_FIELD_COMPONENT:
     return buffer->component;
+  case GM_FIELD_AFFINE: /* NULL without APIC: zeros */
+    return buffer->affine[k];
   default:
     return NULL;
   }
@@ -219,12 +223,17 @@ gm_status gm_domain_edit_field(gm_domain *domain, gm_field field,
   if (domain->busy && !domain->in_hook)
     return gm_set_error(domain, GM_ERR_BUSY,
                         "gm_domain_edit_field: called during a step");
-  if (field != GM_FIELD_VELOCITY && field != GM_FIELD_EXTERNAL_FORCE)
+  if (field != GM_FIELD_VELOCITY && field != GM_FIELD_EXTERNAL_FORCE &&
+      field != GM_FIELD_AFFINE)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_edit_field: field %d is read-only (only "
-                        "GM_FIELD_VELOCITY and GM_FIELD_EXTERNAL_FORCE are "
-                        "writable)",
+                        "GM_FIELD_VELOCITY, GM_FIELD_EXTERNAL_FORCE and "
+                        "GM_FIELD_AFFINE are writable)",
                         (int)field);
+  if (field == GM_FIELD_AFFINE && domain->def.transfer != GM_TRANSFER_APIC)
+    return gm_set_error(domain, GM_ERR_UNSUPPORTED,
+                        "gm_domain_edit_field: GM_FIELD_AFFINE is stored with "
+                        "gm_domain_def.transfer GM_TRANSFER_APIC only");
   if (field == GM_FIELD_EXTERNAL_FORCE &&
       gm_points_need_external_force(domain) != GM_OK)
     return GM_ERR_NO_MEMORY;

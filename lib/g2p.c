@@ -12,6 +12,7 @@
 #include "transfer.h"
 
 #include <math.h>
+#include <string.h>
 
 typedef struct g2p_context {
   gm_domain *domain;
@@ -120,9 +121,24 @@ static void gather_chunk_1d(const gather_view *v, size_t first, size_t count,
 
 /* Particle velocities, FLIP: v_p += dt * sum N_i a_i (004 eq 3.17),
  * blended with PIC, v_p = sum N_i v_i, by gm_domain_def.pic_fraction. The
- * nodal velocities here are already the updated ones (grid_update.c). */
+ * nodal velocities here are already the updated ones (grid_update.c).
+ * APIC (Jiang et al. 2015), gathered at the positions of the step's
+ * start: v_p = sum N_i v_i, and the affine matrix: B_p = sum N_i v_i
+ * (x_i - x_p)^T for the wide shapes (g2p_wide.c), C_p = sum v_i (x) grad
+ * N_i, the velocity gradient L already gathered, for linear MPM (p2g.c
+ * says why linear MPM keeps C_p rather than B_p). */
 static void flip_chunk(const gather_view *v, size_t first, size_t count,
                        const chunk_gather *g, double dt) {
+  if (v->apic) {
+    for (int k = 0; k < v->dim; k++)
+      memcpy(v->next_velocity[k] + first, g->velocity[k],
+             count * sizeof(double));
+    bool linear = v->shape_grid->shape == GM_SHAPE_LINEAR;
+    for (int k = 0; k < v->dim * v->dim; k++) /* L: xx xy yx yy, as B */
+      memcpy(v->next_affine[k] + first, linear ? g->gradient[k] : g->affine[k],
+             count * sizeof(double));
+    return;
+  }
   double pic = v->pic_fraction, flip = 1.0 - pic; /* - */
   for (int k = 0; k < v->dim; k++) {
     const double *restrict velocity = v->velocity[k] + first;
@@ -424,6 +440,12 @@ static void make_view(gm_domain *domain, gather_view *view) {
   view->shift = grid->shift;
   view->dim = domain->dim;
   view->axisymmetric = domain->axisymmetric;
+  view->apic = domain->def.transfer == GM_TRANSFER_APIC;
+  view->affine = false; /* set by gm_g2p for a velocity pass */
+  view->cell = domain->def.cell_size;
+  for (int k = 0; k < 4; k++) /* 1D: only B_xx */
+    view->next_affine[k] =
+        view->apic ? to->affine[k < gm_affine_stored(domain) ? k : 0] : NULL;
 }
 
 size_t gm_chunk_gather_size(void) {
@@ -435,6 +457,7 @@ void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass) {
   ctx.domain = domain;
   ctx.pass = pass;
   make_view(domain, &ctx.view);
+  ctx.view.affine = ctx.view.apic && pass->flip_velocity;
   size_t chunks = (domain->points.count + GM_BATCH_SIZE - 1) / GM_BATCH_SIZE;
   gm_parallel_for(&domain->pool, chunks, pass_kernel(pass), &ctx);
 }

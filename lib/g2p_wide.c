@@ -28,6 +28,18 @@ void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
     double acceleration[2] = {0.0, 0.0}, velocity[2] = {0.0, 0.0};
     double gradient[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* L_ab = dv_a/dx_b */
     double empty[2] = {0.0, 0.0}; /* gradient sum of massless nodes */
+    /* APIC's B_p = sum N_ip v_i (x_i - x_p)^T: node i of an entry lies at
+     * origin + (lowest + offset) h, node_x/node_y being x_i - x_p of the
+     * support's lowest node (m). */
+    double affine[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* m^2/s */
+    double node_x = 0.0, node_y = 0.0;
+    if (v->affine) {
+      node_x = v->origin[0] + (double)support.lowest[0] * v->cell -
+               v->position[0][p];
+      node_y = dim > 1 ? v->origin[1] + (double)support.lowest[1] * v->cell -
+                             v->position[1][p]
+                       : 0.0;
+    }
     for (int e = 0; e < support.count; e++) {
       size_t node = gm_block_node(links, v->shift, x0 + support.offset[0][e],
                                   y0 + support.offset[1][e]);
@@ -35,12 +47,17 @@ void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
       double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
       for (int b = 0; b < dim; b++)
         empty[b] += is_empty * support.gradient[b][e];
+      double offset[2] = {node_x + (double)support.offset[0][e] * v->cell,
+                          node_y + (double)support.offset[1][e] * v->cell};
       for (int a = 0; a < dim; a++) {
         double nodal = v->grid_velocity[a][node];
         acceleration[a] += weight * v->grid_acceleration[a][node];
         velocity[a] += weight * nodal;
         for (int b = 0; b < dim; b++)
           gradient[a][b] += nodal * support.gradient[b][e];
+        if (v->affine)
+          for (int b = 0; b < dim; b++)
+            affine[a][b] += weight * nodal * offset[b];
       }
     }
     /* Massless nodes: the point's own velocity (see gather_chunk_2d). */
@@ -58,6 +75,10 @@ void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
     /* Hoop strain rate v_r / r (002 sec 3). */
     out->gradient[4][j] =
         v->axisymmetric ? velocity[0] / v->position[0][p] : 0.0;
+    out->affine[0][j] = affine[0][0];
+    out->affine[1][j] = affine[0][1];
+    out->affine[2][j] = affine[1][0];
+    out->affine[3][j] = affine[1][1];
   }
 }
 

@@ -40,6 +40,9 @@
 /* Stored deformation gradient components: xx, xy, yx, yy, zz (hoop). */
 #define GM_F_STORED 5
 enum { F_XX = 0, F_XY = 1, F_YX = 2, F_YY = 3, F_ZZ = 4 };
+/* Stored components of APIC's affine matrix B_p (GM_TRANSFER_APIC): xx,
+ * xy, yx, yy (row-major, dim x dim of them: 1 in 1D, 4 in 2D). */
+#define GM_AFFINE_STORED 4
 
 /* --------------------------------------------------------------- memory */
 void *gm_alloc(size_t size);
@@ -123,6 +126,9 @@ typedef struct gm_point_buffers {
    * grid label of the step that produced this buffer. */
   double *granular_state;
   double *component;
+  /* GM_TRANSFER_APIC only (NULL otherwise): B_p, m^2/s, row-major dim x
+   * dim (transfer.h), written by the velocity pass of G2P. */
+  double *affine[GM_AFFINE_STORED];
 } gm_point_buffers;
 
 typedef struct gm_points {
@@ -374,6 +380,12 @@ void gm_points_remove(gm_domain *domain, const uint32_t *flags);
 void gm_points_truncate(gm_domain *domain, size_t count, int64_t next_id);
 /* Widens the per-point state pool to stride doubles. */
 gm_status gm_points_restride_state(gm_domain *domain, size_t stride);
+/* Components of APIC's B_p a domain stores: dim x dim with
+ * GM_TRANSFER_APIC, none otherwise. */
+static inline int gm_affine_stored(const gm_domain *domain) {
+  return domain->def.transfer == GM_TRANSFER_APIC ? domain->dim * domain->dim
+                                                  : 0;
+}
 /* Sizes one buffer set for capacity points (keeps contents). */
 gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
                              size_t old_capacity, size_t capacity);

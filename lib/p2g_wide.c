@@ -46,6 +46,42 @@ static void flush_wide_tile(const scatter_view *v, const gm_p2g_pass *pass,
   }
 }
 
+/* APIC (Jiang et al. 2015): C = B_p D_p^-1 with the inertia-like tensor
+ * D_p = sum_i N_ip (x_i - x_p)(x_i - x_p)^T of the point's support
+ * (offset: x_i - x_p per entry, m). Entries repeating a node (CPDI) sum
+ * right. D_p is positive definite for every domain of non-zero size:
+ * sum_i N_i(x) (x_i - x)^2 > 0 between nodes, and the domain's own
+ * spread adds to it; should it not be (a degenerate domain), the affine
+ * part is dropped (C = 0) rather than divided by zero. Because
+ * sum_i N_ip (x_i - x_p) = 0 and sum_i N_ip D_p^-1 (x_i - x_p) x_i^T = I,
+ * the affine momentum adds nothing to the total momentum and exactly the
+ * point's affine angular momentum, whatever the shape. */
+static void affine_velocity(const gm_support *support, int dim,
+                            double offset[2][GM_SUPPORT_MAX_ENTRIES],
+                            const double b[4], double c[4]) {
+  double d_xx = 0.0, d_xy = 0.0, d_yy = 0.0; /* m^2 */
+  for (int e = 0; e < support->count; e++) {
+    double w = support->weight[e];
+    d_xx += w * offset[0][e] * offset[0][e];
+    d_xy += w * offset[0][e] * offset[1][e];
+    d_yy += w * offset[1][e] * offset[1][e];
+  }
+  c[0] = c[1] = c[2] = c[3] = 0.0; /* 1/s */
+  if (dim == 1) {
+    if (d_xx > 0.0)
+      c[0] = b[0] / d_xx;
+    return;
+  }
+  double det = d_xx * d_yy - d_xy * d_xy; /* m^4 */
+  if (!(det > 0.0))
+    return;
+  double i_xx = d_yy / det, i_xy = -d_xy / det, i_yy = d_xx / det;
+  c[0] = b[0] * i_xx + b[1] * i_xy;
+  c[1] = b[0] * i_xy + b[1] * i_yy;
+  c[2] = b[2] * i_xx + b[3] * i_xy;
+  c[3] = b[2] * i_xy + b[3] * i_yy;
+}
+
 void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
                            uint32_t block) {
   int dim = v->grid->dim;
@@ -78,6 +114,26 @@ void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
       body[0] -= v->stress[2][p] * volume / v->position[0][p];
     int64_t x0 = support.lowest[0] - base[0];
     int64_t y0 = dim > 1 ? support.lowest[1] - base[1] : 0;
+    bool affine = v->apic && pass->momentum;
+    double c[4] = {0.0, 0.0, 0.0, 0.0};       /* 1/s, B_p D_p^-1 */
+    double offset[2][GM_SUPPORT_MAX_ENTRIES]; /* m, x_i - x_p */
+    if (affine) {
+      double h = v->cell; /* m */
+      for (int axis = 0; axis < 2; axis++) {
+        /* m, x_i - x_p of the support's lowest node */
+        double node = axis < dim
+                          ? v->origin[axis] + (double)support.lowest[axis] * h -
+                                v->position[axis][p]
+                          : 0.0;
+        for (int e = 0; e < support.count; e++)
+          offset[axis][e] =
+              axis < dim ? node + (double)support.offset[axis][e] * h : 0.0;
+      }
+      double b[4] = {v->affine[0][p], dim > 1 ? v->affine[1][p] : 0.0,
+                     dim > 1 ? v->affine[2][p] : 0.0,
+                     dim > 1 ? v->affine[3][p] : 0.0};
+      affine_velocity(&support, dim, offset, b, c);
+    }
     for (int e = 0; e < support.count; e++) {
       int64_t x = x0 + support.offset[0][e], y = y0 + support.offset[1][e];
       columns = x + 1 > columns ? x + 1 : columns;
@@ -87,9 +143,16 @@ void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
       double grad_x = support.gradient[0][e], grad_y = support.gradient[1][e];
       if (pass->mass)
         tile.mass[t] += weight * m;
-      if (pass->momentum) {
+      if (pass->momentum && !affine) {
         tile.momentum[0][t] += weight * momentum[0];
         tile.momentum[1][t] += weight * momentum[1];
+      }
+      if (affine) {             /* m_p N_ip (v_p + C (x_i - x_p)) */
+        double wm = weight * m; /* kg */
+        tile.momentum[0][t] += weight * momentum[0] +
+                               wm * (c[0] * offset[0][e] + c[1] * offset[1][e]);
+        tile.momentum[1][t] += weight * momentum[1] +
+                               wm * (c[2] * offset[0][e] + c[3] * offset[1][e]);
       }
       if (pass->forces) {
         tile.force[0][t] += weight * body[0] - (txx * grad_x + txy * grad_y);

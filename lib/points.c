@@ -43,6 +43,8 @@ gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
     GROW(buffer->granular_state, sizeof(double));
     GROW(buffer->component, sizeof(double));
   }
+  for (int k = 0; k < gm_affine_stored(domain); k++)
+    GROW(buffer->affine[k], sizeof(double));
   return GM_OK;
 }
 
@@ -132,6 +134,8 @@ void gm_buffers_free(gm_point_buffers *buffer) {
   gm_free(buffer->state);
   gm_free(buffer->granular_state);
   gm_free(buffer->component);
+  for (int k = 0; k < GM_AFFINE_STORED; k++)
+    gm_free(buffer->affine[k]);
   memset(buffer, 0, sizeof *buffer);
 }
 
@@ -156,6 +160,8 @@ void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
   copy_array(to->state, from->state, count * state_stride);
   copy_array(to->granular_state, from->granular_state, count);
   copy_array(to->component, from->component, count);
+  for (int k = 0; k < GM_AFFINE_STORED; k++)
+    copy_array(to->affine[k], from->affine[k], count);
 }
 
 void gm_points_free(gm_points *points) {
@@ -351,6 +357,9 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
   for (int k = 0; k < GM_STRESS_STORED; k++)
     buffer->stress[k][p] =
         def->stress ? def->stress[i * 6 + stress_voigt[k]] : 0.0;
+  for (int k = 0; k < GM_AFFINE_STORED; k++) /* APIC: no affine part yet */
+    if (buffer->affine[k])
+      buffer->affine[k][p] = 0.0;
   if (buffer->granular_state) { /* decided by the next step */
     buffer->granular_state[p] = GM_STATE_QUASI_STATIC;
     buffer->component[p] = 0.0;

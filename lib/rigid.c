@@ -242,5 +242,7 @@ void gm_rigid_set_point_velocities(gm_domain *domain) {
       continue;
     for (int k = 0; k < domain->dim; k++)
       next->velocity[k][p] = material->rigid_velocity[k];
+    for (int k = 0; k < gm_affine_stored(domain); k++)
+      next->affine[k][p] = 0.0; /* APIC: a translation has none */
   }
 }

@@ -28,6 +28,15 @@ static inline int64_t gm_shape_linear_axis(double coordinate, double origin,
   return cell;
 }
 
+/* Offsets x_i - x_p (m) of the two nodes along one axis of a linear
+ * cell, from the weights (1 - f, f) and the cell h (m): (-f h, (1 - f) h).
+ * APIC's affine momentum (p2g.c). */
+static inline void gm_linear_offsets(const double weight[2], double cell,
+                                     double out[2]) {
+  out[0] = -weight[1] * cell;
+  out[1] = weight[0] * cell;
+}
+
 /* 2D weights and gradients of the 4 nodes (a, b) of the point's cell, node
  * k = a + 2 b at (cell_x + a, cell_y + b). */
 static inline void gm_shape_linear_2d(const double position[2],

@@ -40,6 +40,15 @@ typedef struct scatter_view {
    * (gm_support_tensor): what deforms the domains. */
   const double *deformation[4];
   const double *domain_size[2]; /* m, initial domain edges */
+  /* GM_TRANSFER_APIC: the affine matrix of the velocity buffer (xx xy yx
+   * yy; 1D: xx only). The momentum a point gives node i is
+   *   m_p N_ip (v_p + B_p D_p^-1 (x_i - x_p))
+   * (Jiang et al. 2015, the APIC P2G), D_p = sum_i N_ip (x_i - x_p)
+   * (x_i - x_p)^T from the support: the wide shapes store B_p (m^2/s);
+   * linear MPM stores C_p = B_p D_p^-1 (1/s) itself (p2g.c says why). */
+  bool apic;
+  const double *affine[4];
+  double cell; /* m, h: node n of an axis lies at origin + n h */
 } scatter_view;
 
 /* Every array a G2P pass touches (copied into restrict-qualified locals by
@@ -80,6 +89,14 @@ typedef struct gather_view {
   const double *next_support_tensor[4];
   const double *domain_map[4];
   double *next_domain_map[4];
+  /* GM_TRANSFER_APIC: the velocity pass sets v_p = sum N_ip v_i (PIC) and
+   * B_p = sum N_ip v_i (x_i - x_p)^T (Jiang et al. 2015, the APIC G2P),
+   * or C_p = L in linear MPM; affine: the wide gather computes B_p (the
+   * pass writes velocities). */
+  bool apic;
+  bool affine;
+  double *next_affine[4]; /* m^2/s */
+  double cell;            /* m, h */
 } gather_view;
 
 /* What the grid tells the points of one chunk, SoA: interpolated nodal
@@ -89,6 +106,8 @@ struct chunk_gather {
   double acceleration[2][GM_BATCH_SIZE]; /* m/s^2 */
   double velocity[2][GM_BATCH_SIZE];     /* m/s */
   double gradient[5][GM_BATCH_SIZE];     /* 1/s */
+  double affine[4][GM_BATCH_SIZE];       /* m^2/s, B_p xx xy yx yy (APIC,
+                                            wide shapes) */
 };
 typedef struct chunk_gather chunk_gather;
 

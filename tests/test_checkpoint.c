@@ -37,7 +37,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define FIELD_COUNT (GM_FIELD_COMPONENT + 1)
+#define FIELD_COUNT (GM_FIELD_AFFINE + 1)
 
 /* TEST_ASSERT_OK for loops: Check reports every ck_assert to its parent
  * process (a write per call), so hot paths assert only on failure. */
@@ -180,9 +180,13 @@ static scene build_from(scene_kind kind, gm_domain_def def) {
   return build_flow(def);
 }
 
+/* The velocity transfer of the scenes build() makes (test_restart_apic). */
+static gm_transfer scene_transfer = GM_TRANSFER_FLIP;
+
 static scene build(scene_kind kind, int workers) {
   gm_domain_def def = gm_domain_def_default();
   def.worker_count = workers;
+  def.transfer = scene_transfer;
   return build_from(kind, def);
 }
 
@@ -500,6 +504,17 @@ START_TEST(test_restart_granular_two_workers) {
 }
 END_TEST
 
+/* APIC: the affine matrices are part of the state (GM_FIELD_AFFINE is
+ * compared with the other fields); the granular uGIMP scene keeps B_p,
+ * the elastic one (linear MPM) C_p. */
+START_TEST(test_restart_apic) {
+  scene_transfer = GM_TRANSFER_APIC;
+  check_restart(GRANULAR_GIMP, 1, 2);
+  check_restart(ELASTIC, 1, 1);
+  scene_transfer = GM_TRANSFER_FLIP;
+}
+END_TEST
+
 START_TEST(test_restart_source_sink_wall) {
   check_restart(FLOW, 1, 1);
 }
@@ -611,6 +626,11 @@ START_TEST(test_refuses_other_setup) {
   scene softer = build(ELASTIC, 1); /* a third material, differing */
   test_add_elastic(softer.domain, 1e5, 0.3, 1000.0);
   expect_setup_refused(path, softer, "material count", NULL);
+  /* A FLIP file names the record an APIC domain has and it lacks. */
+  gm_domain_def apic = gm_domain_def_default();
+  apic.transfer = GM_TRANSFER_APIC;
+  expect_setup_refused(path, build_from(ELASTIC, apic),
+                       "gm_domain_def.transfer", NULL);
   gm_domain_destroy(saved.domain);
   free(path);
   remove_temporary_directory();
@@ -794,6 +814,7 @@ static Suite *checkpoint_suite(void) {
   tcase_add_test(restart, test_restart_granular_ugimp);
   tcase_add_test(restart, test_restart_granular_two_workers);
   tcase_add_test(restart, test_restart_source_sink_wall);
+  tcase_add_test(restart, test_restart_apic);
   suite_add_tcase(suite, restart);
   TCase *refusals = tcase_create("refusals");
   tcase_set_timeout(refusals, 120);

@@ -7,7 +7,8 @@
  *
  * Scenes: an elastic block falling with gravity onto a fixed bottom wall in
  * plane strain (2304 points, 200 steps), and an elastic column falling onto
- * the fixed x-min wall in 1D (160 points, 300 steps).
+ * the fixed x-min wall in 1D (160 points, 300 steps); with FLIP, and with
+ * APIC (whose affine matrices are compared too).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -72,26 +73,30 @@ typedef struct run_setup {
   gm_update_scheme scheme;
   int worker_count;
   bool user_tasks;
+  gm_transfer transfer;
+  gm_shape shape;
 } run_setup;
 
 /* Fields of a finished run, in id order. */
 typedef struct run_result {
   size_t count;
-  double *field[5]; /* position, velocity, stress, F, volume */
-  size_t components[5];
+  double *field[6]; /* position, velocity, stress, F, volume, affine */
+  size_t components[6];
   double time; /* s */
   uint64_t step_count;
 } run_result;
 
-static const gm_field compared_fields[5] = {
-    GM_FIELD_POSITION, GM_FIELD_VELOCITY, GM_FIELD_STRESS,
-    GM_FIELD_DEFORMATION_GRADIENT, GM_FIELD_VOLUME};
-static const char *const compared_names[5] = {"position", "velocity", "stress",
-                                              "F", "volume"};
+#define COMPARED_FIELDS 6
+static const gm_field compared_fields[COMPARED_FIELDS] = {
+    GM_FIELD_POSITION, GM_FIELD_VELOCITY,
+    GM_FIELD_STRESS,   GM_FIELD_DEFORMATION_GRADIENT,
+    GM_FIELD_VOLUME,   GM_FIELD_AFFINE};
+static const char *const compared_names[COMPARED_FIELDS] = {
+    "position", "velocity", "stress", "F", "volume", "affine"};
 
 static void collect_result(gm_domain *domain, run_result *result) {
   result->count = gm_domain_point_count(domain);
-  for (int f = 0; f < 5; f++) {
+  for (int f = 0; f < COMPARED_FIELDS; f++) {
     result->field[f] = malloc(result->count * 9 * sizeof(double));
     ck_assert_ptr_nonnull(result->field[f]);
     result->components[f] =
@@ -102,7 +107,7 @@ static void collect_result(gm_domain *domain, run_result *result) {
 }
 
 static void free_result(run_result *result) {
-  for (int f = 0; f < 5; f++) {
+  for (int f = 0; f < COMPARED_FIELDS; f++) {
     free(result->field[f]);
   }
 }
@@ -156,6 +161,8 @@ static void run_scene(const scene_def *scene, const run_setup *setup,
   def.cell_size = scene->cell_size;
   def.scheme = setup->scheme;
   def.worker_count = setup->worker_count;
+  def.transfer = setup->transfer;
+  def.shape = setup->shape;
   if (setup->user_tasks) {
     def.enqueue_task = uneven_enqueue;
     def.finish_task = uneven_finish;
@@ -201,7 +208,7 @@ static void check_identical(const run_result *reference,
   ck_assert_uint_eq(other->step_count, reference->step_count);
   ck_assert_msg(memcmp(&other->time, &reference->time, sizeof(double)) == 0,
                 "%s: time %.17g vs %.17g", label, other->time, reference->time);
-  for (int f = 0; f < 5; f++) {
+  for (int f = 0; f < COMPARED_FIELDS; f++) {
     size_t length = reference->count * reference->components[f];
     if (memcmp(other->field[f], reference->field[f], length * sizeof(double)) ==
         0) {
@@ -235,14 +242,16 @@ static void check_nontrivial(const scene_def *scene,
                 max_stress);
 }
 
-static void check_scene(const scene_def *scene, gm_update_scheme scheme) {
-  const run_setup reference_setup = {scheme, 1, false};
+static void check_scene(const scene_def *scene, gm_update_scheme scheme,
+                        gm_transfer transfer, gm_shape shape) {
+  const run_setup reference_setup = {scheme, 1, false, transfer, shape};
   run_result reference;
   run_scene(scene, &reference_setup, &reference);
   check_nontrivial(scene, &reference);
 
-  const run_setup others[] = {
-      {scheme, 2, false}, {scheme, 4, false}, {scheme, 3, true}};
+  const run_setup others[] = {{scheme, 2, false, transfer, shape},
+                              {scheme, 4, false, transfer, shape},
+                              {scheme, 3, true, transfer, shape}};
   const char *const labels[] = {"2 workers", "4 workers",
                                 "user task system, 3 workers"};
   for (int k = 0; k < 3; k++) {
@@ -258,12 +267,29 @@ static void check_scene(const scene_def *scene, gm_update_scheme scheme) {
 }
 
 START_TEST(test_plane_strain_block) {
-  check_scene(&plane_scene, (gm_update_scheme)_i);
+  check_scene(&plane_scene, (gm_update_scheme)_i, GM_TRANSFER_FLIP,
+              GM_SHAPE_LINEAR);
 }
 END_TEST
 
 START_TEST(test_1d_column) {
-  check_scene(&line_scene, (gm_update_scheme)_i);
+  check_scene(&line_scene, (gm_update_scheme)_i, GM_TRANSFER_FLIP,
+              GM_SHAPE_LINEAR);
+}
+END_TEST
+
+/* APIC adds the affine matrices to the scatter and the gather: linear MPM
+ * (C_p) and uGIMP (B_p with D_p from the support) in plane strain, linear
+ * in 1D. */
+START_TEST(test_apic_plane_strain_block) {
+  check_scene(&plane_scene, (gm_update_scheme)(_i % 3), GM_TRANSFER_APIC,
+              _i < 3 ? GM_SHAPE_LINEAR : GM_SHAPE_UGIMP);
+}
+END_TEST
+
+START_TEST(test_apic_1d_column) {
+  check_scene(&line_scene, (gm_update_scheme)_i, GM_TRANSFER_APIC,
+              GM_SHAPE_LINEAR);
 }
 END_TEST
 
@@ -277,6 +303,9 @@ static Suite *determinism_suite(void) {
   tcase_add_loop_test(tcase, test_plane_strain_block, GM_SCHEME_USL,
                       GM_SCHEME_USF + 1);
   tcase_add_loop_test(tcase, test_1d_column, GM_SCHEME_USL, GM_SCHEME_USF + 1);
+  tcase_add_loop_test(tcase, test_apic_plane_strain_block, 0, 6);
+  tcase_add_loop_test(tcase, test_apic_1d_column, GM_SCHEME_USL,
+                      GM_SCHEME_USF + 1);
   suite_add_tcase(suite, tcase);
   return suite;
 }
