@@ -136,7 +136,8 @@ static const scene_def plane_scene = {GM_GEOMETRY_PLANE_STRAIN,
                                       2,
                                       -1.0,
                                       1e7,
-                                      200};
+                                      200,
+                                      GM_SHAPE_LINEAR};
 /* The plane scene with quadratic B-splines: their supports reach three
  * nodes per axis and the fixed floor acts through images of the ghost
  * nodes (bspline_faces.c), both of which run in parallel passes. */
@@ -152,14 +153,9 @@ static const scene_def bspline_scene = {GM_GEOMETRY_PLANE_STRAIN,
 /* 1D: a 0.4 m column 0.05 m from the fixed x-min wall, 0.01 m cells, 4
  * points per cell (160 points), E = 0.1 MPa (c = 11.6 m/s, dt ~4e-4 s):
  * impact after ~0.045 s, 300 steps (~0.12 s) cover it. */
-static const scene_def line_scene = {GM_GEOMETRY_1D,
-                                     0.01,
-                                     {0.05, 0.0, 0.0},
-                                     {0.45, 0.0, 0.0},
-                                     4,
-                                     -1.0,
-                                     1e5,
-                                     300};
+static const scene_def line_scene = {
+    GM_GEOMETRY_1D, 0.01, {0.05, 0.0, 0.0}, {0.45, 0.0, 0.0}, 4, -1.0, 1e5, 300,
+    GM_SHAPE_LINEAR};
 
 static void run_scene(const scene_def *scene, const run_setup *setup,
                       run_result *result) {
