@@ -1,10 +1,14 @@
 /*
- * shape_bspline.h - uniform B-spline shape functions along one axis
- * (Steffen, Kirby & Berzins 2008, IJNME 76:922, sec. 5: quadratic
- * B-splines on the grid nodes, which make the grid functions C1 so that
- * the internal-force quadrature no longer jumps when a point crosses a
- * cell edge). Node i carries the B-spline centred on it; with u = x/h - i
- * the distance in cells,
+ * shape_bspline.h - uniform B-spline shape functions along one axis.
+ * Steffen, Kirby & Berzins (2008, IJNME 76:922) propose quadratic
+ * B-splines on the grid nodes: the grid functions become C1, so the
+ * internal-force quadrature no longer jumps when a point crosses a cell
+ * edge (the "grid crossing error"). Only the paper's abstract could be
+ * read here, not its equations; the functions below are the standard
+ * cardinal B-splines (de Boor, A Practical Guide to Splines),
+ * checked against the Cox-de Boor recursion in tests/test_bspline.c.
+ * Node i carries the B-spline centred on it; with u = x/h - i the
+ * distance in cells,
  *   quadratic: N(u) = 3/4 - u^2              for |u| <= 1/2,
  *              N(u) = (3/2 - |u|)^2 / 2      for 1/2 <= |u| <= 3/2,
  *   cubic:     N(u) = 2/3 - u^2 + |u|^3 / 2  for |u| <= 1,
