@@ -13,11 +13,14 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static const char *const shape_names[] = {"linear", "ugimp", "cpgimp", "cpdi"};
+static const char *const shape_names[] = {"linear", "ugimp",    "cpgimp",
+                                          "cpdi",   "bspline2", "bspline3"};
+#define SHAPE_COUNT (int)(sizeof shape_names / sizeof shape_names[0])
 static const char *const family_names[] = {"plain", "stress_free", "granular"};
 
 const char *example_shape_name(gm_shape shape) {
-  return (unsigned)shape < 4 ? shape_names[shape] : "unknown";
+  return (unsigned)shape < (unsigned)SHAPE_COUNT ? shape_names[shape]
+                                                 : "unknown";
 }
 
 const char *example_family_name(gm_family family) {
@@ -35,7 +38,8 @@ static void print_help(const char *program, const char *description,
                        const example_options *defaults,
                        const example_extra *extras, int extra_count) {
   printf("usage: %s [options]\n%s\n\noptions:\n", program, description);
-  printf("  --method linear|ugimp|cpgimp|cpdi  shape functions (default %s)\n",
+  printf("  --method linear|ugimp|cpgimp|cpdi|bspline2|bspline3  shape "
+         "functions (default %s)\n",
          example_shape_name(defaults->shape));
   printf("  --family plain|stress_free|granular  algorithm family (default "
          "%s)\n",
@@ -77,9 +81,11 @@ static int parse_standard(const char *name, const char *value,
                           example_options *options) {
   double number = 0.0;
   if (strcmp(name, "method") == 0) {
-    int k = find_word(value, shape_names, 4);
+    int k = find_word(value, shape_names, SHAPE_COUNT);
     if (k < 0) {
-      fprintf(stderr, "--method: '%s' is not linear, ugimp, cpgimp or cpdi\n",
+      fprintf(stderr,
+              "--method: '%s' is not linear, ugimp, cpgimp, cpdi, bspline2 "
+              "or bspline3\n",
               value);
       return 2;
     }

@@ -50,7 +50,8 @@ module granmpm
     GM_SCHEME_USF = 2
   ! gm_shape
   integer(c_int), parameter :: GM_SHAPE_LINEAR = 0, GM_SHAPE_UGIMP = 1, &
-    GM_SHAPE_CPGIMP = 2, GM_SHAPE_CPDI = 3
+    GM_SHAPE_CPGIMP = 2, GM_SHAPE_CPDI = 3, GM_SHAPE_BSPLINE2 = 4, &
+    GM_SHAPE_BSPLINE3 = 5
   ! gm_family
   integer(c_int), parameter :: GM_FAMILY_PLAIN = 0, &
     GM_FAMILY_STRESS_FREE = 1, GM_FAMILY_GRANULAR = 2

@@ -103,12 +103,19 @@ typedef enum gm_update_scheme {
  * and CPDI domains may reach one ghost cell beyond the box faces (those
  * nodes take the face's condition); a domain reaching further, or touching
  * more than 9 nodes along an axis, fails the step with GM_ERR_OUT_OF_GRID.
- * Node counts below are per point in 2D for domains up to a cell wide. */
+ * The B-splines depend on the point's position only and reach the ghost
+ * nodes next to a face, which keep them a partition of unity there. A
+ * B-spline point's domain (for the granular domains of interaction and
+ * the domain output) is its initial rectangle, as for uGIMP. Node counts
+ * below are per point in 2D for domains up to a cell wide. */
 typedef enum gm_shape {
-  GM_SHAPE_LINEAR = 0, /* original MPM: tents of the point's cell, 4 nodes */
-  GM_SHAPE_UGIMP = 1,  /* GIMP, the initial rectangular domain: 9 nodes */
-  GM_SHAPE_CPGIMP = 2, /* GIMP, rectangle stretched by |F_xx|, |F_yy| */
-  GM_SHAPE_CPDI = 3    /* CPDI1: parallelogram spanned by F r1, F r2 */
+  GM_SHAPE_LINEAR = 0,   /* original MPM: tents of the point's cell, 4 nodes */
+  GM_SHAPE_UGIMP = 1,    /* GIMP, the initial rectangular domain: 9 nodes */
+  GM_SHAPE_CPGIMP = 2,   /* GIMP, rectangle stretched by |F_xx|, |F_yy| */
+  GM_SHAPE_CPDI = 3,     /* CPDI1: parallelogram spanned by F r1, F r2 */
+  GM_SHAPE_BSPLINE2 = 4, /* quadratic B-splines on the nodes (Steffen et al.
+                            2008): 3 nodes per axis, 9 in 2D */
+  GM_SHAPE_BSPLINE3 = 5  /* cubic B-splines: 4 nodes per axis, 16 in 2D */
 } gm_shape;
 
 /** Algorithm family (000 sec 4): what happens to points of a granular

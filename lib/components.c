@@ -30,6 +30,7 @@
  * parallel (a connected flow, the common case).
  */
 #include "pair_rules.h"
+#include "shape_bspline.h"
 #include "shape_gimp.h"
 
 #include <math.h>
@@ -66,13 +67,24 @@ static void rectangle_geometry(gm_domain *domain, size_t p,
       half[k] *= fabs(point->deformation[3 * k]);
     double s = (point->position[k] - grid->origin[k]) * grid->inv_cell;
     int span = 2;
-    int64_t low = grid->shape == GM_SHAPE_LINEAR
-                      ? (int64_t)s /* s >= 0 inside the grid */
-                      : gm_gimp_axis_bounds(s, half[k] * grid->inv_cell, &span);
+    int64_t low;
+    if (grid->shape == GM_SHAPE_LINEAR) {
+      low = (int64_t)s; /* s >= 0 inside the grid */
+    } else if (grid->shape == GM_SHAPE_BSPLINE2) {
+      low = gm_bspline2_lowest(s);
+      span = 3;
+    } else if (grid->shape == GM_SHAPE_BSPLINE3) {
+      low = gm_bspline3_lowest(s);
+      span = 4;
+    } else {
+      low = gm_gimp_axis_bounds(s, half[k] * grid->inv_cell, &span);
+    }
     work->support_low[k][p] = low;
     work->support_high[k][p] = low + span - 1;
   }
-  if (work->boxes_valid) /* constant: linear MPM and uGIMP */
+  /* Constant: linear MPM, uGIMP and the B-splines (whose domain is the
+   * initial rectangle, as uGIMP's). */
+  if (work->boxes_valid)
     return;
   double scale = 1.0;
   double current = dim == 1 ? 2.0 * half[0] : 4.0 * half[0] * half[1];
@@ -342,7 +354,8 @@ gm_status gm_granular_prepare(gm_domain *domain) {
                       ? linear_supports
                       : point_geometry,
                   domain);
-  work->boxes_valid = shape == GM_SHAPE_LINEAR || shape == GM_SHAPE_UGIMP;
+  work->boxes_valid = shape == GM_SHAPE_LINEAR || shape == GM_SHAPE_UGIMP ||
+                      gm_shape_is_bspline(shape);
   work->cells_sorted = false; /* sorted on the first search (pair_search.c) */
   int max_span[2];
   widest_support(domain, max_span);

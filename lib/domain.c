@@ -130,7 +130,8 @@ static gm_status validate_def(const gm_domain_def *def) {
                 "gm_domain_def.pic_fraction is %g, must be in [0, 1]",
                 def->pic_fraction);
   if (def->shape != GM_SHAPE_LINEAR && def->shape != GM_SHAPE_UGIMP &&
-      def->shape != GM_SHAPE_CPGIMP && def->shape != GM_SHAPE_CPDI)
+      def->shape != GM_SHAPE_CPGIMP && def->shape != GM_SHAPE_CPDI &&
+      def->shape != GM_SHAPE_BSPLINE2 && def->shape != GM_SHAPE_BSPLINE3)
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.shape %d is not a gm_shape value",
                 (int)def->shape);

@@ -5,7 +5,9 @@
  * is recomputed as (v_new - v_old)/dt so particle (FLIP) velocities and
  * nodal velocities agree on walls. The momentum arrays are overwritten with
  * velocities and the force arrays with accelerations, in place. Planar
- * walls (walls.c) act after the box faces, on nodes near them.
+ * walls (walls.c) act after the box faces, on nodes near them. With the
+ * B-splines the ghost nodes then take the reflected values of their mirror
+ * nodes instead of the held zeros (bspline_faces.c).
  */
 #include "internal.h"
 
@@ -157,4 +159,5 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
 void gm_grid_update(gm_domain *domain, double dt, int mode) {
   update_context ctx = {domain, dt, mode};
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks, &ctx);
+  gm_bspline_mirror_ghosts(domain, mode); /* ghosts reflect their mirrors */
 }

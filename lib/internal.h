@@ -430,6 +430,12 @@ void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
 /* Grid update modes: momentum -> velocity only; momentum and force ->
  * updated velocity and acceleration. */
 enum { GM_GRID_VELOCITY_ONLY = 0, GM_GRID_FULL = 1 };
+/* B-splines on the box faces by images (bspline_faces.c; no-ops for the
+ * other shapes): after a scatter, each ghost node's sums go to its mirror
+ * node; after a grid update, each ghost node takes its mirror's velocity
+ * (and acceleration in GM_GRID_FULL mode), reflected. */
+void gm_bspline_fold_ghosts(gm_domain *domain, const gm_p2g_pass *pass);
+void gm_bspline_mirror_ghosts(gm_domain *domain, int mode);
 
 /* What a G2P pass does (g2p.c). */
 typedef struct gm_g2p_pass {

@@ -13,9 +13,13 @@
  * with rot(e) = (e_y, -e_x), corners counter-clockwise and V the domain
  * area. sum_c g_c = 0 and sum_c x_c (x) g_c = I hold exactly, so the
  * gradients sum to zero and reproduce linear fields.
+ *
+ * The B-splines are tensor products of the axis functions of
+ * shape_bspline.h, evaluated at the point's position.
  */
 #include "support.h"
 
+#include "shape_bspline.h"
 #include "shape_gimp.h"
 
 #include <math.h>
@@ -98,9 +102,57 @@ bool gm_support_rectangle_bounds(const gm_shape_grid *grid, double x, double y,
   return bounds_valid(grid, lowest, highest);
 }
 
+bool gm_support_bspline_bounds(const gm_shape_grid *grid, double x, double y,
+                               int64_t lowest[2], int64_t highest[2]) {
+  lowest[1] = highest[1] = 0;
+  bool quadratic = grid->shape == GM_SHAPE_BSPLINE2;
+  for (int k = 0; k < grid->dim; k++) {
+    double s = in_cells(grid, k, k == 0 ? x : y);
+    if (!(s >= 0.0 && s < (double)grid->last_node[k]))
+      return false; /* also catches NaN; keeps the casts in range */
+    lowest[k] = quadratic ? gm_bspline2_lowest(s) : gm_bspline3_lowest(s);
+    highest[k] = lowest[k] + (quadratic ? 2 : 3);
+  }
+  return bounds_valid(grid, lowest, highest);
+}
+
+bool gm_support_bspline(const gm_shape_grid *grid, double x, double y,
+                        gm_support *out) {
+  int64_t highest[2];
+  if (!gm_support_bspline_bounds(grid, x, y, out->lowest, highest))
+    return false;
+  bool quadratic = grid->shape == GM_SHAPE_BSPLINE2;
+  double weight[2][4] = {{1.0}, {1.0}}, gradient[2][4] = {{0.0}, {0.0}};
+  int span[2] = {1, 1};
+  for (int k = 0; k < grid->dim; k++) {
+    double s = in_cells(grid, k, k == 0 ? x : y);
+    span[k] = quadratic ? 3 : 4;
+    if (quadratic)
+      gm_bspline2_axis(s, out->lowest[k], weight[k], gradient[k]);
+    else
+      gm_bspline3_axis(s, out->lowest[k], weight[k], gradient[k]);
+  }
+  double inv_cell = grid->inv_cell; /* 1/m: gradients per cell -> per m */
+  int entry = 0;
+  for (int b = 0; b < span[1]; b++) {
+    for (int a = 0; a < span[0]; a++, entry++) {
+      out->offset[0][entry] = (uint8_t)a;
+      out->offset[1][entry] = (uint8_t)b;
+      out->weight[entry] = weight[0][a] * weight[1][b];
+      out->gradient[0][entry] = inv_cell * gradient[0][a] * weight[1][b];
+      out->gradient[1][entry] = inv_cell * weight[0][a] * gradient[1][b];
+    }
+  }
+  out->count = entry;
+  return true;
+}
+
 bool gm_support_bounds(const gm_shape_grid *grid, const gm_point_domain *point,
                        int64_t lowest[2], int64_t highest[2]) {
   lowest[1] = highest[1] = 0;
+  if (gm_shape_is_bspline(grid->shape))
+    return gm_support_bspline_bounds(grid, point->position[0],
+                                     point->position[1], lowest, highest);
   if (grid->shape == GM_SHAPE_CPDI) {
     double corners[4][2], cells[4][2];
     int count = corners_in_cells(grid, point, corners, cells);
@@ -222,6 +274,9 @@ static bool compute_cpdi(const gm_shape_grid *grid,
 
 bool gm_support_compute(const gm_shape_grid *grid, const gm_point_domain *point,
                         gm_support *out) {
+  if (gm_shape_is_bspline(grid->shape))
+    return gm_support_bspline(grid, point->position[0], point->position[1],
+                              out);
   int64_t highest[2];
   if (!gm_support_bounds(grid, point, out->lowest, highest))
     return false;

@@ -1,7 +1,8 @@
 /*
  * support.h - the grid nodes a material point reaches, with their weights
  * and weight gradients, for every shape-function variant (000 sec 2.1):
- * linear MPM, uGIMP, cpGIMP and CPDI1. The specialised linear kernels of
+ * linear MPM, uGIMP, cpGIMP, CPDI1 and the quadratic and cubic B-splines.
+ * The specialised linear kernels of
  * p2g.c and g2p.c do not go through here; everything else does (the GIMP
  * and CPDI transfers, block keys, domain corners, bounds checks).
  *
@@ -10,7 +11,9 @@
  * GIMP or CPDI domain may stick out of the box by up to one cell, and the
  * ghost nodes it then reaches take the boundary condition of the box face
  * they lie beyond (grid_update.c), so the support of a point against a
- * wall is complete.
+ * wall is complete. One layer is enough for the B-splines too: a point
+ * lies inside the box, the quadratic reaches 1.5 cells out and the cubic
+ * 2 cells, where its weight is 0 (shape_bspline.h).
  */
 #ifndef GM_SUPPORT_H
 #define GM_SUPPORT_H
@@ -70,6 +73,11 @@ static inline void gm_load_point_domain(int dim,
     out->deformation[k] = deformation[k][p];
 }
 
+/* Is the variant a B-spline (support from the position alone)? */
+static inline bool gm_shape_is_bspline(gm_shape shape) {
+  return shape == GM_SHAPE_BSPLINE2 || shape == GM_SHAPE_BSPLINE3;
+}
+
 /* Lowest and highest node per axis; false if the support leaves the nodes
  * of the grid or spans more than GM_SUPPORT_MAX_SPAN nodes. */
 bool gm_support_bounds(const gm_shape_grid *grid, const gm_point_domain *point,
@@ -88,6 +96,13 @@ bool gm_support_rectangle(const gm_shape_grid *grid, double x, double y,
 bool gm_support_rectangle_bounds(const gm_shape_grid *grid, double x, double y,
                                  double half_x, double half_y,
                                  int64_t lowest[2], int64_t highest[2]);
+/* The support of a B-spline variant of a point at x, y (m; y unused in
+ * 1D), by value as gm_support_rectangle. False as gm_support_compute. */
+bool gm_support_bspline(const gm_shape_grid *grid, double x, double y,
+                        gm_support *out);
+/* Its bounds only, as gm_support_bounds. */
+bool gm_support_bspline_bounds(const gm_shape_grid *grid, double x, double y,
+                               int64_t lowest[2], int64_t highest[2]);
 /* Current half edges (m) of point p of a rectangle variant: the initial
  * ones, stretched by |F_xx|, |F_yy| for cpGIMP, 0 for linear MPM. */
 static inline void gm_rectangle_half_edges(gm_shape shape, int dim,
@@ -102,21 +117,25 @@ static inline void gm_rectangle_half_edges(gm_shape shape, int dim,
   }
 }
 /* Corners (m) of the point's current domain, counter-clockwise from the
- * lower left: a rectangle for linear MPM and uGIMP (the initial domain,
- * moved), a rectangle with edges stretched by |F_xx|, |F_yy| for cpGIMP,
- * the parallelogram spanned by F r1, F r2 for CPDI. In 1D, the two ends
- * (corners[0][0], corners[1][0]). */
+ * lower left: a rectangle for linear MPM, uGIMP and the B-splines (the
+ * initial domain, moved), a rectangle with edges stretched by |F_xx|, |F_yy|
+ * for cpGIMP, the parallelogram spanned by F r1, F r2 for CPDI. In 1D, the two
+ * ends (corners[0][0], corners[1][0]). */
 void gm_point_domain_corners(gm_shape shape, int dim,
                              const gm_point_domain *point,
                              double corners[4][2]);
 
-/* The support of point p from SoA arrays, any variant: rectangles by
- * value through gm_support_rectangle, CPDI through its domain. */
+/* The support of point p from SoA arrays, any variant: B-splines from
+ * the position, rectangles by value through gm_support_rectangle, CPDI
+ * through its domain. */
 static inline bool gm_wide_support(const gm_shape_grid *grid, int dim,
                                    const double *const position[2],
                                    const double *const deformation[4],
                                    const double *const domain_size[2], size_t p,
                                    gm_support *out) {
+  if (gm_shape_is_bspline(grid->shape))
+    return gm_support_bspline(grid, position[0][p],
+                              dim > 1 ? position[1][p] : 0.0, out);
   if (grid->shape == GM_SHAPE_CPDI) {
     gm_point_domain domain;
     gm_load_point_domain(dim, position, deformation, domain_size, p, &domain);
@@ -136,6 +155,9 @@ static inline bool gm_wide_support_bounds(const gm_shape_grid *grid, int dim,
                                           const double *const domain_size[2],
                                           size_t p, int64_t lowest[2],
                                           int64_t highest[2]) {
+  if (gm_shape_is_bspline(grid->shape))
+    return gm_support_bspline_bounds(
+        grid, position[0][p], dim > 1 ? position[1][p] : 0.0, lowest, highest);
   if (grid->shape == GM_SHAPE_CPDI) {
     gm_point_domain domain;
     gm_load_point_domain(dim, position, deformation, domain_size, p, &domain);

@@ -246,8 +246,9 @@ static Suite *axisymmetric_suite(void) {
   suite_add_tcase(suite, helpers);
   TCase *cylinder = tcase_create("free_cylinder_radial_mode");
   tcase_set_timeout(cylinder, 120);
-  /* USL, MUSL, USF for each of linear MPM, uGIMP, cpGIMP, CPDI. */
-  tcase_add_loop_test(cylinder, test_radial_mode, 0, 12);
+  /* USL, MUSL, USF for each of linear MPM, uGIMP, cpGIMP, CPDI and the
+   * quadratic and cubic B-splines. */
+  tcase_add_loop_test(cylinder, test_radial_mode, 0, 18);
   suite_add_tcase(suite, cylinder);
   return suite;
 }

@@ -6,9 +6,10 @@
  * section 4: deterministic reductions).
  *
  * Scenes: an elastic block falling with gravity onto a fixed bottom wall in
- * plane strain (2304 points, 200 steps), and an elastic column falling onto
- * the fixed x-min wall in 1D (160 points, 300 steps); with FLIP, and with
- * APIC (whose affine matrices are compared too).
+ * plane strain (2304 points, 200 steps; linear MPM and quadratic
+ * B-splines), and an elastic column falling onto the fixed x-min wall in
+ * 1D (160 points, 300 steps); with FLIP, and with APIC (whose affine
+ * matrices are compared too).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -122,6 +123,7 @@ typedef struct scene_def {
   double fall_velocity;  /* m/s, initial, toward the fixed wall */
   double youngs_modulus; /* Pa; nu = 0.3, rho = 1000 kg/m^3 */
   int steps;
+  gm_shape shape; /* linear MPM unless given */
 } scene_def;
 
 /* Plane strain: a 0.3 m block one cell above the floor of a 1 m box, 80 x 80
@@ -139,18 +141,26 @@ static const scene_def plane_scene = {GM_GEOMETRY_PLANE_STRAIN,
                                       2,
                                       -1.0,
                                       1e7,
-                                      200};
+                                      200,
+                                      GM_SHAPE_LINEAR};
+/* The plane scene with quadratic B-splines: their supports reach three
+ * nodes per axis and the fixed floor acts through images of the ghost
+ * nodes (bspline_faces.c), both of which run in parallel passes. */
+static const scene_def bspline_scene = {GM_GEOMETRY_PLANE_STRAIN,
+                                        0.0125,
+                                        {0.35, 0.0125, 0.0},
+                                        {0.65, 0.3125, 0.0},
+                                        2,
+                                        -1.0,
+                                        1e7,
+                                        200,
+                                        GM_SHAPE_BSPLINE2};
 /* 1D: a 0.4 m column 0.05 m from the fixed x-min wall, 0.01 m cells, 4
  * points per cell (160 points), E = 0.1 MPa (c = 11.6 m/s, dt ~4e-4 s):
  * impact after ~0.045 s, 300 steps (~0.12 s) cover it. */
-static const scene_def line_scene = {GM_GEOMETRY_1D,
-                                     0.01,
-                                     {0.05, 0.0, 0.0},
-                                     {0.45, 0.0, 0.0},
-                                     4,
-                                     -1.0,
-                                     1e5,
-                                     300};
+static const scene_def line_scene = {
+    GM_GEOMETRY_1D, 0.01, {0.05, 0.0, 0.0}, {0.45, 0.0, 0.0}, 4, -1.0, 1e5, 300,
+    GM_SHAPE_LINEAR};
 
 static void run_scene(const scene_def *scene, const run_setup *setup,
                       run_result *result) {
@@ -160,6 +170,7 @@ static void run_scene(const scene_def *scene, const run_setup *setup,
   def.geometry = scene->geometry;
   def.cell_size = scene->cell_size;
   def.scheme = setup->scheme;
+  def.shape = scene->shape;
   def.worker_count = setup->worker_count;
   def.transfer = setup->transfer;
   def.shape = setup->shape;
@@ -272,6 +283,11 @@ START_TEST(test_plane_strain_block) {
 }
 END_TEST
 
+START_TEST(test_plane_strain_block_bspline) {
+  check_scene(&bspline_scene, (gm_update_scheme)_i);
+}
+END_TEST
+
 START_TEST(test_1d_column) {
   check_scene(&line_scene, (gm_update_scheme)_i, GM_TRANSFER_FLIP,
               GM_SHAPE_LINEAR);
@@ -301,6 +317,8 @@ static Suite *determinism_suite(void) {
    * workers on 2 shared, loaded cores under the sanitizers took > 10 s. */
   tcase_set_timeout(tcase, 120.0);
   tcase_add_loop_test(tcase, test_plane_strain_block, GM_SCHEME_USL,
+                      GM_SCHEME_USF + 1);
+  tcase_add_loop_test(tcase, test_plane_strain_block_bspline, GM_SCHEME_USL,
                       GM_SCHEME_USF + 1);
   tcase_add_loop_test(tcase, test_1d_column, GM_SCHEME_USL, GM_SCHEME_USF + 1);
   tcase_add_loop_test(tcase, test_apic_plane_strain_block, 0, 6);

@@ -37,6 +37,10 @@ static inline const char *test_shape_name(gm_shape shape) {
     return "cpGIMP";
   case GM_SHAPE_CPDI:
     return "CPDI";
+  case GM_SHAPE_BSPLINE2:
+    return "B-spline2";
+  case GM_SHAPE_BSPLINE3:
+    return "B-spline3";
   }
   return "unknown";
 }
