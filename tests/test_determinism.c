@@ -170,7 +170,6 @@ static void run_scene(const scene_def *scene, const run_setup *setup,
   def.geometry = scene->geometry;
   def.cell_size = scene->cell_size;
   def.scheme = setup->scheme;
-  def.shape = scene->shape;
   def.worker_count = setup->worker_count;
   def.transfer = setup->transfer;
   def.shape = setup->shape;
@@ -284,7 +283,8 @@ START_TEST(test_plane_strain_block) {
 END_TEST
 
 START_TEST(test_plane_strain_block_bspline) {
-  check_scene(&bspline_scene, (gm_update_scheme)_i);
+  check_scene(&bspline_scene, (gm_update_scheme)_i, GM_TRANSFER_FLIP,
+              GM_SHAPE_BSPLINE2);
 }
 END_TEST
 
