@@ -1,7 +1,7 @@
 /*
  * column_collapse.c - planar granular column collapse (004 sec 3.3.6) against
  * the experimental laws of Lube, Huppert, Sparks & Freundt (2005, PRE
- * 72:041301; references.md, "Granular column collapse"):
+ * 72:041301; docs/references.md, "Granular column collapse"):
  *   run-out       (L_inf - L0)/L0 ~ 1.2 a          for a <~ 1.8,
  *                                 ~ 1.9 a^(2/3)    for a >~ 2.8,
  *   final height  H_inf/L0 ~ a for a <~ 1.15, ~ a^0.4 above,

@@ -5,7 +5,7 @@
  * A bar of length L is clamped at x = 0 and free at x = L (fixed-free). It
  * starts in its first vibration mode, v(x) = v0 sin(pi x / 2L), and
  * oscillates with angular frequency omega = (pi / 2L) sqrt(M / rho)
- * (references.md, "Fixed-free elastic bar"; Sulsky/Bardenhagen's standard
+ * (docs/references.md, "Fixed-free elastic bar"; Sulsky/Bardenhagen's standard
  * case L = 25 m, E = 100 Pa, rho = 1 kg/m^3, v0 = 0.1 m/s). Its centre of
  * mass then moves with velocity (2 v0 / pi) cos(omega t): the time between
  * two zero crossings of that velocity is half a period.
@@ -32,7 +32,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-/* The standard case (references.md). */
+/* The standard case (docs/references.md). */
 static const double bar_length = 25.0;      /* m, L */
 static const double youngs_modulus = 100.0; /* Pa, E */
 static const double poisson_ratio = 0.3;    /* nu */

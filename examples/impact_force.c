@@ -26,7 +26,7 @@
  * components, plate force per metre and for the 0.3 m flume width, bed
  * wall force) and <out>/impact_force.pvd (with domains). The paper gives
  * the measured and simulated force histories only as a plot (Fig 20) and
- * no number was found in a readable source (references.md), so the RESULT
+ * no number was found in a readable source (docs/references.md), so the RESULT
  * line compares the peak plate force of the 0.3 m wide flume with an
  * order-of-magnitude scale, not a measurement: the weight component of
  * the 50 kg along the flume, M g sin 45 deg = 347 N (the static load on

@@ -13,7 +13,7 @@
  *    back against the box's left face and its front face inclined at 20
  *    degrees (below the friction angle, so it stands at rest; a 0.8 x 0.2
  *    rectangle would collapse on its own and mix that into the run-out);
- *  - material: Kumar's glass-bead Mohr-Coulomb of ch. 4 (references.md):
+ *  - material: Kumar's glass-bead Mohr-Coulomb of ch. 4 (docs/references.md):
  *    E = 1.98 MPa, nu = 0.22, phi = 22.2 deg, psi = 0, rho = 1925 kg/m^3,
  *    no rate term; floor friction 0.466 (Coulomb wall);
  *  - the energy is per metre of thickness, E0 = sum of m_p v_p^2 / 2 over

@@ -8,10 +8,11 @@
  * (--geometry axisym, 002 sec 5.2 / 001 sec 5.1.1). Only half of the
  * symmetric cross-section is modelled: the axis x = 0 is a slip face. The
  * papers' figures (silo dimensions) did not survive the text extraction, so
- * the silo is sized by the validity range of Beverloo's law (references.md,
- * Mankoc et al. 2007): full width >= 2.5 D, fill height >= 1.2 widths.
- * Material: Drucker-Prager of 002 sec 5 (E = 1 MPa, nu = 0.3, phi = 25 deg,
- * rho = 1500 kg/m^3), Coulomb silo and hopper walls with phi_w = 20 deg.
+ * the silo is sized by the validity range of Beverloo's law
+ * (docs/references.md, Mankoc et al. 2007): full width >= 2.5 D, fill height
+ * >= 1.2 widths. Material: Drucker-Prager of 002 sec 5 (E = 1 MPa, nu = 0.3,
+ * phi = 25 deg, rho = 1500 kg/m^3), Coulomb silo and hopper walls with phi_w =
+ * 20 deg.
  *
  * Two phases, as in 002 sec 5 (initial static state, then the flow):
  *  1. at rest: the orifice is closed by a rigid gate; the fill starts from
@@ -278,7 +279,7 @@ static void reset_loads(wall_loads *loads) {
 
 /* Janssen's wall pressure (Pa) at depth z (m) below the free surface:
  * sigma_h = K sigma_v, A/U = B for a planar silo (full width 2B between two
- * walls), B/2 for a cylinder of radius B (references.md). */
+ * walls), B/2 for a cylinder of radius B (docs/references.md). */
 static double janssen_pressure(const silo *s, double k, double z) {
   double ratio = s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 0.5 * s->half_width
                                                          : s->half_width;

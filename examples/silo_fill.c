@@ -1,6 +1,6 @@
 /*
  * silo_fill.c - filling a planar silo layer by layer and comparing the
- * settled stresses with Janssen's formula (references.md, "Silo discharge
+ * settled stresses with Janssen's formula (docs/references.md, "Silo discharge
  * and silo pressure"):
  *   sigma_v(z) = rho g W / (2 mu_w K) (1 - exp(-2 mu_w K z / W)),
  *   sigma_h(z) = K sigma_v(z).

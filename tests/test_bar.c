@@ -1,6 +1,6 @@
 /*
  * test_bar.c - fixed-free elastic bar vibrating in its first mode
- * (references.md, "Fixed-free elastic bar"; Sulsky/Bardenhagen benchmark).
+ * (docs/references.md, "Fixed-free elastic bar"; Sulsky/Bardenhagen benchmark).
  *
  * Bar of length L = 25 m, fixed at x = 0 (GM_WALL_FIXED on the XMIN face),
  * free at x = L, density rho = 1 kg/m^3, initial velocity

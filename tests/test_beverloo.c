@@ -1,6 +1,6 @@
 /*
  * test_beverloo.c - plane-strain slot discharge against Beverloo's scaling
- * (issue 6; references.md "Silo discharge"; 002 sec 5.1, eq 19):
+ * (issue 6; docs/references.md "Silo discharge"; 002 sec 5.1, eq 19):
  *
  *   W' = C rho_b sqrt(g) (D - k d)^(3/2)   (mass per unit slot length, s)
  *
@@ -31,7 +31,7 @@
  * geostatic fill and the arch accelerates over a fall of a few D, about
  * 0.3 s - is over) to the moment 40 % has left (the fill then still stands
  * above 1.2 silo widths, the height above which Beverloo's rate does not
- * depend on the head; Mankoc et al. 2007 in references.md). The test also
+ * depend on the head; Mankoc et al. 2007 in docs/references.md). The test also
  * asserts that the window is steady: the rates of its two halves agree
  * within 20 % (the sampled rate scatters by about +-5 % from sample to
  * sample in these coarse runs; a flow that is still accelerating or already

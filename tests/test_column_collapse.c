@@ -1,7 +1,7 @@
 /*
  * test_column_collapse.c - planar granular column collapse against the
  * experimental run-out law of Lube, Huppert, Sparks & Freundt (2005, PRE
- * 72:041301; references.md):
+ * 72:041301; docs/references.md):
  *   (L_inf - L0)/L0 ~ 1.2 a           for a <~ 1.8,
  *                   ~ 1.9 a^(2/3)     for a >~ 2.8,   a = H0/L0,
  * at one aspect ratio in each regime (a = 1 and a = 3), with the scene of

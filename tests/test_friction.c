@@ -1,6 +1,6 @@
 /*
  * test_friction.c - a block on an incline with a Coulomb wall
- * (references.md, "Block sliding on an incline"; design.md validation
+ * (docs/references.md, "Block sliding on an incline"; design.md validation
  * table): at rest when tan(theta) < mu, otherwise its centre of mass
  * moves s = 1/2 g (sin(theta) - mu cos(theta)) t^2 down the slope.
  *

@@ -1,6 +1,6 @@
 /*
  * test_janssen.c - a planar silo at rest against Janssen's formula (issue
- * 3; references.md, "Silo discharge and silo pressure"):
+ * 3; docs/references.md, "Silo discharge and silo pressure"):
  *
  *   sigma_v(z) = rho g (A/U) / (mu_w K) (1 - exp(-mu_w K z U / A)),
  *   sigma_h(z) = K sigma_v(z),   A/U = W/2 between two planar walls,

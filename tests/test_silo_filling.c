@@ -1,6 +1,6 @@
 /*
  * test_silo_filling.c - a silo filled by pouring, at rest, against
- * Janssen (references.md): the scene of examples/silo_filling_janssen.c
+ * Janssen (docs/references.md): the scene of examples/silo_filling_janssen.c
  * (Wieckowski 2004, sec 5.1.2) at a third of its size. Half of a planar
  * silo, B = 0.6 m, Coulomb side wall and floor with phi_w = 20 deg; a
  * source releases a 12 x 12 block of points just above the free surface
@@ -16,7 +16,7 @@
  * height). Which K: a poured fill is not loaded along one path, so we
  * bracket it between the at-rest ratio of the elastic fill, K0 = nu / (1 -
  * nu) = 0.43 (the example explains why the fill stays elastic), and Jaky's
- * 1 - sin(phi) = 0.5 (references.md), both fixed by the material data
+ * 1 - sin(phi) = 0.5 (docs/references.md), both fixed by the material data
  * before the run. The wall load grows with K and sigma_v falls with it.
  * Measured in the example: the effective K falls with the fill's depth,
  * from about 0.51 for this 1.2 m fill to 0.43 for the 3.6 m one (pouring
