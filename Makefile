@@ -9,6 +9,8 @@
 #   make install PREFIX=/usr/local DESTDIR=
 #   make abi-check       compare the library ABI with abi/libgranmpm.abi
 #   make distcheck       build, test and check the release tarball
+#   make fuzz            build the libFuzzer harnesses (clang) and run each
+#                        for FUZZ_TIME seconds (default 600; fuzz/README.md)
 BUILD ?= build
 PREFIX ?= /usr/local
 DESTDIR ?=
@@ -24,7 +26,7 @@ DIST_FORWARD := dist distcheck
 
 # 'configure' is a real file, so it is not .PHONY: a phony prerequisite
 # would rerun autoreconf and configure on every make.
-.PHONY: $(FORWARD) $(DIST_FORWARD) clean distclean format format-check
+.PHONY: $(FORWARD) $(DIST_FORWARD) clean distclean format format-check fuzz
 
 all:
 
@@ -46,12 +48,29 @@ clean:
 	-$(MAKE) -C $(BUILD) clean
 
 distclean:
-	rm -rf $(BUILD) out
+	rm -rf $(BUILD) $(FUZZ_BUILD) out
+
+# Fuzzing: a private static build with clang, libFuzzer, ASan and UBSan.
+FUZZ_BUILD ?= build-fuzz
+FUZZ_TIME ?= 600
+FUZZ_CC ?= clang
+FUZZ_SANITIZE = -fsanitize=address,undefined -fno-sanitize-recover=all
+fuzz: $(FUZZ_BUILD)/Makefile
+	$(MAKE) -C $(FUZZ_BUILD) fuzz/fuzz_api fuzz/fuzz_checkpoint
+	sh fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_TIME)
+
+$(FUZZ_BUILD)/Makefile: configure
+	mkdir -p $(FUZZ_BUILD)
+	cd $(FUZZ_BUILD) && $(TOP)/configure --quiet --enable-fuzz \
+	  --disable-shared FC=no CC=$(FUZZ_CC) \
+	  CFLAGS="-g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer-no-link $(FUZZ_SANITIZE)" \
+	  LDFLAGS="$(FUZZ_SANITIZE)"
 
 CLANG_FORMAT ?= clang-format
 FORMAT_FILES = $(wildcard include/*.h include/granmpm/*.h lib/*.c lib/*.h \
 	lib/materials/*.c lib/materials/*.h \
-	tests/*.c tests/*.h examples/*.c bench/*.c .ci/*.c .ci/*.cpp)
+	tests/*.c tests/*.h examples/*.c bench/*.c .ci/*.c .ci/*.cpp \
+	fuzz/*.c fuzz/*.h)
 format:
 	$(CLANG_FORMAT) -i $(FORMAT_FILES)
 format-check:
