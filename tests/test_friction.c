@@ -8,10 +8,10 @@
  * gravity rotated by theta: g = g (sin(theta), -cos(theta)). The floor is a
  * planar wall (gm_domain_add_wall) on a grid line, normal +y, with
  * mu_s = mu_k = mu. Two angles each side of mu = 0.4 (21.8 degrees):
- * 10 and 15 degrees stick, 30 and 35 degrees slide. MUSL and USF in all
- * cases; USL only for the blocks at rest: a sliding block's front points
- * enter empty cells, where USL fails (a documented limitation, see
- * gm_domain_step(3)), so USL sliding is not asserted here.
+ * 10 and 15 degrees stick, 30 and 35 degrees slide, in USL, MUSL and
+ * USF. (USL used to fail once a sliding block's front points entered
+ * empty cells; since it takes its strain rate from the re-mapped
+ * velocities (gm_domain_step(3)) it completes the slides.)
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -120,8 +120,6 @@ static double frictionless_slide(double theta, double t) {
 START_TEST(test_rotated_gravity_incline) {
   gm_update_scheme scheme = schemes[_i % 3];
   double theta = angles_degrees[_i / 3] * PI / 180.0;
-  if (scheme == GM_SCHEME_USL && tan(theta) > MU)
-    return; /* see the file comment: USL sliding is not asserted */
   gm_domain_def def = gm_domain_def_default();
   def.scheme = scheme;
   def.cell_size = CELL;
@@ -145,8 +143,11 @@ START_TEST(test_rotated_gravity_incline) {
   double expected = expected_slide(theta, DURATION);
   double scale = frictionless_slide(theta, DURATION); /* 0.19-0.42 m */
   if (expected > 0.0) {
-    /* 2 % (design.md); measured within 0.3 %. */
-    ck_assert_msg(fabs(slide - expected) < 0.02 * expected,
+    /* 2 % (design.md); measured within 0.3 % with MUSL and USF. USL
+     * slides 2.4 % too far at 30 degrees (0.1234 m for 0.1205 m) and
+     * within 2 % at 35: asserted at 3 %, the excess is open (issue 12). */
+    double tolerance = scheme == GM_SCHEME_USL ? 0.03 : 0.02;
+    ck_assert_msg(fabs(slide - expected) < tolerance * expected,
                   "%s, %.0f deg: slid %.6f m, expected %.6f m",
                   test_scheme_name(scheme), angles_degrees[_i / 3], slide,
                   expected);
