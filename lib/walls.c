@@ -17,8 +17,6 @@
 
 #include <math.h>
 
-/* Contact tolerance of the planar walls, in cells (see gm_walls_contact). */
-#define GM_CONTACT_TOLERANCE 3e-3
 /* Distance (cells) in front of a wall within which a node shares the wall
  * (see gm_walls_contact): one cell less GM_ON_ROW, so that the next node
  * row in front of a wall on a node row stays out. A wall placed a rounding
@@ -275,7 +273,7 @@ gm_status gm_walls_reserve(gm_domain *domain) {
       return status;
   }
   size_t gaps = grid->block_capacity * GM_BLOCK_NODES *
-                (size_t)domain->wall_count; /* doubles */
+                (size_t)gm_gap_plane_count(domain); /* doubles */
   if (gaps > grid->wall_gap_capacity) {
     double *grown = gm_alloc(gaps * sizeof(double));
     if (!grown)
