@@ -172,10 +172,16 @@ static run_result run(gm_update_scheme scheme, double theta, double mu,
  * cells above a node row slides 8-14 % too far, and on the tilted plane
  * 0.3 cells off a row 5-8 % too far (every other case here is within
  * 2 %; before the wall acted on the nodes less than a cell in front of the
- * plane these two slid 36-56 % and 3-8 % too far, and the others up to
- * 144 %). Both are asserted at 15 % so that they cannot get worse; the
- * 2 % target is open (the friction deficit is not in which nodes act: a
- * reach of 1.5 cells gives the same numbers to five digits). */
+ * plane these two slid 36-56 % and 2-3 % too far, and the others up to
+ * 144 %: the tilted case got worse). Both are asserted at 15 % so that
+ * they cannot get worse; the 2 % target is open. Measured at the floor
+ * 0.625 cells up (MUSL): the friction is lost at the node row behind the
+ * plane, whose nodes carry only 1/8 of the weight of the bottom points
+ * yet take 56 % of the wall's normal impulse (a traction on the plane
+ * would give them 37.5 %, N at the plane) and stick in 10 % of their
+ * contacts, so their friction is 0.466 of their normal impulse, not 0.5;
+ * the row in front gives 0.498. Which nodes act is not the cause: a reach
+ * of 1.5 cells gives the same numbers to five digits. */
 static bool known_shortfall(const slope_case *slope, bool tilted,
                             double offset_cells) {
   bool slides = slope->degrees > 30.0;
