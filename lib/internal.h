@@ -467,9 +467,19 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
                       double velocity[2], const double *gap, double dt,
                       double *block_force, double mass_over_dt,
                       int *first_wall);
-/* The node gaps to every planar wall (grid->wall_gap) from the committed
- * point domains, after the mass P2G (wall_gaps.c). */
+/* The node gaps to every planar wall and to the box faces that hold
+ * material (grid->wall_gap, gm_gap_plane_count per node: the walls, then
+ * the faces) from the committed point domains, after the mass P2G
+ * (wall_gaps.c). */
 void gm_walls_measure_gaps(gm_domain *domain);
+/* Gap records per node: the planar walls and the measured box faces. */
+int gm_gap_plane_count(const gm_domain *domain);
+/* Slot of box face f (2 axis + side) in a node's gap records; -1 when
+ * the face is not measured (open, or a B-spline mirror). */
+int gm_gap_face_slot(const gm_domain *domain, int face);
+/* Gaps (cells) below which a wall or a box face counts as touched: see
+ * gm_walls_contact (walls.c). */
+#define GM_CONTACT_TOLERANCE 3e-3
 /* Sizes the per-block wall-force partial sums for the current walls. */
 gm_status gm_walls_reserve(gm_domain *domain);
 

@@ -382,6 +382,6 @@ void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass) {
   gm_bspline_fold_ghosts(domain, pass);      /* images in the box faces */
   if (pass->mass && domain->rigid_count > 0) /* once per step */
     gm_rigid_mark_nodes(domain);
-  if (pass->mass && domain->wall_count > 0) /* once per step */
+  if (pass->mass && gm_gap_plane_count(domain) > 0) /* once per step */
     gm_walls_measure_gaps(domain);
 }

@@ -1,12 +1,19 @@
 /*
  * wall_gaps.c - how far the material of each node is from each planar
- * wall. A node on or behind a wall carries points whose domains may have
- * left the wall; holding the node's velocity at zero toward the wall would
- * then stop that material from ever coming back, and every vibration
- * would press it harder against the wall (a ratchet). The gap of a node to
- * a wall is the smallest distance from the wall to the domain of a point
- * with weight on the node: the contact lets the node close that gap in a
+ * wall and each box face. A node on or behind a wall carries points whose
+ * domains may have left the wall; holding the node's velocity at zero toward
+ * the wall would then stop that material from ever coming back, and every
+ * vibration would press it harder against the wall (a ratchet). The gap of a
+ * node to a wall is the smallest distance from the wall to the domain of a
+ * point with weight on the node: the contact lets the node close that gap in a
  * step and stops only the rest (walls.c).
+ *
+ * The box faces that hold material (slip and fixed) get the same measure,
+ * after the planar walls in the gap records (gm_gap_face_slot): a face
+ * node held at zero while its material is still a fraction of a cell
+ * above the face would hang that material in the air (grid_update.c).
+ * The faces of the B-splines are mirrors (bspline_faces.c) and are not
+ * measured.
  *
  * Minima do not depend on the order they are taken in, and the blocks are
  * visited colour by colour as in p2g.c, so the result is deterministic and
@@ -16,9 +23,68 @@
 
 #include <math.h>
 
+/* Does box face f (2 axis + side) hold material and get a gap? */
+static bool face_measured(const gm_domain *domain, int face) {
+  return face / 2 < domain->dim && domain->def.walls[face] != GM_WALL_OPEN &&
+         !gm_shape_is_bspline(domain->def.shape);
+}
+
+int gm_gap_face_slot(const gm_domain *domain, int face) {
+  if (!face_measured(domain, face))
+    return -1;
+  int slot = domain->wall_count;
+  for (int f = 0; f < face; f++)
+    slot += face_measured(domain, f);
+  return slot;
+}
+
+int gm_gap_plane_count(const gm_domain *domain) {
+  int count = domain->wall_count;
+  for (int face = 0; face < 2 * domain->dim; face++)
+    count += face_measured(domain, face);
+  return count;
+}
+
+/* A plane whose gaps are measured: a point on it and its unit normal
+ * into the material's side. */
+typedef struct gap_plane {
+  double point[2];  /* m */
+  double normal[2]; /* unit */
+  bool face;        /* a box face: only its face and ghost nodes use it */
+} gap_plane;
+
+static int list_planes(const gm_domain *domain, gap_plane *planes) {
+  int count = 0;
+  for (int w = 0; w < domain->wall_count; w++, count++) {
+    for (int k = 0; k < 2; k++) {
+      planes[count].point[k] = domain->walls[w].point[k];
+      planes[count].normal[k] = domain->walls[w].normal[k];
+    }
+    planes[count].face = false;
+  }
+  double h = domain->def.cell_size;
+  for (int face = 0; face < 2 * domain->dim; face++) {
+    if (!face_measured(domain, face))
+      continue;
+    int axis = face / 2, side = face % 2;
+    gap_plane *plane = &planes[count++];
+    plane->point[0] = plane->point[1] = 0.0;
+    plane->normal[0] = plane->normal[1] = 0.0;
+    /* The face node: GM_GHOST_LAYERS above node 0 (support.h), or
+     * cells[axis] further on the upper side. */
+    int64_t node = GM_GHOST_LAYERS + (side ? domain->cells[axis] : 0);
+    plane->point[axis] = domain->shape_grid.origin[axis] + (double)node * h;
+    plane->normal[axis] = side ? -1.0 : 1.0;
+    plane->face = true;
+  }
+  return count;
+}
+
 typedef struct gap_context {
   gm_domain *domain;
   const uint32_t *blocks; /* of the colour being measured */
+  gap_plane planes[GM_MAX_WALLS + 4];
+  int plane_count;
 } gap_context;
 
 /* Half extent (m) of point p's current domain along the unit normal. */
@@ -40,26 +106,33 @@ static double extent_along(const gm_domain *domain,
 }
 
 /* Lowers the gaps of the nodes point p reaches to its domain's distance
- * from each wall its support may reach past. */
-static void measure_point(gm_domain *domain, uint32_t block, size_t p) {
+ * from each plane its support may reach past. */
+static void measure_point(gm_domain *domain, const gap_context *ctx,
+                          uint32_t block, size_t p) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *current = &points->buffer[points->cur];
   gm_grid *grid = &domain->grid;
-  int dim = domain->dim, walls = domain->wall_count;
+  int dim = domain->dim, planes = ctx->plane_count;
   gm_point_domain point;
   gm_point_domain_at(domain, current, p, &point);
+  double h = domain->def.cell_size; /* m */
   /* A support reaches at most 9 nodes (8 cells) from the point. */
-  double reach = 8.0 * domain->def.cell_size; /* m */
-  double distance[GM_MAX_WALLS];
+  double reach = 8.0 * h; /* m */
+  double distance[GM_MAX_WALLS + 4];
   bool near = false;
-  for (int w = 0; w < walls; w++) {
-    const gm_wall *wall = &domain->walls[w];
-    double centre = (point.position[0] - wall->point[0]) * wall->normal[0] +
-                    (point.position[1] - wall->point[1]) * wall->normal[1];
+  for (int w = 0; w < planes; w++) {
+    const gap_plane *plane = &ctx->planes[w];
+    double centre = (point.position[0] - plane->point[0]) * plane->normal[0] +
+                    (point.position[1] - plane->point[1]) * plane->normal[1];
     distance[w] = INFINITY;
     if (centre > reach)
-      continue; /* no node of its support lies behind this wall */
-    distance[w] = centre - extent_along(domain, &point, wall->normal);
+      continue; /* no node of its support lies behind this plane */
+    double gap = centre - extent_along(domain, &point, plane->normal);
+    /* A box face acts on its face and ghost nodes only, which a linear,
+     * GIMP or CPDI support reaches only from less than a cell away. */
+    if (plane->face && gap >= h)
+      continue;
+    distance[w] = gap;
     near = true;
   }
   if (!near)
@@ -77,8 +150,8 @@ static void measure_point(gm_domain *domain, uint32_t block, size_t p) {
     int64_t y =
         dim > 1 ? support.lowest[1] - base[1] + support.offset[1][e] : 0;
     double *gap = grid->wall_gap +
-                  gm_block_node(links, grid->shift, x, y) * (size_t)walls;
-    for (int w = 0; w < walls; w++)
+                  gm_block_node(links, grid->shift, x, y) * (size_t)planes;
+    for (int w = 0; w < planes; w++)
       gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
   }
 }
@@ -96,7 +169,7 @@ static void measure_blocks(void *context, size_t begin, size_t end,
          k < grid->point_start[block + 1]; k++) {
       size_t p = points->order[k];
       if (!domain->materials[points->material[p]].rigid)
-        measure_point(domain, block, p);
+        measure_point(domain, ctx, block, p);
     }
   }
 }
@@ -104,7 +177,7 @@ static void measure_blocks(void *context, size_t begin, size_t end,
 static void clear_gaps(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   gm_domain *domain = context;
-  size_t stride = GM_BLOCK_NODES * (size_t)domain->wall_count;
+  size_t stride = GM_BLOCK_NODES * (size_t)gm_gap_plane_count(domain);
   double *gap = domain->grid.wall_gap;
   for (size_t k = begin * stride; k < end * stride; k++)
     gap[k] = INFINITY;
@@ -113,7 +186,10 @@ static void clear_gaps(void *context, size_t begin, size_t end, int worker) {
 void gm_walls_measure_gaps(gm_domain *domain) {
   gm_grid *grid = &domain->grid;
   gm_parallel_for(&domain->pool, grid->block_count, clear_gaps, domain);
-  gap_context ctx = {domain, NULL};
+  gap_context ctx;
+  ctx.domain = domain;
+  ctx.blocks = NULL;
+  ctx.plane_count = list_planes(domain, ctx.planes);
   for (int colour = 0; colour < 4; colour++) {
     size_t first = grid->color_start[colour];
     ctx.blocks = grid->color_block + first;
