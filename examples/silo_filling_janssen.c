@@ -1,7 +1,7 @@
 /*
  * silo_filling_janssen.c - filling a planar silo with the pressure-volume
  * model (Wieckowski 2004 = 001, sec 5.1.2, eq 24), then the wall pressure
- * at rest against Janssen (references.md, "Silo discharge and silo
+ * at rest against Janssen (docs/references.md, "Silo discharge and silo
  * pressure"):
  *   sigma_v(z) = rho g (A/U) / (mu_w K) (1 - exp(-mu_w K z / (A/U))),
  *   sigma_h = K sigma_v,  A/U = B (half the silo width) for a planar silo.
@@ -9,8 +9,11 @@
  * Scene (001 text; its Fig 6 with the silo dimensions is lost in the text
  * extraction): half of a planar silo (the axis is a slip face), B = 0.6 m,
  * Coulomb side wall and floor with phi_w = 20 deg. Every 0.2 s a source
- * releases a 12 x 12 block of points just above the free surface (001: 144
- * points a portion, one portion every 0.2 s); the material is the filling
+ * releases a 0.3 m x 0.3 m block of points just above the free surface
+ * (001: 144 points a portion, one portion every 0.2 s, which is 12 x 12 at
+ * the default 2.5 cm spacing; the block keeps its size in metres when
+ * --cell or --ppc change it into more or fewer points, so a refinement
+ * study fills the same silo); the material is the filling
  * model with the paper's data (gm_filling_def_default: kappa = 0.02, nu =
  * 0.3, e0 = 0.9, p0 = 600 Pa, phi = 30 deg, mu = 1e4 Pa s, gamma = 1e4
  * 1/s, N = 1, rho0 = 2850 / 1.9 = 1500 kg/m^3). Smaller than the paper's
@@ -58,7 +61,7 @@
 static const double PI = 3.14159265358979323846;
 static const double GRAVITY = 9.81;       /* m/s^2 */
 static const double HALF_WIDTH = 0.6;     /* m, B */
-static const double SILO_HEIGHT = 4.0;    /* m, top of the grid box */
+static const double SILO_HEIGHT = 5.0;    /* m, top of the grid box */
 static const double WALL_ANGLE = 20.0;    /* deg, phi_w of 001 */
 static const double PERIOD = 0.2;         /* s between portions (001) */
 static const double SETTLE_TIME = 1.5;    /* s after the last portion */
@@ -67,12 +70,13 @@ static const double SAMPLE = 0.02;        /* s between CSV rows */
 static const double DAMPING = 0.05;       /* -, local damping */
 static const double MAX_PRESSURE = 1e6;   /* Pa, bounds the wave speed */
 static const double BAND = 0.25;          /* m, wall pressure bands */
+static const double PORTION_EDGE = 0.3;   /* m, 001's 12 x 12 at 2.5 cm */
 
-enum { BLOCK = 12, MAX_ROWS = 512, MAX_TRACTIONS = 4096 };
+enum { MAX_ROWS = 1024, MAX_TRACTIONS = 4096 };
 
 typedef struct filling {
   example_options options;
-  double portions; /* number of 12 x 12 blocks dropped */
+  double portions; /* number of PORTION_EDGE square blocks dropped */
   int walls[2];    /* side wall, floor */
   int material;
   double portion_density;    /* kg/m^3, of a released portion */
@@ -98,28 +102,38 @@ static int add_wall(gm_domain *domain, double x, double normal_x,
  * spacing. */
 static double free_surface(const gm_domain *domain, double spacing);
 
-/* The next portion: a BLOCK x BLOCK lattice of points of edge `spacing`
- * against the axis, released now just above the current free surface (a
- * source injecting once). Dropping it from the top of the silo made the
- * filling model's exponential stiffening meet a 6.5 m/s impact, which
- * inverted or threw out points; 001 does not give the drop height. */
+/* The next portion: a square lattice of points of edge `spacing` filling
+ * PORTION_EDGE x PORTION_EDGE against the axis (block x block points, the
+ * edge rounded to whole spacings), released now just above the current
+ * free surface (a source injecting once). Dropping it from the top of the
+ * silo made the filling model's exponential stiffening meet a 6.5 m/s
+ * impact, which inverted or threw out points; 001 does not give the drop
+ * height. */
 static gm_status add_portion(gm_domain *domain, filling *f, double time) {
   double spacing = f->options.cell / f->options.ppc;             /* m */
   double bottom = free_surface(domain, spacing) + 0.5 * spacing; /* m */
-  double position[2 * BLOCK * BLOCK];
-  for (int i = 0; i < BLOCK * BLOCK; i++) {
-    position[2 * i] = (i % BLOCK + 0.5) * spacing;
-    position[2 * i + 1] = bottom + (i / BLOCK + 0.5) * spacing;
+  long block = lround(PORTION_EDGE / spacing);
+  if (block < 1)
+    block = 1;
+  size_t count = (size_t)(block * block);
+  double *position = malloc(2 * count * sizeof *position);
+  if (!position)
+    return GM_ERR_NO_MEMORY;
+  for (size_t i = 0; i < count; i++) {
+    position[2 * i] = ((double)(i % (size_t)block) + 0.5) * spacing;
+    position[2 * i + 1] =
+        bottom + ((double)(i / (size_t)block) + 0.5) * spacing;
   }
   gm_source_def source = gm_source_def_default();
   source.material = f->material;
-  source.count = BLOCK * BLOCK;
+  source.count = count;
   source.position = position;
   source.point_size = spacing;
   source.density = f->portion_density;
   source.start_time = time;
   int id = -1;
   gm_status status = gm_domain_add_source(domain, &source, &id);
+  free(position);
   f->placed += status == GM_OK;
   return status;
 }
@@ -332,7 +346,7 @@ int main(int argc, char **argv) {
   f.portions = 24;
   f.pic_fraction = 0.02;
   example_extra extras[] = {
-      {"portions", "number of 12 x 12 blocks dropped (one per 0.2 s)",
+      {"portions", "number of 0.3 m x 0.3 m blocks dropped (one per 0.2 s)",
        &f.portions, NULL},
       {"pic", "PIC share of the velocity update, 0..1 (0 = FLIP)",
        &f.pic_fraction, NULL}};
