@@ -32,5 +32,5 @@ bench-chart: examples/column_collapse examples/slope_density
 	SCENE=slope $(SHELL) $(top_srcdir)/bench/chart.sh \
 	  ./examples/slope_density $(top_srcdir)/bench/results $(CHART_JOBS)
 
-EXTRA_DIST += bench/chart.sh examples/README.md
+EXTRA_DIST += bench/chart.sh examples/README.md bench/convergence
 .PHONY: demo-collapse bench-chart

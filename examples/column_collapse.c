@@ -35,6 +35,15 @@
  * same connected deposit; the stop time is when the front reached 98 % of
  * its final run-out.
  *
+ * For the convergence study (docs/convergence.md) the run also prints the
+ * run-out by other measures of the front (the farthest point, connected or
+ * not; where the deposit thins below 1, 2 and 5 % of L0) and the share of
+ * the kinetic energy the grid cannot see (ENERGY line, measure_energy), and
+ * takes the options --transfer flip|apic, --pic (FLIP-PIC blend), --floor
+ * wall|face|rigid (Coulomb wall, no-slip box face, no-slip rigid points),
+ * --floor-mu, --dilation (psi), --material mu_i (mu_s = sin phi), --grain
+ * --scheme usl|musl|usf and --cfl.
+ *
  * Output in --out (default out/column_collapse): collapse.pvd + VTU frames
  * (with the point domains for GIMP and CPDI), collapse.csv (time, kinetic
  * energy, front, height, points per state, parallel grids, wall forces),
@@ -73,15 +82,32 @@ typedef struct collapse_scene {
   double spacing;  /* initial point spacing, cell / ppc */
   double extent_x; /* grid box */
   double extent_y;
-  const char *material;  /* mohr_coulomb | drucker_prager */
+  const char *material;  /* mohr_coulomb | drucker_prager | mu_i */
   double friction_deg;   /* phi of the material and of the floor, degrees */
   double youngs_modulus; /* E, Pa */
+  double dilation_deg;   /* psi of Mohr-Coulomb, degrees */
+  double floor_friction; /* mu of the floor; < 0: tan(phi) */
+  const char *floor;     /* wall | face | rigid */
+  const char *transfer;  /* flip | apic */
+  double pic_fraction;   /* FLIP-PIC blend, 0 = FLIP */
+  double grain_diameter; /* mu(I): d, m */
+  const char *scheme;    /* usl | musl | usf */
+  double cfl;            /* Courant number, 0 = the library's default */
 } collapse_scene;
+
+/* Thickness thresholds of the front measures, in L0 (front_thick). */
+enum { THICK_COUNT = 3 };
+static const double THICK_FRACTION[THICK_COUNT] = {0.01, 0.02, 0.05};
 
 /* The deposit at one instant (m). */
 typedef struct deposit {
-  double front;  /* right edge of the connected deposit */
-  double height; /* its top */
+  double front;    /* right edge of the connected deposit */
+  double height;   /* its top */
+  double farthest; /* right edge of the farthest point, connected or not */
+  /* right edge of the rightmost point of the connected deposit whose top
+   * (y + half a spacing) is at least THICK_FRACTION[k] L0 above the
+   * floor: where the deposit thins below that thickness */
+  double thick[THICK_COUNT];
 } deposit;
 
 /* Everything the output rows need while the run goes on. */
@@ -91,8 +117,18 @@ typedef struct collapse_run {
   gm_domain *domain;
   int floor_wall, back_wall;
   double *positions, *velocities; /* scratch, count * 2 */
+  double *masses;                 /* scratch, count */
   unsigned char *occupied;        /* scratch, one flag per cell column */
   size_t column_count;
+  double *nodes; /* scratch: mass, x and y momentum per node of the cells */
+  size_t node_columns, node_rows;
+  double kinetic_integral, hidden_integral; /* J s, over the rows */
+  double hidden_peak_fraction;              /* max hidden / point KE */
+  double *stresses, *volumes;               /* scratch, count * 6, count */
+  double potential_start;                   /* J/m, sum m g y at t = 0 */
+  double elastic_peak;                      /* J/m, max over the rows */
+  double elastic_peak_time;                 /* s */
+  double last_potential, last_elastic;      /* J/m, the last row */
   FILE *csv;
   gm_series *series;
   int gnuplot; /* nonzero when gnuplot is installed */
@@ -141,11 +177,30 @@ static int add_material(gm_domain *domain, const collapse_scene *scene) {
     def.poisson_ratio = POISSON_RATIO;
     def.density = DENSITY;
     def.friction_angle = scene->friction_deg * PI / 180.0;
-    def.dilation_angle = 0.0;
+    def.dilation_angle = scene->dilation_deg * PI / 180.0;
     def.bagnold_viscosity = 0.0; /* rate-free, see the top of the file */
     status = gm_domain_add_mohr_coulomb(domain, &def, &material);
+  } else if (strcmp(scene->material, "mu_i") == 0) {
+    /* mu_s = sin(phi): in plane strain with no plastic volume change the
+     * Mohr-Coulomb yield (s1 - s3)/2 = sin(phi) (s1 + s3)/2 is
+     * tau = mu p with tau = sqrt(s:s/2), the mu(I) stress measure; mu_2 - mu_s
+     * and I_0 from Jop et al. (2006, glass beads). */
+    gm_mu_i_def def = gm_mu_i_def_default();
+    def.youngs_modulus = scene->youngs_modulus;
+    def.poisson_ratio = POISSON_RATIO;
+    def.density = DENSITY;
+    def.grain_density = 2650.0;
+    def.grain_diameter = scene->grain_diameter;
+    def.static_friction = sin(scene->friction_deg * PI / 180.0);
+    def.limit_friction = def.static_friction + (0.6435 - 0.3819);
+    /* Barker & Gray's regularisation has no well-posed range for these
+     * mu_s, mu_2, I_0 (gm_domain_add_mu_i refuses them): Jop's curve with
+     * its yield stress mu_s p, as Mohr-Coulomb has. */
+    def.regularise = 0;
+    status = gm_domain_add_mu_i(domain, &def, &material);
   } else {
-    fprintf(stderr, "--material: '%s' is not mohr_coulomb or drucker_prager\n",
+    fprintf(stderr,
+            "--material: '%s' is not mohr_coulomb, drucker_prager or mu_i\n",
             scene->material);
     return -1;
   }
@@ -182,6 +237,30 @@ static int build_scene(collapse_run *run) {
   def.extent[0] = scene->extent_x;
   def.extent[1] = scene->extent_y;
   def.gravity[1] = -GRAVITY;
+  def.pic_fraction = scene->pic_fraction;
+  def.scheme = example_scheme(scene->scheme);
+  if (scene->cfl > 0.0)
+    def.cfl = scene->cfl;
+  if (strcmp(scene->transfer, "apic") == 0)
+    def.transfer = GM_TRANSFER_APIC;
+  else if (strcmp(scene->transfer, "flip") != 0) {
+    fprintf(stderr, "--transfer: '%s' is not flip or apic\n", scene->transfer);
+    return 2;
+  }
+  int rigid_floor = strcmp(scene->floor, "rigid") == 0;
+  int face_floor = strcmp(scene->floor, "face") == 0;
+  if (!rigid_floor && !face_floor && strcmp(scene->floor, "wall") != 0) {
+    fprintf(stderr, "--floor: '%s' is not wall, face or rigid\n", scene->floor);
+    return 2;
+  }
+  /* A rigid floor: two cells of rigid points below y = 0 (no-slip on every
+   * node they touch). A face floor: the box face y = 0, no-slip. */
+  if (rigid_floor) {
+    def.origin[1] = -2.0 * options->cell;
+    def.extent[1] += 2.0 * options->cell;
+  }
+  if (face_floor)
+    def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
   /* The walls below hold the material; a point reaching an open face (the
    * far right or the top) has left the scene and fails the step. */
   EXAMPLE_CHECK(NULL, gm_domain_create(&def, &run->domain));
@@ -189,9 +268,13 @@ static int build_scene(collapse_run *run) {
   int material = add_material(domain, scene);
   if (material < 0)
     return 2;
-  EXAMPLE_CHECK(domain, add_wall(domain, 0.0, 0.0, 1.0,
-                                 tan(scene->friction_deg * PI / 180.0),
-                                 &run->floor_wall));
+  double floor_mu = scene->floor_friction >= 0.0
+                        ? scene->floor_friction
+                        : tan(scene->friction_deg * PI / 180.0);
+  run->floor_wall = -1;
+  if (!rigid_floor && !face_floor)
+    EXAMPLE_CHECK(domain,
+                  add_wall(domain, 0.0, 0.0, 1.0, floor_mu, &run->floor_wall));
   EXAMPLE_CHECK(domain, add_wall(domain, 0.0, 1.0, 0.0, 0.0, &run->back_wall));
   gm_fill_def fill = gm_fill_def_default();
   fill.material = material;
@@ -199,6 +282,17 @@ static int build_scene(collapse_run *run) {
   fill.upper[1] = scene->height;
   fill.points_per_cell_axis = options->ppc;
   EXAMPLE_CHECK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
+  if (rigid_floor) {
+    gm_rigid_def rigid = gm_rigid_def_default();
+    int rigid_material = -1;
+    EXAMPLE_CHECK(domain, gm_domain_add_rigid(domain, &rigid, &rigid_material));
+    gm_fill_def slab = gm_fill_def_default();
+    slab.material = rigid_material;
+    slab.lower[1] = -2.0 * options->cell;
+    slab.upper[0] = scene->extent_x;
+    slab.points_per_cell_axis = options->ppc;
+    EXAMPLE_CHECK(domain, gm_domain_fill_box(domain, &slab, NULL, NULL));
+  }
   return 0;
 }
 
@@ -211,12 +305,14 @@ static int build_scene(collapse_run *run) {
 static deposit measure_deposit(collapse_run *run) {
   size_t count = gm_domain_point_count(run->domain);
   double cell = run->options->cell, half = 0.5 * run->scene->spacing;
-  deposit result = {0.0, 0.0};
+  deposit result = {0.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
   if (gm_domain_get_field(run->domain, GM_FIELD_POSITION, run->positions,
                           2 * count) != GM_OK)
     return result;
   memset(run->occupied, 0, run->column_count);
   for (size_t i = 0; i < count; i++) {
+    if (run->positions[2 * i + 1] < 0.0)
+      continue; /* a rigid floor point */
     double column = floor(run->positions[2 * i] / cell);
     if (column >= 0.0 && column < (double)run->column_count)
       run->occupied[(size_t)column] = 1;
@@ -227,12 +323,100 @@ static deposit measure_deposit(collapse_run *run) {
   double limit = (double)first_empty * cell;
   for (size_t i = 0; i < count; i++) {
     double x = run->positions[2 * i], y = run->positions[2 * i + 1];
+    if (y < 0.0)
+      continue;
+    result.farthest = fmax(result.farthest, x + half);
     if (x >= limit)
       continue;
     result.front = fmax(result.front, x + half);
     result.height = fmax(result.height, y + half);
+    for (int k = 0; k < THICK_COUNT; k++)
+      if (y + half >= THICK_FRACTION[k] * run->scene->length)
+        result.thick[k] = fmax(result.thick[k], x + half);
   }
   return result;
+}
+
+/* Kinetic energy of the points and the part of it the grid cannot see
+ * (J/m): the points' momenta and masses mapped to the nodes of the cells
+ * with linear tents, then KE_points - sum_i |p_i|^2 / (2 m_i). By Jensen's
+ * inequality the difference is >= 0; it is the energy of velocity patterns
+ * finer than the nodes (FLIP keeps them, PIC removes them), plus an O(h^2)
+ * share of a smooth velocity gradient. */
+static void measure_energy(collapse_run *run, double *kinetic, double *hidden) {
+  size_t count = gm_domain_point_count(run->domain);
+  double cell = run->options->cell;
+  *kinetic = *hidden = 0.0;
+  if (gm_domain_get_field(run->domain, GM_FIELD_POSITION, run->positions,
+                          2 * count) != GM_OK ||
+      gm_domain_get_field(run->domain, GM_FIELD_VELOCITY, run->velocities,
+                          2 * count) != GM_OK ||
+      gm_domain_get_field(run->domain, GM_FIELD_MASS, run->masses, count) !=
+          GM_OK)
+    return;
+  size_t columns = run->node_columns, rows = run->node_rows;
+  memset(run->nodes, 0, 3 * columns * rows * sizeof *run->nodes);
+  double point_energy = 0.0;
+  for (size_t i = 0; i < count; i++) {
+    double x = run->positions[2 * i] / cell,
+           y = run->positions[2 * i + 1] / cell;
+    if (y < 0.0)
+      continue; /* rigid floor */
+    double vx = run->velocities[2 * i], vy = run->velocities[2 * i + 1];
+    double m = run->masses[i];
+    point_energy += 0.5 * m * (vx * vx + vy * vy);
+    size_t cx = (size_t)x, cy = (size_t)y;
+    if (cx + 1 >= columns || cy + 1 >= rows)
+      continue;
+    double fx = x - (double)cx, fy = y - (double)cy;
+    for (int a = 0; a < 2; a++)
+      for (int b = 0; b < 2; b++) {
+        double w = (a ? fx : 1.0 - fx) * (b ? fy : 1.0 - fy);
+        double *node =
+            run->nodes + 3 * ((cy + (size_t)b) * columns + cx + (size_t)a);
+        node[0] += w * m;
+        node[1] += w * m * vx;
+        node[2] += w * m * vy;
+      }
+  }
+  double grid_energy = 0.0;
+  for (size_t k = 0; k < columns * rows; k++) {
+    const double *node = run->nodes + 3 * k;
+    if (node[0] > 0.0)
+      grid_energy += 0.5 * (node[1] * node[1] + node[2] * node[2]) / node[0];
+  }
+  *kinetic = point_energy;
+  *hidden = point_energy - grid_energy;
+}
+
+/* Potential energy sum m g y and elastic energy sum V w of the
+ * deformable points (J/m), w = ((1 + nu) s:s - nu (tr s)^2) / (2 E) the
+ * isotropic strain energy density of the stress s (all six components). */
+static void measure_stored_energy(collapse_run *run, double *potential,
+                                  double *elastic) {
+  size_t count = gm_domain_point_count(run->domain);
+  double modulus = run->scene->youngs_modulus, nu = POISSON_RATIO;
+  *potential = *elastic = 0.0;
+  if (gm_domain_get_field(run->domain, GM_FIELD_POSITION, run->positions,
+                          2 * count) != GM_OK ||
+      gm_domain_get_field(run->domain, GM_FIELD_MASS, run->masses, count) !=
+          GM_OK ||
+      gm_domain_get_field(run->domain, GM_FIELD_STRESS, run->stresses,
+                          6 * count) != GM_OK ||
+      gm_domain_get_field(run->domain, GM_FIELD_VOLUME, run->volumes, count) !=
+          GM_OK)
+    return;
+  for (size_t i = 0; i < count; i++) {
+    if (run->positions[2 * i + 1] < 0.0)
+      continue; /* rigid floor */
+    const double *t = run->stresses + 6 * i;
+    double trace = t[0] + t[1] + t[2];
+    double squares = t[0] * t[0] + t[1] * t[1] + t[2] * t[2] +
+                     2.0 * (t[3] * t[3] + t[4] * t[4] + t[5] * t[5]);
+    *potential += run->masses[i] * GRAVITY * run->positions[2 * i + 1];
+    *elastic += run->volumes[i] * ((1.0 + nu) * squares - nu * trace * trace) /
+                (2.0 * modulus);
+  }
 }
 
 /* Draws the points coloured by speed into <out>/snapshot_N.png. */
@@ -311,6 +495,23 @@ static void write_row(collapse_run *run, int row) {
   double time = 0.0;
   gm_domain_get_time(run->domain, &time, NULL);
   deposit now = measure_deposit(run);
+  double kinetic = 0.0, hidden = 0.0;
+  measure_energy(run, &kinetic, &hidden);
+  double potential = 0.0, elastic = 0.0;
+  measure_stored_energy(run, &potential, &elastic);
+  if (row == 0)
+    run->potential_start = potential;
+  if (elastic > run->elastic_peak) {
+    run->elastic_peak = elastic;
+    run->elastic_peak_time = time;
+  }
+  run->last_potential = potential;
+  run->last_elastic = elastic;
+  run->kinetic_integral += kinetic;
+  run->hidden_integral += hidden;
+  if (kinetic > 0.0 && time <= 3.0 * run->scene->tau_c)
+    run->hidden_peak_fraction =
+        fmax(run->hidden_peak_fraction, hidden / kinetic);
   run->row_time[row] = time;
   run->row_front[row] = now.front;
   if (!run->csv)
@@ -320,7 +521,8 @@ static void write_row(collapse_run *run, int row) {
   gm_wall_force floor = gm_wall_force_default(), back = floor;
   gm_domain_get_summary(run->domain, &summary);
   gm_domain_get_granular_summary(run->domain, &granular);
-  gm_domain_get_wall_force(run->domain, run->floor_wall, &floor);
+  if (run->floor_wall >= 0)
+    gm_domain_get_wall_force(run->domain, run->floor_wall, &floor);
   gm_domain_get_wall_force(run->domain, run->back_wall, &back);
   fprintf(run->csv, "%.6g,%.6g,%.6g,%.6g,%.6g,%zu,%zu,%zu,%zu,%.6g,%.6g,%.6g\n",
           time, summary.kinetic_energy, now.front, now.height,
@@ -416,8 +618,32 @@ static void report(collapse_run *run, double seconds) {
   example_result("stop_time_over_tau_c", stop_time(run) / scene->tau_c, 3.0);
   example_result("final_height_over_L0", final.height / scene->length,
                  lube_final_height(scene->aspect));
-  example_result("runout", (final_front - scene->length) / scene->length,
-                 lube_runout(scene->aspect));
+  /* The other measures of the front (see measure_deposit), the points
+   * left out of the connected deposit, and the kinetic energy the grid
+   * cannot see (measure_energy), as a share of the whole over the run. */
+  double law = lube_runout(scene->aspect);
+  example_result("runout_farthest_point",
+                 (final.farthest - scene->length) / scene->length, law);
+  for (int k = 0; k < THICK_COUNT; k++) {
+    char name[64];
+    snprintf(name, sizeof name, "runout_thickness_%g_L0", THICK_FRACTION[k]);
+    example_result(name, (final.thick[k] - scene->length) / scene->length, law);
+  }
+  printf("ENERGY hidden_over_kinetic_integral=%.4f "
+         "hidden_over_kinetic_peak_to_3tau=%.4f\n",
+         run->kinetic_integral > 0.0
+             ? run->hidden_integral / run->kinetic_integral
+             : 0.0,
+         run->hidden_peak_fraction);
+  /* Energy released by the collapse (potential at the start minus at the
+   * end) and how much of it the elastic strain held at its peak. */
+  double released = run->potential_start - run->last_potential;
+  printf("ENERGY released_J=%.5g elastic_peak_J=%.5g elastic_peak_over_"
+         "released=%.4f elastic_peak_time_over_tau_c=%.3f elastic_end_J=%.5g\n",
+         released, run->elastic_peak,
+         released > 0.0 ? run->elastic_peak / released : 0.0,
+         run->elastic_peak_time / scene->tau_c, run->last_elastic);
+  example_result("runout", (final_front - scene->length) / scene->length, law);
 }
 
 /* Sizes the grid box and the scratch buffers from the options. */
@@ -442,8 +668,16 @@ static int allocate_scratch(collapse_run *run) {
   size_t count = gm_domain_point_count(run->domain);
   run->positions = malloc(2 * count * sizeof *run->positions);
   run->velocities = malloc(2 * count * sizeof *run->velocities);
+  run->masses = malloc(count * sizeof *run->masses);
+  run->stresses = malloc(6 * count * sizeof *run->stresses);
+  run->volumes = malloc(count * sizeof *run->volumes);
   run->occupied = malloc(run->column_count);
-  if (!run->positions || !run->velocities || !run->occupied) {
+  run->node_columns = run->column_count + 1;
+  run->node_rows = (size_t)ceil(run->scene->extent_y / run->options->cell) + 2;
+  run->nodes =
+      malloc(3 * run->node_columns * run->node_rows * sizeof *run->nodes);
+  if (!run->positions || !run->velocities || !run->occupied || !run->masses ||
+      !run->nodes || !run->stresses || !run->volumes) {
     fprintf(stderr, "out of memory\n");
     return 2;
   }
@@ -458,6 +692,10 @@ static void release(collapse_run *run) {
   free(run->positions);
   free(run->velocities);
   free(run->occupied);
+  free(run->masses);
+  free(run->nodes);
+  free(run->stresses);
+  free(run->volumes);
 }
 
 int main(int argc, char **argv) {
@@ -475,18 +713,37 @@ int main(int argc, char **argv) {
   scene.material = "mohr_coulomb";
   scene.friction_deg = 35.0;
   scene.youngs_modulus = 5e5;
+  scene.floor_friction = -1.0;
+  scene.floor = "wall";
+  scene.transfer = "flip";
+  scene.grain_diameter = 0.5e-3;
+  scene.scheme = "usl";
   const example_extra extras[] = {
       {"aspect", "aspect ratio a = H0/L0", &scene.aspect, NULL},
       {"length", "column width L0, m", &scene.length, NULL},
       {"material", "mohr_coulomb|drucker_prager", NULL, &scene.material},
       {"friction", "friction angle of material and floor, deg",
        &scene.friction_deg, NULL},
-      {"youngs", "Young's modulus E, Pa", &scene.youngs_modulus, NULL}};
+      {"youngs", "Young's modulus E, Pa", &scene.youngs_modulus, NULL},
+      {"dilation", "dilation angle psi of mohr_coulomb, deg",
+       &scene.dilation_deg, NULL},
+      {"floor",
+       "wall (Coulomb wall) | face (no-slip box face) | rigid "
+       "(no-slip rigid points)",
+       NULL, &scene.floor},
+      {"floor-mu", "friction of the floor wall (< 0: tan phi)",
+       &scene.floor_friction, NULL},
+      {"transfer", "flip | apic", NULL, &scene.transfer},
+      {"pic", "PIC share of the FLIP-PIC blend, 0..1", &scene.pic_fraction,
+       NULL},
+      {"grain", "mu_i grain diameter d, m", &scene.grain_diameter, NULL},
+      {"scheme", "update scheme usl|musl|usf", NULL, &scene.scheme},
+      {"cfl", "Courant number (0: the library's 0.5)", &scene.cfl, NULL}};
   int parsed = example_parse(
       argc, argv,
       "Planar granular column collapse against Lube et al. (2005).\n"
       "--t-end 0 (the default) runs 6 tau_c, tau_c = sqrt(H0/g).",
-      &options, extras, 5);
+      &options, extras, 13);
   if (parsed != 0)
     return parsed == 1 ? 0 : parsed;
   collapse_run run = {0};
