@@ -9,6 +9,7 @@
 #   make install PREFIX=/usr/local DESTDIR=
 #   make abi-check       compare the library ABI with abi/libgranmpm.abi
 #   make distcheck       build, test and check the release tarball
+#   make validate        the refinement studies (validate/, ~20 min on 2 cores)
 #   make fuzz            build the libFuzzer harnesses (clang) and run each
 #                        for FUZZ_TIME seconds (default 600; fuzz/README.md)
 BUILD ?= build
@@ -26,7 +27,8 @@ DIST_FORWARD := dist distcheck
 
 # 'configure' is a real file, so it is not .PHONY: a phony prerequisite
 # would rerun autoreconf and configure on every make.
-.PHONY: $(FORWARD) $(DIST_FORWARD) clean distclean format format-check fuzz
+.PHONY: $(FORWARD) $(DIST_FORWARD) clean distclean format format-check fuzz \
+	validate
 
 all:
 
@@ -49,6 +51,11 @@ clean:
 
 distclean:
 	rm -rf $(BUILD) $(FUZZ_BUILD) out
+
+# The refinement studies (issue 13 item 4): results into validate/results,
+# plots into docs/.
+validate: all
+	sh validate/collapse.sh
 
 # Fuzzing: a private static build with clang, libFuzzer, ASan and UBSan.
 FUZZ_BUILD ?= build-fuzz
