@@ -95,7 +95,8 @@ typedef enum gm_geometry {
 typedef enum gm_update_scheme {
   GM_SCHEME_USL = 0,  /* update stress last, from v + a dt */
   GM_SCHEME_MUSL = 1, /* modified USL: velocities re-mapped (Wieckowski) */
-  GM_SCHEME_USF = 2   /* update stress first, from v at the step's start */
+  GM_SCHEME_USF = 2   /* update stress first: half from v at the step's
+                         start, half after the move (Nairn's USAVG) */
 } gm_update_scheme;
 
 /** Shape functions: how points and grid nodes exchange values (000 sec

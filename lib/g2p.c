@@ -203,18 +203,20 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
 }
 
 /* F <- (I + L dt) F and V = det F V0 (004 eq 3.23); det F <= 0 fails the
- * step (returns false). */
+ * step (returns false). In USF's second half (step.c) F and D are updated
+ * in place: each is read whole before it is written, and the F and D
+ * pointers are not restrict. */
 static bool deform_chunk(gm_domain *domain, const gather_view *v,
                          gm_worker_scratch *scratch, size_t first, size_t count,
                          const chunk_gather *g, double dt) {
-  const double *restrict f_xx = v->deformation[F_XX] + first;
-  const double *restrict f_xy = v->deformation[F_XY] + first;
-  const double *restrict f_yx = v->deformation[F_YX] + first;
-  const double *restrict f_yy = v->deformation[F_YY] + first;
-  double *restrict n_xx = v->next_deformation[F_XX] + first;
-  double *restrict n_xy = v->next_deformation[F_XY] + first;
-  double *restrict n_yx = v->next_deformation[F_YX] + first;
-  double *restrict n_yy = v->next_deformation[F_YY] + first;
+  const double *f_xx = v->deformation[F_XX] + first;
+  const double *f_xy = v->deformation[F_XY] + first;
+  const double *f_yx = v->deformation[F_YX] + first;
+  const double *f_yy = v->deformation[F_YY] + first;
+  double *n_xx = v->next_deformation[F_XX] + first;
+  double *n_xy = v->next_deformation[F_XY] + first;
+  double *n_yx = v->next_deformation[F_YX] + first;
+  double *n_yy = v->next_deformation[F_YY] + first;
   const double *restrict initial_volume = v->initial_volume + first;
   double *restrict volume = v->next_volume + first;
   const double *restrict l_xx = g->gradient[0], *restrict l_xy = g->gradient[1];
@@ -223,35 +225,39 @@ static bool deform_chunk(gm_domain *domain, const gather_view *v,
   for (size_t j = 0; j < count; j++) {
     double i_xx = 1.0 + l_xx[j] * dt, i_xy = l_xy[j] * dt;
     double i_yx = l_yx[j] * dt, i_yy = 1.0 + l_yy[j] * dt;
-    n_xx[j] = i_xx * f_xx[j] + i_xy * f_yx[j];
-    n_xy[j] = i_xx * f_xy[j] + i_xy * f_yy[j];
-    n_yx[j] = i_yx * f_xx[j] + i_yy * f_yx[j];
-    n_yy[j] = i_yx * f_xy[j] + i_yy * f_yy[j];
-    double jacobian = n_xx[j] * n_yy[j] - n_xy[j] * n_yx[j];
+    double a_xx = f_xx[j], a_xy = f_xy[j], a_yx = f_yx[j], a_yy = f_yy[j];
+    double b_xx = i_xx * a_xx + i_xy * a_yx, b_xy = i_xx * a_xy + i_xy * a_yy;
+    double b_yx = i_yx * a_xx + i_yy * a_yx, b_yy = i_yx * a_xy + i_yy * a_yy;
+    n_xx[j] = b_xx;
+    n_xy[j] = b_xy;
+    n_yx[j] = b_yx;
+    n_yy[j] = b_yy;
+    double jacobian = b_xx * b_yy - b_xy * b_yx;
     volume[j] = jacobian * initial_volume[j];
     positive &= jacobian > 0.0 && jacobian < INFINITY;
   }
   if (v->next_domain_map[0]) { /* CPDI: the domain map takes F's increment */
-    const double *restrict d_xx = v->domain_map[F_XX] + first;
-    const double *restrict d_xy = v->domain_map[F_XY] + first;
-    const double *restrict d_yx = v->domain_map[F_YX] + first;
-    const double *restrict d_yy = v->domain_map[F_YY] + first;
-    double *restrict m_xx = v->next_domain_map[F_XX] + first;
-    double *restrict m_xy = v->next_domain_map[F_XY] + first;
-    double *restrict m_yx = v->next_domain_map[F_YX] + first;
-    double *restrict m_yy = v->next_domain_map[F_YY] + first;
+    const double *d_xx = v->domain_map[F_XX] + first;
+    const double *d_xy = v->domain_map[F_XY] + first;
+    const double *d_yx = v->domain_map[F_YX] + first;
+    const double *d_yy = v->domain_map[F_YY] + first;
+    double *m_xx = v->next_domain_map[F_XX] + first;
+    double *m_xy = v->next_domain_map[F_XY] + first;
+    double *m_yx = v->next_domain_map[F_YX] + first;
+    double *m_yy = v->next_domain_map[F_YY] + first;
     for (size_t j = 0; j < count; j++) { /* the same arithmetic as F's */
       double i_xx = 1.0 + l_xx[j] * dt, i_xy = l_xy[j] * dt;
       double i_yx = l_yx[j] * dt, i_yy = 1.0 + l_yy[j] * dt;
-      m_xx[j] = i_xx * d_xx[j] + i_xy * d_yx[j];
-      m_xy[j] = i_xx * d_xy[j] + i_xy * d_yy[j];
-      m_yx[j] = i_yx * d_xx[j] + i_yy * d_yx[j];
-      m_yy[j] = i_yx * d_xy[j] + i_yy * d_yy[j];
+      double a_xx = d_xx[j], a_xy = d_xy[j], a_yx = d_yx[j], a_yy = d_yy[j];
+      m_xx[j] = i_xx * a_xx + i_xy * a_yx;
+      m_xy[j] = i_xx * a_xy + i_xy * a_yy;
+      m_yx[j] = i_yx * a_xx + i_yy * a_yx;
+      m_yy[j] = i_yx * a_xy + i_yy * a_yy;
     }
   }
   if (v->axisymmetric) { /* the hoop stretch multiplies det F */
-    const double *restrict f_zz = v->deformation[F_ZZ] + first;
-    double *restrict n_zz = v->next_deformation[F_ZZ] + first;
+    const double *f_zz = v->deformation[F_ZZ] + first;
+    double *n_zz = v->next_deformation[F_ZZ] + first;
     const double *restrict l_zz = g->gradient[4];
     for (size_t j = 0; j < count; j++) {
       n_zz[j] = (1.0 + l_zz[j] * dt) * f_zz[j];
@@ -351,7 +357,8 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
       const double *gradient[5] = {g->gradient[0], g->gradient[1],
                                    g->gradient[2], g->gradient[3],
                                    g->gradient[4]};
-      gm_stress_update_chunk(domain, scratch, first, count, dt, gradient);
+      gm_stress_update_chunk(domain, scratch, first, count, dt, gradient,
+                             ctx->pass->in_place);
       if (domain->def.family != GM_FAMILY_PLAIN) {
         double start = gm_monotonic_seconds();
         gm_density_control_chunk(domain, first, count);
@@ -419,6 +426,9 @@ static void make_view(gm_domain *domain, gather_view *view) {
     view->deformation[k] = from->deformation[k];
     view->next_deformation[k] = to->deformation[k];
   }
+  /* The support of wide shapes stays the committed one (the step's shape
+   * functions); only F, D and the stress (stress_update.c) may come from
+   * the next buffer (gm_g2p). */
   gm_support_tensor(domain, from, view->support_tensor);
   gm_support_tensor(domain, to, view->next_support_tensor);
   for (int k = 0; k < 4; k++) { /* NULL unless CPDI */
@@ -458,6 +468,12 @@ void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass) {
   ctx.pass = pass;
   make_view(domain, &ctx.view);
   ctx.view.affine = ctx.view.apic && pass->flip_velocity;
+  if (pass->in_place) {
+    for (int k = 0; k < GM_F_STORED; k++)
+      ctx.view.deformation[k] = ctx.view.next_deformation[k];
+    for (int k = 0; k < 4; k++)
+      ctx.view.domain_map[k] = ctx.view.next_domain_map[k];
+  }
   size_t chunks = (domain->points.count + GM_BATCH_SIZE - 1) / GM_BATCH_SIZE;
   gm_parallel_for(&domain->pool, chunks, pass_kernel(pass), &ctx);
 }

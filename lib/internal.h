@@ -446,6 +446,9 @@ typedef struct gm_g2p_pass {
                          supports (they need the final F) and the
                          signal-speed bound of the new state */
   double dt;
+  bool in_place; /* deform from the next buffer's F, D and stress (the
+                    second half of USF's split update, step.c) rather
+                    than from the committed ones */
 } gm_g2p_pass;
 void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);
 size_t gm_chunk_gather_size(void); /* bytes of a worker's G2P chunk buffer */
@@ -453,10 +456,12 @@ size_t gm_chunk_gather_size(void); /* bytes of a worker's G2P chunk buffer */
 /* Stress update for one chunk of points (stress_update.c). */
 /* Jaumann rotation, material call and stress write-back for points
  * [first, first+count) given their velocity gradients (1/s, L_xx L_xy L_yx
- * L_yy L_zz); reads the committed buffer, writes the next one. */
+ * L_yy L_zz); reads the committed buffer (or, in_place, the next one),
+ * writes the next one. */
 void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                             size_t first, size_t count, double dt,
-                            const double *const velocity_gradient[5]);
+                            const double *const velocity_gradient[5],
+                            bool in_place);
 
 /* Walls (walls.c). Contact of one node with the walls: `velocity` (m/s)
  * is the node's updated velocity, changed in place; gap (one per wall, m,

@@ -18,18 +18,17 @@ enum { L_XX = 0, L_XY = 1, L_YX = 2, L_YY = 3, L_ZZ = 4 };
  * place), densities into scratch. */
 static void prepare_rows(gm_domain *domain, gm_worker_scratch *scratch,
                          size_t first, size_t count,
-                         const double *const gradient[5], double dt) {
-  const gm_points *points = &domain->points;
-  const gm_point_buffers *from = &points->buffer[points->cur];
-  const gm_point_buffers *to = &points->buffer[points->cur ^ 1];
-  const double *restrict sxx = from->stress[0] + first;
-  const double *restrict syy = from->stress[1] + first;
-  const double *restrict szz = from->stress[2] + first;
-  const double *restrict sxy = from->stress[3] + first;
-  double *restrict rxx = to->stress[0] + first, *restrict ryy =
-                                                    to->stress[1] + first;
-  double *restrict rzz = to->stress[2] + first, *restrict rxy =
-                                                    to->stress[3] + first;
+                         const double *const gradient[5], double dt,
+                         bool in_place) {
+  gm_points *points = &domain->points;
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const gm_point_buffers *from = in_place ? to : &points->buffer[points->cur];
+  /* In place, the rotated stress overwrites the stress it comes from: each
+   * row is read whole before it is written, and nothing is restrict. */
+  const double *sxx = from->stress[0] + first, *syy = from->stress[1] + first;
+  const double *szz = from->stress[2] + first, *sxy = from->stress[3] + first;
+  double *rxx = to->stress[0] + first, *ryy = to->stress[1] + first;
+  double *rzz = to->stress[2] + first, *rxy = to->stress[3] + first;
   const double *restrict mass = points->mass + first;
   const double *restrict volume = to->volume + first;
   const double *restrict l_xx = gradient[L_XX], *restrict l_xy = gradient[L_XY];
@@ -42,10 +41,11 @@ static void prepare_rows(gm_domain *domain, gm_worker_scratch *scratch,
   double *restrict density = scratch->density;
   for (size_t j = 0; j < count; j++) {
     double spin = 0.5 * (l_xy[j] - l_yx[j]) * dt; /* W_xy dt */
-    rxx[j] = sxx[j] + 2.0 * spin * sxy[j];
-    ryy[j] = syy[j] - 2.0 * spin * sxy[j];
-    rzz[j] = szz[j];
-    rxy[j] = sxy[j] + spin * (syy[j] - sxx[j]);
+    double s_xx = sxx[j], s_yy = syy[j], s_zz = szz[j], s_xy = sxy[j];
+    rxx[j] = s_xx + 2.0 * spin * s_xy;
+    ryy[j] = s_yy - 2.0 * spin * s_xy;
+    rzz[j] = s_zz;
+    rxy[j] = s_xy + spin * (s_yy - s_xx);
     e_xx[j] = l_xx[j] * dt;
     e_yy[j] = l_yy[j] * dt;
     e_zz[j] = l_zz[j] * dt;
@@ -64,11 +64,12 @@ static int call_material(gm_domain *domain, gm_worker_scratch *scratch,
                          const uint32_t *row_point, size_t count,
                          const double *const strain[6], double *const stress[6],
                          const double *density, const int64_t *point_id,
-                         double dt) {
+                         double dt, bool in_place) {
   const gm_material *material = &domain->materials[material_index];
   gm_points *points = &domain->points;
-  const gm_point_buffers *from = &points->buffer[points->cur];
   gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  /* In place is safe: the state goes through the scratch columns. */
+  const gm_point_buffers *from = in_place ? to : &points->buffer[points->cur];
   size_t stride = points->state_stride, nstate = material->state_count;
   for (size_t r = 0; r < count; r++)
     for (size_t k = 0; k < nstate; k++)
@@ -114,7 +115,7 @@ static int call_material(gm_domain *domain, gm_worker_scratch *scratch,
 
 /* Chunk mixing materials: one gathered sub-batch per material present. */
 static void update_mixed(gm_domain *domain, gm_worker_scratch *scratch,
-                         size_t first, size_t count, double dt) {
+                         size_t first, size_t count, double dt, bool in_place) {
   gm_points *points = &domain->points;
   const int32_t *material = points->material + first;
   double *const *next_stress = points->buffer[points->cur ^ 1].stress;
@@ -146,7 +147,7 @@ static void update_mixed(gm_domain *domain, gm_worker_scratch *scratch,
     }
     call_material(domain, scratch, material[seed], first, scratch->batch_index,
                   rows, sub_strain, sub_stress, scratch->sub_density,
-                  scratch->sub_point_id, dt);
+                  scratch->sub_point_id, dt, in_place);
     for (size_t r = 0; r < rows; r++)
       for (int c = 0; c < GM_STRESS_STORED; c++)
         next_stress[c][first + scratch->batch_index[r]] =
@@ -180,9 +181,10 @@ static void check_stress(gm_domain *domain, gm_worker_scratch *scratch,
 
 void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                             size_t first, size_t count, double dt,
-                            const double *const velocity_gradient[5]) {
+                            const double *const velocity_gradient[5],
+                            bool in_place) {
   gm_points *points = &domain->points;
-  prepare_rows(domain, scratch, first, count, velocity_gradient, dt);
+  prepare_rows(domain, scratch, first, count, velocity_gradient, dt, in_place);
   const int32_t *material = points->material + first;
   bool uniform = true;
   for (size_t j = 1; j < count; j++)
@@ -198,9 +200,9 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
     }
     call_material(domain, scratch, material[0], first, scratch->identity_rows,
                   count, strain, stress, scratch->density, points->id + first,
-                  dt);
+                  dt, in_place);
   } else {
-    update_mixed(domain, scratch, first, count, dt);
+    update_mixed(domain, scratch, first, count, dt, in_place);
   }
   check_stress(domain, scratch, first, count, dt);
 }

@@ -242,10 +242,14 @@ static void check_identical(const run_result *reference,
 }
 
 /* The reference run must have done something worth comparing: the block
- * moved, and the impact put it under stress. */
+ * moved, and the impact put it under stress. It ran every step asked for;
+ * a step retried in halves after an inverted F counts its sub-steps (the
+ * 1D column in USF with APIC retries one step at its rebound, measured:
+ * 301 steps; the top point is crushed there, det F -> 1e-4, as it was,
+ * without the retry, before USF split its stress update). */
 static void check_nontrivial(const scene_def *scene,
                              const run_result *reference) {
-  ck_assert_uint_eq(reference->step_count, (uint64_t)scene->steps);
+  ck_assert_uint_ge(reference->step_count, (uint64_t)scene->steps);
   double max_stress = 0.0; /* Pa */
   const run_result *r = reference;
   for (size_t i = 0; i < r->count * r->components[2]; i++) {
