@@ -37,7 +37,7 @@ collapse)
   ppcs="1 2 3"
   name=accuracy_vs_cost
   title="Column collapse a = 1: run-out error against Lube et al. 2005 vs run time"
-  note="the run-out grows with refinement, so errors below ~5 % are crossings of the law"
+  note="the run-out grows with refinement, so errors below about 5 % are crossings of the law"
   ylabel="|run-out - law| / law"
   band=0.15 band_label="experimental scatter (+-15 %)"
   floor=1e-3 # errors below this are drawn at it
@@ -121,8 +121,14 @@ fi
 # Pareto front: by increasing time, the runs more accurate than every
 # faster one.
 awk -F, 'NR > 1 && $9 != "nan"' "$csv" | sort -t, -k6,6g |
-  awk -F, 'BEGIN { best = 1e300 } $9 < best { best = $9; print $6, $9, $1 "/" $2 "/" $3 "/" $4 }' \
+  awk -F, 'BEGIN { best = 1e300 } $9 < best { best = $9; print $6, $9, $1 "/" $2 "/" $3 "/" $4, ++n }' \
   > "$work/front"
+# The key to the numbered front points, drawn as a text block beside the
+# chart: "n  method / family / cell (m) / points per cell axis". Numbers
+# instead of the full labels keep the labels from covering each other.
+key=$(awk '{ split($3, f, "/");
+  printf "%s%2d  %s / %s / %s m / %dx%d", (NR > 1 ? "\\n" : ""), $4, f[1], f[2], f[3], f[4], f[4] }' \
+  "$work/front")
 for family in plain stress_free granular; do
   awk -F, -v f="$family" -v floor="$floor" 'NR > 1 && $2 == f && $9 != "nan" {
     e = $9 < floor ? floor : $9; print $6, e }' "$csv" > "$work/$family"
@@ -142,14 +148,20 @@ set xlabel 'wall-clock seconds (one core)'
 set ylabel '$ylabel'
 set grid
 set key outside right top
+set rmargin 44
 set yrange [$floor:1]
+# Decimal tick labels (0.001, 0.01, ...), not 1.000000 ... 0.000010.
+set format x '%g'
+set format y '%g'
 set arrow from graph 0, first $band to graph 1, first $band nohead dt 2 lc rgb 'gray40'
-set label '$band_label' at graph 0.7, first $band * 1.13 tc rgb 'gray40'
+set label '$band_label' at graph 0.62, first $band * 1.13 tc rgb 'gray40'
+set label "Pareto front, by run time:\\n$key" at screen 0.645, screen 0.62 left font 'sans,9' noenhanced
 plot '$work/plain' using 1:2 with points pt 6 ps 1.3 lc rgb '#1f77b4' title 'plain', \
      '$work/stress_free' using 1:2 with points pt 8 ps 1.3 lc rgb '#ff7f0e' title 'stress\_free', \
      '$work/granular' using 1:2 with points pt 7 ps 1.3 lc rgb '#2ca02c' title 'granular', \
      '$work/front' using 1:(\$2 < $floor ? $floor : \$2) with steps lw 2 lc rgb 'black' title 'Pareto front', \
-     '$work/front' using 1:(\$2 < $floor ? $floor : \$2):(\$2 < 0.1 ? stringcolumn(3) : '') with labels offset 0,-1 font 'sans,8' notitle
+     '$work/front' using 1:(\$2 < $floor ? $floor : \$2):(int(\$4) % 2 ? sprintf('%d', \$4) : '') with labels offset -0.9,0.8 font 'sans,9' notitle, \\
+     '$work/front' using 1:(\$2 < $floor ? $floor : \$2):(int(\$4) % 2 ? '' : sprintf('%d', \$4)) with labels offset 1.1,-0.6 font 'sans,9' notitle
 PLOT
 echo "bench-chart: wrote $results/$name.png" >&2
 echo "Pareto front (seconds rel_error method/family/cell/ppc):" >&2
