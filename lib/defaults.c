@@ -19,17 +19,17 @@
 
 /* Copies the library's `defaults` (library_size bytes) into the caller's
  * structure of struct_size bytes: GM_ERR_STRUCT_SIZE (nothing written)
- * unless `known` (struct_size is this layout or an earlier one the library
- * accepts); bytes past the library's layout are zeroed; struct_size, the
- * first member of every such structure, is set to the bytes filled from
- * the defaults. */
+ * unless struct_size is this layout, an earlier one the library accepts or
+ * a larger one (the layout table of api_check.c); bytes past the library's
+ * layout are zeroed; struct_size, the first member of every such structure, is
+ * set to the bytes filled from the defaults. */
 static gm_status copy_defaults(void *out, size_t struct_size,
-                               const void *defaults, size_t library_size,
-                               bool known) {
+                               const void *defaults, gm_layout layout) {
   if (!out)
     return GM_ERR_NULL;
-  if (!known)
+  if (!gm_layout_known(layout, struct_size))
     return GM_ERR_STRUCT_SIZE;
+  size_t library_size = gm_layout_size(layout);
   size_t filled = struct_size < library_size ? struct_size : library_size;
   memcpy(out, defaults, filled);
   if (struct_size > library_size)
@@ -38,11 +38,9 @@ static gm_status copy_defaults(void *out, size_t struct_size,
   return GM_OK;
 }
 
-/* Structures other than gm_domain_def have not grown yet: only their
- * current layout (or a larger one) is known. */
-#define COPY_DEFAULTS(out, struct_size, value)                                 \
-  copy_defaults(out, struct_size, &(value), sizeof(value),                     \
-                (struct_size) >= sizeof(value))
+/* The defaults of gm_X into out: the layout named after the type. */
+#define COPY_DEFAULTS(out, struct_size, value, layout)                         \
+  copy_defaults(out, struct_size, &(value), layout)
 
 gm_status gm_domain_def_init(gm_domain_def *def, size_t struct_size) {
   gm_domain_def value;
@@ -57,8 +55,7 @@ gm_status gm_domain_def_init(gm_domain_def *def, size_t struct_size) {
   value.worker_count = 1;
   value.shape = GM_SHAPE_LINEAR;
   value.family = GM_FAMILY_PLAIN;
-  return copy_defaults(def, struct_size, &value, sizeof value,
-                       gm_domain_def_size_known(struct_size));
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_DOMAIN_DEF);
 }
 
 gm_status gm_material_def_init(gm_material_def *def, size_t struct_size) {
@@ -66,7 +63,7 @@ gm_status gm_material_def_init(gm_material_def *def, size_t struct_size) {
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
   value.name = "user";
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_MATERIAL_DEF);
 }
 
 gm_status gm_elastic_def_init(gm_elastic_def *def, size_t struct_size) {
@@ -77,7 +74,7 @@ gm_status gm_elastic_def_init(gm_elastic_def *def, size_t struct_size) {
   value.youngs_modulus = 1e6; /* Pa */
   value.poisson_ratio = 0.3;
   value.density = 1000.0; /* kg/m^3 */
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_ELASTIC_DEF);
 }
 
 gm_status gm_wall_def_init(gm_wall_def *def, size_t struct_size) {
@@ -85,24 +82,21 @@ gm_status gm_wall_def_init(gm_wall_def *def, size_t struct_size) {
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
   value.normal[1] = 1.0; /* a floor: material above */
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_WALL_DEF);
 }
 
 gm_status gm_wall_force_init(gm_wall_force *force, size_t struct_size) {
   gm_wall_force value;
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
-  /* The layout before the impulse fields were appended is known too, as
-   * gm_domain_get_wall_force accepts it. */
-  return copy_defaults(force, struct_size, &value, sizeof value,
-                       struct_size >= offsetof(gm_wall_force, impulse));
+  return COPY_DEFAULTS(force, struct_size, value, GM_LAYOUT_WALL_FORCE);
 }
 
 gm_status gm_rigid_load_init(gm_rigid_load *load, size_t struct_size) {
   gm_rigid_load value;
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
-  return COPY_DEFAULTS(load, struct_size, value);
+  return COPY_DEFAULTS(load, struct_size, value, GM_LAYOUT_RIGID_LOAD);
 }
 
 gm_status gm_rigid_def_init(gm_rigid_def *def, size_t struct_size) {
@@ -111,28 +105,28 @@ gm_status gm_rigid_def_init(gm_rigid_def *def, size_t struct_size) {
   value.struct_size = sizeof value;
   value.name = "rigid";
   value.density = 1000.0; /* kg/m^3 */
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_RIGID_DEF);
 }
 
 gm_status gm_source_def_init(gm_source_def *def, size_t struct_size) {
   gm_source_def value;
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_SOURCE_DEF);
 }
 
 gm_status gm_sink_def_init(gm_sink_def *def, size_t struct_size) {
   gm_sink_def value;
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_SINK_DEF);
 }
 
 gm_status gm_flow_totals_init(gm_flow_totals *totals, size_t struct_size) {
   gm_flow_totals value;
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
-  return COPY_DEFAULTS(totals, struct_size, value);
+  return COPY_DEFAULTS(totals, struct_size, value, GM_LAYOUT_FLOW_TOTALS);
 }
 
 gm_status gm_granular_def_init(gm_granular_def *def, size_t struct_size) {
@@ -141,7 +135,7 @@ gm_status gm_granular_def_init(gm_granular_def *def, size_t struct_size) {
   value.struct_size = sizeof value;
   value.tolerance = 1e-6; /* kg/m^3 */
   value.density_control = GM_DENSITY_CONTROL_RETURN;
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_GRANULAR_DEF);
 }
 
 gm_status gm_granular_summary_init(gm_granular_summary *summary,
@@ -149,14 +143,14 @@ gm_status gm_granular_summary_init(gm_granular_summary *summary,
   gm_granular_summary value;
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
-  return COPY_DEFAULTS(summary, struct_size, value);
+  return COPY_DEFAULTS(summary, struct_size, value, GM_LAYOUT_GRANULAR_SUMMARY);
 }
 
 gm_status gm_points_def_init(gm_points_def *def, size_t struct_size) {
   gm_points_def value;
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_POINTS_DEF);
 }
 
 gm_status gm_fill_def_init(gm_fill_def *def, size_t struct_size) {
@@ -164,14 +158,14 @@ gm_status gm_fill_def_init(gm_fill_def *def, size_t struct_size) {
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
   value.points_per_cell_axis = 2;
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_FILL_DEF);
 }
 
 gm_status gm_summary_init(gm_summary *summary, size_t struct_size) {
   gm_summary value;
   memset(&value, 0, sizeof value);
   value.struct_size = sizeof value;
-  return COPY_DEFAULTS(summary, struct_size, value);
+  return COPY_DEFAULTS(summary, struct_size, value, GM_LAYOUT_SUMMARY);
 }
 
 /* The built-in materials: the data sets of the papers named in their
@@ -188,7 +182,7 @@ gm_status gm_drucker_prager_def_init(gm_drucker_prager_def *def,
   value.poisson_ratio = 0.3;
   value.density = 1500.0;                     /* kg/m^3 */
   value.friction_angle = 0.43633231299858239; /* 25 degrees in radians */
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_DRUCKER_PRAGER_DEF);
 }
 
 /* 001 sec 5.1.2: the filling data; max_pressure for a silo ~6 m deep. */
@@ -209,7 +203,7 @@ gm_status gm_filling_def_init(gm_filling_def *def, size_t struct_size) {
   value.reference_stress = 0.0; /* Pa */
   value.max_pressure = 1e5;     /* Pa */
   value.max_iterations = 60;
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_FILLING_DEF);
 }
 
 /* 000 Table 3: the granular material of Seyedan & Solowski 2021. */
@@ -225,7 +219,7 @@ gm_status gm_mohr_coulomb_def_init(gm_mohr_coulomb_def *def,
   value.friction_angle = 0.52359877559829887; /* 30 degrees */
   value.dilation_angle = 0.0;
   value.bagnold_viscosity = 0.15; /* Pa s^2 */
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_MOHR_COULOMB_DEF);
 }
 
 /* 001 sec 5.1.1: the silo discharge data. */
@@ -243,7 +237,7 @@ gm_status gm_perzyna_def_init(gm_perzyna_def *def, size_t struct_size) {
   value.reference_stress = 0.0; /* Pa */
   value.max_iterations = 60;
   value.always_iterate = 0;
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_PERZYNA_DEF);
 }
 
 /* Constrained modulus of the default gm_drucker_prager_def, so that dt
@@ -255,7 +249,7 @@ gm_status gm_stress_free_def_init(gm_stress_free_def *def, size_t struct_size) {
   value.name = "stress_free";
   value.density = 1500.0;                      /* kg/m^3 */
   value.p_wave_modulus = 1.3461538461538462e6; /* Pa, 1e6 0.7 / (1.3 0.4) */
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_STRESS_FREE_DEF);
 }
 
 /* 001 sec 5.3.1: the steel of the extrusion example. */
@@ -268,7 +262,7 @@ gm_status gm_von_mises_def_init(gm_von_mises_def *def, size_t struct_size) {
   value.poisson_ratio = 0.3;
   value.density = 7800.0;   /* kg/m^3 */
   value.yield_stress = 2e7; /* Pa */
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_VON_MISES_DEF);
 }
 
 gm_status gm_mu_i_def_init(gm_mu_i_def *def, size_t struct_size) {
@@ -287,5 +281,5 @@ gm_status gm_mu_i_def_init(gm_mu_i_def *def, size_t struct_size) {
   value.critical_density = 0.0;
   value.regularise = 1;
   value.regularisation_exponent = 1.9;
-  return COPY_DEFAULTS(def, struct_size, value);
+  return COPY_DEFAULTS(def, struct_size, value, GM_LAYOUT_MU_I_DEF);
 }

@@ -35,30 +35,6 @@ static const char *face_name(int face) {
   return names[face];
 }
 
-/* Is struct_size the size of a gm_domain_def layout some caller may have
- * been compiled against: the current one or an earlier one ending before
- * a field appended since (damping, shape, family, pic_fraction,
- * transfer)? Those fields then take their defaults. */
-bool gm_domain_def_size_known(size_t size) {
-  return size >= sizeof(gm_domain_def) ||
-         size == offsetof(gm_domain_def, damping) ||
-         size == offsetof(gm_domain_def, shape) ||
-         size == offsetof(gm_domain_def, family) ||
-         size == offsetof(gm_domain_def, pic_fraction) ||
-         size == offsetof(gm_domain_def, transfer);
-}
-
-/* The caller's def completed with defaults for fields its struct_size does
- * not cover (design.md: new fields only ever go at the end). */
-static gm_domain_def complete_def(const gm_domain_def *def) {
-  gm_domain_def full = gm_domain_def_default();
-  size_t known =
-      def->struct_size < sizeof full ? def->struct_size : sizeof full;
-  memcpy(&full, def, known);
-  full.struct_size = sizeof full;
-  return full;
-}
-
 static gm_status validate_def(const gm_domain_def *def) {
   int dim = gm_geometry_dimension(def->geometry);
   if (dim == 0)
@@ -188,13 +164,11 @@ gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
   *out = NULL;
   if (!def)
     CREATE_FAIL(GM_ERR_NULL, "gm_domain_create: def is NULL");
-  if (!gm_domain_def_size_known(def->struct_size))
-    CREATE_FAIL(GM_ERR_STRUCT_SIZE,
-                "gm_domain_def.struct_size is %zu, expected %zu (or the size "
-                "of an earlier layout): initialise with "
-                "gm_domain_def_default()",
-                def->struct_size, sizeof(gm_domain_def));
-  gm_domain_def full = complete_def(def);
+  /* An earlier layout is completed with the defaults (api_check.h). */
+  if (!gm_layout_known(GM_LAYOUT_DOMAIN_DEF, def->struct_size))
+    return gm_layout_refuse(NULL, GM_LAYOUT_DOMAIN_DEF, def->struct_size);
+  gm_domain_def full;
+  gm_layout_complete(GM_LAYOUT_DOMAIN_DEF, def, &full);
   def = &full;
   gm_status status = validate_def(def);
   if (status != GM_OK)

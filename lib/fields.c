@@ -259,15 +259,10 @@ gm_status gm_domain_view_ids(const gm_domain *domain, const int64_t **ids) {
 }
 
 gm_status gm_domain_get_summary(const gm_domain *domain, gm_summary *summary) {
-  if (!domain)
-    return GM_ERR_NULL;
-  if (!summary)
-    return gm_set_error((gm_domain *)domain, GM_ERR_NULL,
-                        "gm_domain_get_summary: summary is NULL");
-  if (summary->struct_size < sizeof(gm_summary))
-    return gm_set_error((gm_domain *)domain, GM_ERR_STRUCT_SIZE,
-                        "gm_summary.struct_size is %zu, expected %zu",
-                        summary->struct_size, sizeof(gm_summary));
+  gm_status status = gm_api_check_result(domain, "gm_domain_get_summary",
+                                         GM_LAYOUT_SUMMARY, summary, "summary");
+  if (status != GM_OK)
+    return status;
   const gm_points *points = &domain->points;
   const gm_point_buffers *buffer = &points->buffer[points->cur];
   gm_summary totals = gm_summary_default();
@@ -289,6 +284,6 @@ gm_status gm_domain_get_summary(const gm_domain *domain, gm_summary *summary) {
   for (int k = 0; k < domain->dim; k++)
     totals.centre_of_mass[k] =
         totals.mass > 0.0 ? first_moment[k] / totals.mass : 0.0;
-  *summary = totals;
+  gm_api_give_result(GM_LAYOUT_SUMMARY, summary, &totals);
   return GM_OK;
 }

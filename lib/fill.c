@@ -18,10 +18,6 @@ static void lattice_range(double lower, double upper, double origin,
 }
 
 static gm_status validate_fill(gm_domain *domain, const gm_fill_def *def) {
-  if (def->struct_size < sizeof(gm_fill_def))
-    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
-                        "gm_fill_def.struct_size is %zu, expected %zu",
-                        def->struct_size, sizeof(gm_fill_def));
   if (def->points_per_cell_axis < 1 || def->points_per_cell_axis > 16)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_fill_def.points_per_cell_axis is %d, must be in "
@@ -135,14 +131,13 @@ static gm_status check_corners(gm_domain *domain, const lattice *grid) {
 
 gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
                              int64_t *first_id, size_t *count) {
-  if (!domain)
-    return GM_ERR_NULL;
-  if (!def)
-    return gm_set_error(domain, GM_ERR_NULL, "gm_domain_fill_box: def is NULL");
-  if (domain->busy)
-    return gm_set_error(domain, GM_ERR_BUSY,
-                        "gm_domain_fill_box: called during a step");
-  gm_status status = validate_fill(domain, def);
+  gm_fill_def full;
+  gm_status status = gm_api_take_def(
+      domain, "gm_domain_fill_box", GM_LAYOUT_FILL_DEF, def, &full, NULL, NULL);
+  if (status != GM_OK)
+    return status;
+  def = &full;
+  status = validate_fill(domain, def);
   if (status != GM_OK)
     return status;
   double density = def->density > 0.0

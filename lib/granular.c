@@ -56,14 +56,13 @@ static gm_status check_existing_density(gm_domain *domain, int material,
 
 gm_status gm_domain_set_granular(gm_domain *domain, int material,
                                  const gm_granular_def *def) {
-  if (!domain)
-    return GM_ERR_NULL;
-  int unused = 0;
-  gm_status status = gm_check_material_call(
-      domain, def, def ? def->struct_size : 0, sizeof(gm_granular_def), &unused,
-      "gm_domain_set_granular", "gm_granular_def");
+  gm_granular_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_set_granular", GM_LAYOUT_GRANULAR_DEF,
+                      def, &full, NULL, NULL);
   if (status != GM_OK)
     return status;
+  def = &full;
   if (material < 0 || material >= domain->material_count)
     return gm_set_error(domain, GM_ERR_UNKNOWN_MATERIAL,
                         "gm_domain_set_granular: material %d does not exist "
@@ -99,27 +98,22 @@ gm_status gm_domain_set_granular(gm_domain *domain, int material,
 
 gm_status gm_domain_get_granular_summary(const gm_domain *domain,
                                          gm_granular_summary *summary) {
-  if (!domain)
-    return GM_ERR_NULL;
-  gm_domain *mutable_domain = (gm_domain *)domain; /* last_error only */
-  if (!summary)
-    return gm_set_error(mutable_domain, GM_ERR_NULL,
-                        "gm_domain_get_granular_summary: summary is NULL");
-  if (summary->struct_size < sizeof(gm_granular_summary))
-    return gm_set_error(mutable_domain, GM_ERR_STRUCT_SIZE,
-                        "gm_granular_summary.struct_size is %zu, expected "
-                        "%zu: initialise with gm_granular_summary_default()",
-                        summary->struct_size, sizeof(gm_granular_summary));
-  *summary = domain->granular_summary;
-  summary->struct_size = sizeof(gm_granular_summary);
-  memset(summary->state_count, 0, sizeof summary->state_count);
+  gm_status status =
+      gm_api_check_result(domain, "gm_domain_get_granular_summary",
+                          GM_LAYOUT_GRANULAR_SUMMARY, summary, "summary");
+  if (status != GM_OK)
+    return status;
+  gm_granular_summary result = domain->granular_summary;
+  result.struct_size = sizeof result;
+  memset(result.state_count, 0, sizeof result.state_count);
   const gm_points *points = &domain->points;
   const double *state = points->buffer[points->cur].granular_state;
   for (size_t p = 0; p < points->count; p++) {
     int value = state ? (int)state[p] : GM_STATE_QUASI_STATIC;
     if (value >= 0 && value < 3)
-      summary->state_count[value]++;
+      result.state_count[value]++;
   }
+  gm_api_give_result(GM_LAYOUT_GRANULAR_SUMMARY, summary, &result);
   return GM_OK;
 }
 

@@ -5,6 +5,7 @@
 #ifndef GM_INTERNAL_H
 #define GM_INTERNAL_H
 
+#include "api_check.h"
 #include "granmpm.h"
 #include "grid.h"
 #include "interaction.h"
@@ -51,11 +52,6 @@ void gm_free(void *pointer);
 /* Grows *array (element size elem) from old_count to new_count elements,
  * keeping contents; returns false (array untouched) when out of memory. */
 bool gm_grow(void **array, size_t elem, size_t old_count, size_t new_count);
-
-/* Is size the struct_size of a gm_domain_def layout some caller may have
- * been compiled against (the current one, or an earlier one ending before
- * a field appended since)? domain.c; also used by gm_domain_def_init. */
-bool gm_domain_def_size_known(size_t size);
 
 /* ------------------------------------------------------- force reports */
 /* What a wall or rigid material reports (force_report.c): the last
@@ -350,12 +346,6 @@ typedef struct gm_builtin_material {
 gm_status gm_add_builtin_material(gm_domain *domain,
                                   const gm_builtin_material *spec,
                                   int *material_id);
-/* Common checks of an add function's arguments (NULL, busy, struct_size);
- * `what` names the function, `def_name` the struct in messages. */
-gm_status gm_check_material_call(gm_domain *domain, const void *def,
-                                 size_t struct_size, size_t expected_size,
-                                 const int *material_id, const char *what,
-                                 const char *def_name);
 /* Young's modulus finite > 0 and Poisson ratio in (-1, 0.5); sets the
  * message naming def_name's fields. */
 gm_status gm_check_elastic_constants(gm_domain *domain, const char *def_name,

@@ -51,27 +51,21 @@ static gm_status append_material(gm_domain *domain, const gm_material *source,
 
 gm_status gm_domain_add_material(gm_domain *domain, const gm_material_def *def,
                                  int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  if (!def || !material_id)
-    return gm_set_error(domain, GM_ERR_NULL,
-                        "gm_domain_add_material: %s is NULL",
-                        def ? "material_id" : "def");
-  if (domain->busy)
-    return gm_set_error(domain, GM_ERR_BUSY,
-                        "gm_domain_add_material: called during a step");
-  if (def->struct_size < sizeof(gm_material_def))
-    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
-                        "gm_material_def.struct_size is %zu, expected %zu",
-                        def->struct_size, sizeof(gm_material_def));
+  gm_material_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_add_material", GM_LAYOUT_MATERIAL_DEF,
+                      def, &full, material_id, "material_id");
+  if (status != GM_OK)
+    return status;
+  def = &full;
   if (!def->update)
     return gm_set_error(domain, GM_ERR_NULL, "gm_material_def.update is NULL");
   if (def->state_count > GM_MAX_STATE)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_material_def.state_count is %zu, at most %d",
                         def->state_count, GM_MAX_STATE);
-  gm_status status = check_common(domain, "gm_material_def",
-                                  def->p_wave_modulus, def->density);
+  status = check_common(domain, "gm_material_def", def->p_wave_modulus,
+                        def->density);
   if (status != GM_OK)
     return status;
   gm_material material;
@@ -92,23 +86,6 @@ gm_status gm_domain_add_material(gm_domain *domain, const gm_material_def *def,
   material.p_wave_modulus = def->p_wave_modulus;
   material.density = def->density;
   return append_material(domain, &material, material_id);
-}
-
-gm_status gm_check_material_call(gm_domain *domain, const void *def,
-                                 size_t struct_size, size_t expected_size,
-                                 const int *material_id, const char *what,
-                                 const char *def_name) {
-  if (!def || !material_id)
-    return gm_set_error(domain, GM_ERR_NULL, "%s: %s is NULL", what,
-                        def ? "material_id" : "def");
-  if (domain->busy)
-    return gm_set_error(domain, GM_ERR_BUSY, "%s: called during a step", what);
-  if (struct_size < expected_size)
-    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
-                        "%s.struct_size is %zu, expected %zu: initialise with "
-                        "%s_default()",
-                        def_name, struct_size, expected_size, def_name);
-  return GM_OK;
 }
 
 gm_status gm_check_positive(gm_domain *domain, const char *def_name,
@@ -169,13 +146,13 @@ gm_status gm_add_builtin_material(gm_domain *domain,
 
 gm_status gm_domain_add_elastic(gm_domain *domain, const gm_elastic_def *def,
                                 int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  gm_status status = gm_check_material_call(
-      domain, def, def ? def->struct_size : 0, sizeof(gm_elastic_def),
-      material_id, "gm_domain_add_elastic", "gm_elastic_def");
+  gm_elastic_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_add_elastic", GM_LAYOUT_ELASTIC_DEF,
+                      def, &full, material_id, "material_id");
   if (status != GM_OK)
     return status;
+  def = &full;
   status = gm_check_elastic_constants(domain, "gm_elastic_def",
                                       def->youngs_modulus, def->poisson_ratio);
   if (status != GM_OK)

@@ -399,24 +399,18 @@ static bool reserve_ids(gm_points *points, size_t extra) {
 
 gm_status gm_domain_add_points(gm_domain *domain, const gm_points_def *def,
                                int64_t *first_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  if (!def)
-    return gm_set_error(domain, GM_ERR_NULL,
-                        "gm_domain_add_points: def is NULL");
-  if (domain->busy)
-    return gm_set_error(domain, GM_ERR_BUSY,
-                        "gm_domain_add_points: called during a step");
-  return gm_points_append(domain, def, first_id);
+  gm_points_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_add_points", GM_LAYOUT_POINTS_DEF, def,
+                      &full, NULL, NULL);
+  if (status != GM_OK)
+    return status;
+  return gm_points_append(domain, &full, first_id);
 }
 
 gm_status gm_points_append(gm_domain *domain, const gm_points_def *def,
                            int64_t *first_id) {
   domain->granular.boxes_valid = false; /* new points have none */
-  if (def->struct_size < sizeof(gm_points_def))
-    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
-                        "gm_points_def.struct_size is %zu, expected %zu",
-                        def->struct_size, sizeof(gm_points_def));
   if (def->count == 0)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_add_points: count is 0");

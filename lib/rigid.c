@@ -17,13 +17,13 @@
 
 gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
                               int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  gm_status status = gm_check_material_call(
-      domain, def, def ? def->struct_size : 0, sizeof(gm_rigid_def),
-      material_id, "gm_domain_add_rigid", "gm_rigid_def");
+  gm_rigid_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_add_rigid", GM_LAYOUT_RIGID_DEF, def,
+                      &full, material_id, "material_id");
   if (status != GM_OK)
     return status;
+  def = &full;
   for (int k = 0; k < domain->dim; k++)
     if (!isfinite(def->velocity[k]))
       return gm_set_error(domain, GM_ERR_NOT_FINITE,
@@ -105,16 +105,11 @@ gm_status gm_domain_get_rigid_force(const gm_domain *domain, int material_id,
 
 gm_status gm_domain_get_rigid_load(const gm_domain *domain, int material_id,
                                    gm_rigid_load *load) {
-  if (!domain)
-    return GM_ERR_NULL;
+  gm_status status = gm_api_check_result(domain, "gm_domain_get_rigid_load",
+                                         GM_LAYOUT_RIGID_LOAD, load, "load");
+  if (status != GM_OK)
+    return status;
   gm_domain *mutable_domain = (gm_domain *)domain; /* last_error only */
-  if (!load)
-    return gm_set_error(mutable_domain, GM_ERR_NULL,
-                        "gm_domain_get_rigid_load: load is NULL");
-  if (load->struct_size < sizeof(gm_rigid_load))
-    return gm_set_error(mutable_domain, GM_ERR_STRUCT_SIZE,
-                        "gm_rigid_load.struct_size is %zu, expected %zu",
-                        load->struct_size, sizeof(gm_rigid_load));
   const gm_material *material =
       rigid_material(mutable_domain, material_id, "gm_domain_get_rigid_load");
   if (!material)
@@ -130,7 +125,7 @@ gm_status gm_domain_get_rigid_load(const gm_domain *domain, int material_id,
   result.duration = report->duration;
   result.total_duration = report->total_duration;
   result.smoothing_time = domain->force_smoothing_time;
-  *load = result;
+  gm_api_give_result(GM_LAYOUT_RIGID_LOAD, load, &result);
   return GM_OK;
 }
 

@@ -19,10 +19,6 @@ static bool inside_grid(const gm_domain *domain, const double *position) {
 }
 
 static gm_status validate_source(gm_domain *domain, const gm_source_def *def) {
-  if (def->struct_size < sizeof(gm_source_def))
-    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
-                        "gm_source_def.struct_size is %zu, expected %zu",
-                        def->struct_size, sizeof(gm_source_def));
   if (domain->source_count >= GM_MAX_SOURCES)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_add_source: at most %d sources",
@@ -79,15 +75,14 @@ static gm_status validate_source(gm_domain *domain, const gm_source_def *def) {
 
 gm_status gm_domain_add_source(gm_domain *domain, const gm_source_def *def,
                                int *source_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  if (!def || !source_id)
-    return gm_set_error(domain, GM_ERR_NULL, "gm_domain_add_source: %s is NULL",
-                        def ? "source_id" : "def");
-  if (domain->busy)
-    return gm_set_error(domain, GM_ERR_BUSY,
-                        "gm_domain_add_source: called during a step");
-  gm_status status = validate_source(domain, def);
+  gm_source_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_add_source", GM_LAYOUT_SOURCE_DEF, def,
+                      &full, source_id, "source_id");
+  if (status != GM_OK)
+    return status;
+  def = &full;
+  status = validate_source(domain, def);
   if (status != GM_OK)
     return status;
   size_t values = def->count * (size_t)domain->dim;
@@ -118,18 +113,13 @@ gm_status gm_domain_add_source(gm_domain *domain, const gm_source_def *def,
 
 gm_status gm_domain_add_sink(gm_domain *domain, const gm_sink_def *def,
                              int *sink_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  if (!def || !sink_id)
-    return gm_set_error(domain, GM_ERR_NULL, "gm_domain_add_sink: %s is NULL",
-                        def ? "sink_id" : "def");
-  if (domain->busy)
-    return gm_set_error(domain, GM_ERR_BUSY,
-                        "gm_domain_add_sink: called during a step");
-  if (def->struct_size < sizeof(gm_sink_def))
-    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
-                        "gm_sink_def.struct_size is %zu, expected %zu",
-                        def->struct_size, sizeof(gm_sink_def));
+  gm_sink_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_add_sink", GM_LAYOUT_SINK_DEF, def,
+                      &full, sink_id, "sink_id");
+  if (status != GM_OK)
+    return status;
+  def = &full;
   if (domain->sink_count >= GM_MAX_SOURCES)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_add_sink: at most %d sinks", GM_MAX_SOURCES);
@@ -156,19 +146,18 @@ gm_status gm_domain_add_sink(gm_domain *domain, const gm_sink_def *def,
 static gm_status get_totals(const gm_domain *domain, gm_flow_totals *totals,
                             int id, int count, const char *what, double mass,
                             uint64_t points) {
+  gm_status status = gm_api_check_result(domain, what, GM_LAYOUT_FLOW_TOTALS,
+                                         totals, "totals");
+  if (status != GM_OK)
+    return status;
   gm_domain *mutable_domain = (gm_domain *)domain; /* last_error only */
-  if (!totals)
-    return gm_set_error(mutable_domain, GM_ERR_NULL, "%s: totals is NULL",
-                        what);
-  if (totals->struct_size < sizeof(gm_flow_totals))
-    return gm_set_error(mutable_domain, GM_ERR_STRUCT_SIZE,
-                        "gm_flow_totals.struct_size is %zu, expected %zu",
-                        totals->struct_size, sizeof(gm_flow_totals));
   if (id < 0 || id >= count)
     return gm_set_error(mutable_domain, GM_ERR_INVALID_ARGUMENT,
                         "%s: id %d is unknown (%d defined)", what, id, count);
-  totals->mass = mass;
-  totals->points = points;
+  gm_flow_totals result = gm_flow_totals_default();
+  result.mass = mass;
+  result.points = points;
+  gm_api_give_result(GM_LAYOUT_FLOW_TOTALS, totals, &result);
   return GM_OK;
 }
 

@@ -35,18 +35,13 @@
 
 gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
                              int *wall_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  if (!def || !wall_id)
-    return gm_set_error(domain, GM_ERR_NULL, "gm_domain_add_wall: %s is NULL",
-                        def ? "wall_id" : "def");
-  if (domain->busy)
-    return gm_set_error(domain, GM_ERR_BUSY,
-                        "gm_domain_add_wall: called during a step");
-  if (def->struct_size < sizeof(gm_wall_def))
-    return gm_set_error(domain, GM_ERR_STRUCT_SIZE,
-                        "gm_wall_def.struct_size is %zu, expected %zu",
-                        def->struct_size, sizeof(gm_wall_def));
+  gm_wall_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_add_wall", GM_LAYOUT_WALL_DEF, def,
+                      &full, wall_id, "wall_id");
+  if (status != GM_OK)
+    return status;
+  def = &full;
   if (domain->wall_count >= GM_MAX_WALLS)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_add_wall: at most %d walls", GM_MAX_WALLS);
@@ -86,14 +81,6 @@ gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
   return GM_OK;
 }
 
-/* Does size cover a gm_wall_force layout a caller may have been compiled
- * against: the current one, or the one ending before the impulse fields
- * were appended (then only that prefix is written)? */
-static bool known_wall_force_size(size_t size) {
-  return size >= sizeof(gm_wall_force) ||
-         size == offsetof(gm_wall_force, impulse);
-}
-
 /* The part of vector along the unit normal, and the length of the rest. */
 static void split_along(const double vector[3], const double normal[2],
                         double *along, double *across) {
@@ -104,16 +91,13 @@ static void split_along(const double vector[3], const double normal[2],
 
 gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
                                    gm_wall_force *force) {
-  if (!domain)
-    return GM_ERR_NULL;
+  /* The layout before the impulse fields were appended is accepted: only
+   * that prefix is written (api_check.h). */
+  gm_status status = gm_api_check_result(domain, "gm_domain_get_wall_force",
+                                         GM_LAYOUT_WALL_FORCE, force, "force");
+  if (status != GM_OK)
+    return status;
   gm_domain *mutable_domain = (gm_domain *)domain; /* last_error only */
-  if (!force)
-    return gm_set_error(mutable_domain, GM_ERR_NULL,
-                        "gm_domain_get_wall_force: force is NULL");
-  if (!known_wall_force_size(force->struct_size))
-    return gm_set_error(mutable_domain, GM_ERR_STRUCT_SIZE,
-                        "gm_wall_force.struct_size is %zu, expected %zu",
-                        force->struct_size, sizeof(gm_wall_force));
   if (wall_id < 0 || wall_id >= domain->wall_count)
     return gm_set_error(mutable_domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_get_wall_force: wall %d is unknown (%d "
@@ -136,10 +120,7 @@ gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
   result.duration = report->duration;
   result.total_duration = report->total_duration;
   result.smoothing_time = domain->force_smoothing_time;
-  size_t size =
-      force->struct_size < sizeof result ? force->struct_size : sizeof result;
-  result.struct_size = force->struct_size;
-  memcpy(force, &result, size);
+  gm_api_give_result(GM_LAYOUT_WALL_FORCE, force, &result);
   return GM_OK;
 }
 

@@ -83,11 +83,13 @@ int gm_drucker_prager_update(const gm_material_batch *batch, void *user,
 gm_status gm_domain_add_drucker_prager(gm_domain *domain,
                                        const gm_drucker_prager_def *def,
                                        int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  gm_status status = gm_check_material_call(
-      domain, def, def ? def->struct_size : 0, sizeof(gm_drucker_prager_def),
-      material_id, "gm_domain_add_drucker_prager", DEF_NAME);
+  gm_drucker_prager_def full;
+  gm_status status = gm_api_take_def(domain, "gm_domain_add_drucker_prager",
+                                     GM_LAYOUT_DRUCKER_PRAGER_DEF, def, &full,
+                                     material_id, "material_id");
+  if (status != GM_OK)
+    return status;
+  def = &full;
   if (status == GM_OK)
     status = gm_check_elastic_constants(domain, DEF_NAME, def->youngs_modulus,
                                         def->poisson_ratio);

@@ -198,13 +198,13 @@ static gm_status filling_check(gm_domain *domain, const gm_filling_def *def) {
 
 gm_status gm_domain_add_filling(gm_domain *domain, const gm_filling_def *def,
                                 int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  gm_status status = gm_check_material_call(
-      domain, def, def ? def->struct_size : 0, sizeof(gm_filling_def),
-      material_id, "gm_domain_add_filling", "gm_filling_def");
+  gm_filling_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_add_filling", GM_LAYOUT_FILLING_DEF,
+                      def, &full, material_id, "material_id");
   if (status != GM_OK)
     return status;
+  def = &full;
   status = filling_check(domain, def);
   if (status != GM_OK)
     return status;

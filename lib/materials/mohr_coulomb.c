@@ -286,13 +286,13 @@ static gm_status check_parameters(gm_domain *domain,
 gm_status gm_domain_add_mohr_coulomb(gm_domain *domain,
                                      const gm_mohr_coulomb_def *def,
                                      int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  gm_status status = gm_check_material_call(
-      domain, def, def ? def->struct_size : 0, sizeof(gm_mohr_coulomb_def),
-      material_id, "gm_domain_add_mohr_coulomb", "gm_mohr_coulomb_def");
+  gm_mohr_coulomb_def full;
+  gm_status status = gm_api_take_def(domain, "gm_domain_add_mohr_coulomb",
+                                     GM_LAYOUT_MOHR_COULOMB_DEF, def, &full,
+                                     material_id, "material_id");
   if (status != GM_OK)
     return status;
+  def = &full;
   status = check_parameters(domain, def);
   if (status != GM_OK)
     return status;

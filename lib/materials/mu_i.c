@@ -302,11 +302,13 @@ static gm_status mu_i_check(gm_domain *domain, const gm_mu_i_def *def) {
 
 gm_status gm_domain_add_mu_i(gm_domain *domain, const gm_mu_i_def *def,
                              int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  gm_status status = gm_check_material_call(
-      domain, def, def ? def->struct_size : 0, sizeof(gm_mu_i_def), material_id,
-      "gm_domain_add_mu_i", DEF_NAME);
+  gm_mu_i_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_add_mu_i", GM_LAYOUT_MU_I_DEF, def,
+                      &full, material_id, "material_id");
+  if (status != GM_OK)
+    return status;
+  def = &full;
   if (status == GM_OK)
     status = mu_i_check(domain, def);
   if (status != GM_OK)

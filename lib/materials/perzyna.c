@@ -245,13 +245,13 @@ static gm_status perzyna_check(gm_domain *domain, const gm_perzyna_def *def) {
 
 gm_status gm_domain_add_perzyna(gm_domain *domain, const gm_perzyna_def *def,
                                 int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  gm_status status = gm_check_material_call(
-      domain, def, def ? def->struct_size : 0, sizeof(gm_perzyna_def),
-      material_id, "gm_domain_add_perzyna", "gm_perzyna_def");
+  gm_perzyna_def full;
+  gm_status status =
+      gm_api_take_def(domain, "gm_domain_add_perzyna", GM_LAYOUT_PERZYNA_DEF,
+                      def, &full, material_id, "material_id");
   if (status != GM_OK)
     return status;
+  def = &full;
   status = perzyna_check(domain, def);
   if (status != GM_OK)
     return status;

@@ -26,11 +26,13 @@ int gm_stress_free_update(const gm_material_batch *batch, void *user,
 gm_status gm_domain_add_stress_free(gm_domain *domain,
                                     const gm_stress_free_def *def,
                                     int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  gm_status status = gm_check_material_call(
-      domain, def, def ? def->struct_size : 0, sizeof(gm_stress_free_def),
-      material_id, "gm_domain_add_stress_free", DEF_NAME);
+  gm_stress_free_def full;
+  gm_status status = gm_api_take_def(domain, "gm_domain_add_stress_free",
+                                     GM_LAYOUT_STRESS_FREE_DEF, def, &full,
+                                     material_id, "material_id");
+  if (status != GM_OK)
+    return status;
+  def = &full;
   if (status == GM_OK)
     status = gm_check_positive(domain, DEF_NAME, "density", def->density,
                                "kg/m^3", false);

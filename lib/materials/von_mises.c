@@ -60,11 +60,13 @@ int gm_von_mises_update(const gm_material_batch *batch, void *user,
 gm_status gm_domain_add_von_mises(gm_domain *domain,
                                   const gm_von_mises_def *def,
                                   int *material_id) {
-  if (!domain)
-    return GM_ERR_NULL;
-  gm_status status = gm_check_material_call(
-      domain, def, def ? def->struct_size : 0, sizeof(gm_von_mises_def),
-      material_id, "gm_domain_add_von_mises", DEF_NAME);
+  gm_von_mises_def full;
+  gm_status status = gm_api_take_def(domain, "gm_domain_add_von_mises",
+                                     GM_LAYOUT_VON_MISES_DEF, def, &full,
+                                     material_id, "material_id");
+  if (status != GM_OK)
+    return status;
+  def = &full;
   if (status == GM_OK)
     status = gm_check_elastic_constants(domain, DEF_NAME, def->youngs_modulus,
                                         def->poisson_ratio);
