@@ -328,8 +328,8 @@ static Suite *determinism_suite(void) {
   tcase_set_timeout(tcase, 120.0);
   tcase_add_loop_test(tcase, test_plane_strain_block, GM_SCHEME_USL + 1,
                       GM_SCHEME_USF + 1);
-  tcase_add_loop_test(tcase, test_plane_strain_block_bspline,
-                      GM_SCHEME_USL + 1, GM_SCHEME_USF + 1);
+  tcase_add_loop_test(tcase, test_plane_strain_block_bspline, GM_SCHEME_USL + 1,
+                      GM_SCHEME_USF + 1);
   tcase_add_loop_test(tcase, test_1d_column, GM_SCHEME_USL + 1,
                       GM_SCHEME_USF + 1);
   tcase_add_loop_test(tcase, test_apic_plane_strain_block, 1, 6);
