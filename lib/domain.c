@@ -229,6 +229,7 @@ static void free_grid(gm_grid *grid) {
   gm_free(grid->mass);
   gm_free(grid->wall_force);
   gm_free(grid->wall_gap);
+  gm_free(grid->wall_centre_gap);
   gm_free(grid->contact_wall);
   gm_free(grid->contact_force[0]);
   gm_free(grid->contact_force[1]);

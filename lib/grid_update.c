@@ -121,7 +121,9 @@ static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
   int first_wall = -1;
   const double *gap =
       grid->wall_gap + node * (size_t)gm_gap_plane_count(domain);
-  if (!gm_walls_contact(domain, position, velocity, gap, ctx->dt,
+  const double *centre_gap =
+      grid->wall_centre_gap + node * (size_t)domain->wall_count;
+  if (!gm_walls_contact(domain, position, velocity, gap, centre_gap, ctx->dt,
                         full ? block_force : NULL, grid->mass[node] / ctx->dt,
                         &first_wall))
     return;

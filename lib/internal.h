@@ -455,13 +455,15 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
 
 /* Walls (walls.c). Contact of one node with the walls: `velocity` (m/s)
  * is the node's updated velocity, changed in place; gap (one per wall, m,
- * or NULL = 0) lets it approach a wall by that much in dt; returns true if
+ * or NULL = 0) lets it approach a wall by that much in dt, and centre_gap
+ * (one per wall, m, or NULL) the same for the nodes the wall's contact
+ * does not reach, from the nearest point centre; returns true if
  * a wall acted. If block_force is not NULL, mass/dt times each wall's velocity
  * change (N) is added to block_force[2 w], [2 w + 1]. */
 bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
-                      double velocity[2], const double *gap, double dt,
-                      double *block_force, double mass_over_dt,
-                      int *first_wall);
+                      double velocity[2], const double *gap,
+                      const double *centre_gap, double dt, double *block_force,
+                      double mass_over_dt, int *first_wall);
 /* The node gaps to every planar wall and to the box faces that hold
  * material (grid->wall_gap, gm_gap_plane_count per node: the walls, then
  * the faces) from the committed point domains, after the mass P2G

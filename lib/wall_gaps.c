@@ -8,6 +8,12 @@
  * point with weight on the node: the contact lets the node close that gap in a
  * step and stops only the rest (walls.c).
  *
+ * For the planar walls each node also gets the smallest distance from the
+ * wall to the centre of a point it carries (grid->wall_centre_gap): with
+ * the shapes wider than a tent (GIMP, CPDI, B-splines) a point gathers its
+ * velocity from nodes the wall's contact does not reach, and walls.c keeps
+ * those nodes from carrying a point's centre past the wall.
+ *
  * The box faces that hold material (slip and fixed) get the same measure,
  * after the planar walls in the gap records (gm_gap_face_slot): a face
  * node held at zero while its material is still a fraction of a cell
@@ -119,12 +125,16 @@ static void measure_point(gm_domain *domain, const gap_context *ctx,
   /* A support reaches at most 9 nodes (8 cells) from the point. */
   double reach = 8.0 * h; /* m */
   double distance[GM_MAX_WALLS + 4];
+  double centre_distance[GM_MAX_WALLS]; /* m, planar walls only */
+  int walls = domain->wall_count;
   bool near = false;
   for (int w = 0; w < planes; w++) {
     const gap_plane *plane = &ctx->planes[w];
     double centre = (point.position[0] - plane->point[0]) * plane->normal[0] +
                     (point.position[1] - plane->point[1]) * plane->normal[1];
     distance[w] = INFINITY;
+    if (w < walls)
+      centre_distance[w] = centre > reach ? INFINITY : centre;
     if (centre > reach)
       continue; /* no node of its support lies behind this plane */
     double gap = centre - extent_along(domain, &point, plane->normal);
@@ -153,6 +163,12 @@ static void measure_point(gm_domain *domain, const gap_context *ctx,
                   gm_block_node(links, grid->shift, x, y) * (size_t)planes;
     for (int w = 0; w < planes; w++)
       gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
+    double *centre_gap =
+        grid->wall_centre_gap +
+        gm_block_node(links, grid->shift, x, y) * (size_t)walls;
+    for (int w = 0; w < walls; w++)
+      centre_gap[w] = centre_distance[w] < centre_gap[w] ? centre_distance[w]
+                                                         : centre_gap[w];
   }
 }
 
@@ -181,6 +197,10 @@ static void clear_gaps(void *context, size_t begin, size_t end, int worker) {
   double *gap = domain->grid.wall_gap;
   for (size_t k = begin * stride; k < end * stride; k++)
     gap[k] = INFINITY;
+  size_t wall_stride = GM_BLOCK_NODES * (size_t)domain->wall_count;
+  double *centre_gap = domain->grid.wall_centre_gap;
+  for (size_t k = begin * wall_stride; k < end * wall_stride; k++)
+    centre_gap[k] = INFINITY;
 }
 
 void gm_walls_measure_gaps(gm_domain *domain) {

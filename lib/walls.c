@@ -127,7 +127,12 @@ gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
 bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
                          int64_t base_y) {
   double h = domain->def.cell_size;
-  double reach = GM_WALL_REACH * h; /* m, see gm_walls_contact */
+  /* m: the nodes that share a wall, and with the wide shapes those that
+   * may carry a point centre near it (see gm_walls_contact), as far as a
+   * support reaches (wall_gaps.c) */
+  double reach = domain->def.shape == GM_SHAPE_LINEAR
+                     ? GM_WALL_REACH * h
+                     : (double)(GM_SUPPORT_MAX_SPAN - 1) * h;
   int64_t edge = (int64_t)1 << domain->grid.shift;
   int corners = domain->dim > 1 ? 4 : 2;
   for (int w = 0; w < domain->wall_count; w++) {
@@ -171,9 +176,9 @@ static bool contact_one(const gm_wall *wall, double velocity[2],
 }
 
 bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
-                      double velocity[2], const double *gap, double dt,
-                      double *block_force, double mass_over_dt,
-                      int *first_wall) {
+                      double velocity[2], const double *gap,
+                      const double *centre_gap, double dt, double *block_force,
+                      double mass_over_dt, int *first_wall) {
   bool acted = false;
   /* The nodes that share the wall are those whose tent function reaches
    * behind the plane: nodes behind it and nodes less than a cell in front
@@ -190,12 +195,40 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
    * node in front acts at all is decided by its material's gap (below):
    * material a gap away from the wall may close it first. */
   double reach = GM_WALL_REACH * domain->def.cell_size; /* m */
+  bool wide = domain->def.shape != GM_SHAPE_LINEAR;     /* support.h */
   for (int w = 0; w < domain->wall_count; w++) {
     const gm_wall *wall = &domain->walls[w];
     double distance = (node_position[0] - wall->point[0]) * wall->normal[0] +
                       (node_position[1] - wall->point[1]) * wall->normal[1];
-    if (distance >= reach)
-      continue; /* this node does not share the wall */
+    /* A node the wall's tent does not reach may still carry a point whose
+     * centre is at the wall: the shapes wider than a tent (uGIMP, cpGIMP,
+     * CPDI and the B-splines, support.h) give a point on the plane weight
+     * on nodes up to 1 + l_p/h, 1.5 or 2 cells in front of it (the
+     * quadratic B-spline 1/8, the uGIMP of 2 x 2 points per cell 1/16 of
+     * the node's velocity). The contact above stops only the nodes that
+     * share the wall, so a point gathering from those nodes and from one
+     * in front moving toward the wall went through it: the column
+     * collapse with APIC (uGIMP, 2 x 2, cell 0.015 m) left a point at
+     * y = -1.2e-7 m, its node on the plane held at 0, the node behind at
+     * +1.23 m/s and the free node in front at -1.24 m/s (APIC's affine
+     * field of an isolated point), and the quadratic B-spline (4 x 4,
+     * cell 0.0075 m) one at -1.0e-6 m. Such a node may therefore approach
+     * the wall by at most the distance of the nearest point centre it
+     * carries, less the contact tolerance, in the step: the same gap rule
+     * with the point's centre, not its domain, as the material's edge
+     * (the velocity a point moves with is a weighted mean of its nodes',
+     * so no point centre reaches the wall when none of its nodes carries
+     * it there). Where it binds, the wall's impulse and Coulomb friction
+     * are those of the contact above. Linear MPM does not need it (a
+     * point at c from the plane has weight c/h on such a node, so it
+     * could cross only with a node faster than a cell per step) and does
+     * not get it: there it bound only at nearly empty nodes with the
+     * spurious velocities of USL's cell crossing (tens to thousands of
+     * m/s), and changed the mean normal force of a sliding block in
+     * tests/test_friction.c by 2.7 %. */
+    bool shares = distance < reach; /* this node shares the wall */
+    if (!shares && (!wide || !centre_gap || !(centre_gap[w] < INFINITY)))
+      continue; /* and carries no point near it */
     double before[2] = {velocity[0], velocity[1]};
     /* Gaps below GM_CONTACT_TOLERANCE cells count as contact: a resting
      * point's domain edge jitters by 1e-3..1e-2 cells with the elastic
@@ -205,8 +238,10 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
      * lets the ratchet back in: material may stay that far from a wall,
      * pressed by it (the Janssen silo test fails from 5e-3 on). */
     double tolerance = GM_CONTACT_TOLERANCE * domain->def.cell_size; /* m */
-    double approach =
-        gap && gap[w] > tolerance ? (gap[w] - tolerance) / dt : 0.0; /* m/s */
+    const double *material_gap = shares ? gap : centre_gap;
+    double approach = material_gap && material_gap[w] > tolerance
+                          ? (material_gap[w] - tolerance) / dt
+                          : 0.0; /* m/s */
     if (!contact_one(wall, velocity, approach))
       continue;
     if (!acted && first_wall)
@@ -263,6 +298,17 @@ gm_status gm_walls_reserve(gm_domain *domain) {
     gm_free(grid->wall_gap);
     grid->wall_gap = grown;
     grid->wall_gap_capacity = gaps;
+  }
+  size_t centre_gaps = grid->block_capacity * GM_BLOCK_NODES *
+                       (size_t)domain->wall_count; /* doubles */
+  if (centre_gaps > grid->wall_centre_gap_capacity) {
+    double *grown = gm_alloc(centre_gaps * sizeof(double));
+    if (!grown)
+      return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                          "walls: out of memory for the contact gaps");
+    gm_free(grid->wall_centre_gap);
+    grid->wall_centre_gap = grown;
+    grid->wall_centre_gap_capacity = centre_gaps;
   }
   size_t needed =
       grid->block_capacity * (size_t)domain->wall_count * 2; /* doubles */
