@@ -80,7 +80,20 @@ static const struct {
     {gm_drucker_prager_update,
      PARAMETERS(gm_drucker_prager_def, friction_angle)},
     {gm_von_mises_update, PARAMETERS(gm_von_mises_def, yield_stress)},
-    {gm_stress_free_update, PARAMETERS(gm_stress_free_def, p_wave_modulus)}};
+    {gm_stress_free_update, PARAMETERS(gm_stress_free_def, p_wave_modulus)},
+    /* The doubles up to critical_density; regularise (an int followed by
+     * padding) and the exponent are recorded by describe_mu_i_switches. */
+    {gm_mu_i_update, PARAMETERS(gm_mu_i_def, critical_density)}};
+
+/* mu(I)'s regularisation switch and exponent, as numbers rather than
+ * bytes: the padding after the int is unspecified. */
+static void describe_mu_i_switches(const gm_material *material,
+                                   const char *name, gm_byte_writer *out) {
+  gm_mu_i_def def;
+  memcpy(&def, material->parameters, sizeof def);
+  const double switches[2] = {def.regularise != 0, def.regularisation_exponent};
+  gm_record_reals(out, name, switches, 2);
+}
 
 static void describe_parameters(const gm_material *material, const char *name,
                                 gm_byte_writer *out) {
@@ -127,6 +140,10 @@ static void describe_material(const gm_domain *domain, int m,
   if (material->builtin)
     describe_parameters(
         material, material_record(name, size, m, material, "parameters"), out);
+  if (material->builtin && material->update == gm_mu_i_update)
+    describe_mu_i_switches(
+        material, material_record(name, size, m, material, "regularisation"),
+        out);
   if (material->granular) {
     const double granular[2] = {material->critical_density,
                                 material->tolerance}; /* kg/m^3 */

@@ -25,6 +25,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 
+#include "granmpm/mu_i.h"
 #include "test_util.h"
 
 #include <check.h>
@@ -665,6 +666,13 @@ static gm_domain *materials_domain(int changed) {
   TEST_ASSERT_OK(domain, gm_domain_add_stress_free(domain, &stress_free, &id));
   gm_rigid_def rigid = gm_rigid_def_default();
   TEST_ASSERT_OK(domain, gm_domain_add_rigid(domain, &rigid, &id));
+  /* mu(I), material 7: a friction (changed 5, the parameter record) or
+   * the regularisation exponent after its int switch (changed 6, its own
+   * record: the switch's padding is not compared). */
+  gm_mu_i_def mu_i = gm_mu_i_def_default();
+  mu_i.static_friction += changed == 5 ? 0.01 : 0.0;
+  mu_i.regularisation_exponent -= changed == 6 ? 0.1 : 0.0;
+  TEST_ASSERT_OK(domain, gm_domain_add_mu_i(domain, &mu_i, &id));
   return domain;
 }
 
@@ -684,6 +692,12 @@ START_TEST(test_material_parameters) {
     snprintf(expected, sizeof expected, "material %d (", changed);
     expect_setup_refused(path, other, expected, "parameters");
   }
+  /* mu(I) was missing from the parameter records: a checkpoint loaded
+   * into a domain with another mu_s or alpha was accepted. */
+  scene other_friction = {materials_domain(5), -1, -1, -1, -1, 0, 0};
+  expect_setup_refused(path, other_friction, "material 7 (", "parameters");
+  scene other_exponent = {materials_domain(6), -1, -1, -1, -1, 0, 0};
+  expect_setup_refused(path, other_exponent, "material 7 (", "regularisation");
   gm_domain_destroy(saved);
   free(path);
   remove_temporary_directory();
