@@ -467,7 +467,7 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
 /* The node gaps to every planar wall and to the box faces that hold
  * material (grid->wall_gap, gm_gap_plane_count per node: the walls, then
  * the faces) from the committed point domains, after the mass P2G
- * (wall_gaps.c). */
+ * (wall_gaps.c; step.c's stage MEASURE_WALL_GAPS). */
 void gm_walls_measure_gaps(gm_domain *domain);
 /* Gap records per node: the planar walls and the measured box faces. */
 int gm_gap_plane_count(const gm_domain *domain);
@@ -480,9 +480,9 @@ int gm_gap_face_slot(const gm_domain *domain, int face);
 /* Sizes the per-block wall-force partial sums for the current walls. */
 gm_status gm_walls_reserve(gm_domain *domain);
 
-/* Rigid points (rigid.c). After the mass P2G: marks the nodes each rigid
- * point touches with its material (grid->rigid_material, 0 = none,
- * material + 1 otherwise). */
+/* Rigid points (rigid.c). After the mass P2G (step.c's stage
+ * MARK_RIGID_NODES): marks the nodes each rigid point touches with its
+ * material (grid->rigid_material, 0 = none, material + 1 otherwise). */
 void gm_rigid_mark_nodes(gm_domain *domain);
 /* Grid update of one node touched by a rigid material: its velocity
  * becomes the prescribed one; in FULL mode the acceleration follows and

@@ -379,9 +379,5 @@ void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass) {
     ctx.blocks = grid->color_block + first;
     gm_parallel_for(&domain->pool, count, scatter_blocks, &ctx);
   }
-  gm_bspline_fold_ghosts(domain, pass);      /* images in the box faces */
-  if (pass->mass && domain->rigid_count > 0) /* once per step */
-    gm_rigid_mark_nodes(domain);
-  if (pass->mass && gm_gap_plane_count(domain) > 0) /* once per step */
-    gm_walls_measure_gaps(domain);
+  gm_bspline_fold_ghosts(domain, pass); /* images in the box faces */
 }

@@ -4,6 +4,50 @@
  * the spare one, so a failure anywhere simply leaves the committed buffer
  * as it was. Recoverable material failures retry the interval as two
  * halves (recursively, up to max_retries), from a snapshot.
+ *
+ * The whole cycle, in order (gm_domain_step, then one attempt per
+ * try_step; the stages are the step_stage enum below, and each scheme is
+ * the ordered list of them in scheme_stages[]). Equations: 004 (Kumar
+ * thesis ch. 3, sec 3.2).
+ *
+ *   gm_domain_step   hook GM_HOOK_BEFORE_STEP; sources inject; choose dt
+ *                    (004 eqs 3.11-3.12, stable_dt.c)
+ *   try_step, every scheme:
+ *     BIN                  points sorted into grid blocks, grid built
+ *     GRANULAR_PREPARE     parallel grids of the granular family (000)
+ *     SCATTER              P2G mass m_i (3.13), momentum m_i v_i (3.14),
+ *                          force f_i from sigma_t (3.15)  [USL, MUSL]
+ *     SCATTER_MOMENTUM     P2G mass (3.13), momentum (3.14)  [USF]
+ *     MARK_RIGID_NODES     nodes a rigid material holds (rigid.c)
+ *     MEASURE_WALL_GAPS    per node, gap to each wall and face (wall_gaps.c)
+ *     GRID_SOLVE           v_i = p_i/m_i (3.14), a_i = f_i/m_i (3.15),
+ *                          v_i^L = v_i + a_i dt (3.16), walls, rigid nodes
+ *     GRID_VELOCITIES      v_i = p_i/m_i (3.14), walls, rigid nodes
+ *     STRESS_FIRST_HALF    USF: L, F, V, stress over dt/2 from v_t
+ *                          (3.18-3.24)
+ *     SCATTER_FORCES       USF: P2G momentum again and f_i (3.15) from
+ *                          the half-updated stress
+ *     UPDATE_POINTS        v_p += dt sum N a_i, x_p += dt sum N v_i^L (3.17)
+ *     UPDATE_VELOCITIES    MUSL: v_p += dt sum N a_i only (3.17, first half)
+ *     REMAP_MOMENTUM       P2G momentum of the updated v_p (Sulsky, Zhou &
+ *                          Schreyer 1995), then GRID_VELOCITIES gives v^L
+ *     DEFORM               USL: strain increment (3.18), Jaumann spin
+ *                          (3.20-3.21), stress (3.19, 3.22), V = J V0
+ *                          (3.23), density (3.24), from the re-mapped v^L
+ *     MOVE_AND_DEFORM      MUSL: x_p += dt sum N v^L, then as DEFORM
+ *     STRESS_SECOND_HALF   USF: as DEFORM over dt/2, in the next buffer
+ *     RIGID_POINTS         rigid points take their prescribed velocity;
+ *                          their nodes' impulse goes to the body
+ *   commit (try_step): flip the point buffers, granular summary, wall
+ *     impulse, signal speed for the next dt, time and step count, reorder
+ *     every GM_REORDER_INTERVAL steps
+ *   on a recoverable failure: step_with_retries -> retry_in_halves
+ *   gm_domain_step   wall and rigid force reports; sinks remove; hook
+ *                    GM_HOOK_AFTER_STEP
+ *
+ * After every stage the workers' errors are collected: only the scatters
+ * that check host inputs and the G2P passes can raise one, and the first
+ * one found abandons the attempt.
  */
 #include "internal.h"
 
@@ -14,24 +58,29 @@
 /* Physical re-sorting of points every this many steps (amortised cost). */
 #define GM_REORDER_INTERVAL 16
 
-static gm_status collect(gm_domain *domain) {
-  return gm_collect_worker_errors(domain);
-}
+/* The phases of one attempt, each one call below (run_stage). */
+typedef enum step_stage {
+  STAGE_BIN,
+  STAGE_GRANULAR_PREPARE,
+  STAGE_SCATTER,
+  STAGE_SCATTER_MOMENTUM,
+  STAGE_MARK_RIGID_NODES,
+  STAGE_MEASURE_WALL_GAPS,
+  STAGE_GRID_SOLVE,
+  STAGE_GRID_VELOCITIES,
+  STAGE_STRESS_FIRST_HALF,
+  STAGE_SCATTER_FORCES,
+  STAGE_UPDATE_POINTS,
+  STAGE_UPDATE_VELOCITIES,
+  STAGE_REMAP_MOMENTUM,
+  STAGE_DEFORM,
+  STAGE_MOVE_AND_DEFORM,
+  STAGE_STRESS_SECOND_HALF,
+  STAGE_RIGID_POINTS,
+  STAGE_END /* ends a scheme's list */
+} step_stage;
 
-/* The nodal velocities re-mapped from the updated particle momenta
- * (Sulsky, Zhou & Schreyer 1995): m_i v_i = sum_p N_ip m_p v_p^{t+dt},
- * with the wall conditions applied again. */
-static void remap_velocities(gm_domain *domain, double dt) {
-  int cur = domain->points.cur;
-  gm_p2g_pass remap = {false, true, false, cur ^ 1, cur, false};
-  gm_p2g(domain, &remap);
-  gm_grid_update(domain, dt, GM_GRID_VELOCITY_ONLY);
-}
-
-/* USL and MUSL share the first half: mass, momentum and forces to the
- * grid, nodal update, particle velocities (004 eqs 3.13-3.17).
- *
- * USL (004 sec 3.2, after eq 3.17: "the updated particle momentums are
+/* USL (004 sec 3.2, after eq 3.17: "the updated particle momentums are
  * used to calculate the nodal velocities, which are then used to update
  * the particle strain and stress"): points move with the updated nodal
  * velocities v_i^L = v_i + a_i dt (eq 3.17), and the strain rate comes
@@ -43,29 +92,34 @@ static void remap_velocities(gm_domain *domain, double dt) {
  * mass N m_p with N -> 0 while its stress gradient force on them does not
  * vanish, so a_i = f_i / m_i grows without bound and the next strain
  * increment inverts F (an elastic block resting on a floor failed after
- * ~200 steps once its sides bulged into empty cells).
- *
- * MUSL (002 sec 4.4 steps 6-9): the re-mapped velocities also move the
- * points. */
-static gm_status run_usl(gm_domain *domain, double dt, bool modified) {
-  int cur = domain->points.cur;
-  /* Host-written inputs are screened only when the host had the chance to
-   * write them; otherwise they come from a checked step. */
-  gm_p2g_pass scatter = {true, true, true, cur, cur, domain->inputs_edited};
-  gm_p2g(domain, &scatter);
-  gm_status status = collect(domain);
-  if (status != GM_OK)
-    return status;
-  gm_grid_update(domain, dt, GM_GRID_FULL);
-  gm_g2p_pass velocities = {true, !modified, false, false, dt, false};
-  gm_g2p(domain, &velocities);
-  if ((status = collect(domain)) != GM_OK)
-    return status;
-  remap_velocities(domain, dt);
-  gm_g2p_pass strain = {false, modified, true, true, dt, false};
-  gm_g2p(domain, &strain);
-  return collect(domain);
-}
+ * ~200 steps once its sides bulged into empty cells). */
+static const step_stage usl_stages[] = {STAGE_BIN,
+                                        STAGE_GRANULAR_PREPARE,
+                                        STAGE_SCATTER,
+                                        STAGE_MARK_RIGID_NODES,
+                                        STAGE_MEASURE_WALL_GAPS,
+                                        STAGE_GRID_SOLVE,
+                                        STAGE_UPDATE_POINTS,
+                                        STAGE_REMAP_MOMENTUM,
+                                        STAGE_GRID_VELOCITIES,
+                                        STAGE_DEFORM,
+                                        STAGE_RIGID_POINTS,
+                                        STAGE_END};
+
+/* MUSL (002 sec 4.4 steps 6-9): as USL, but the re-mapped velocities also
+ * move the points. */
+static const step_stage musl_stages[] = {STAGE_BIN,
+                                         STAGE_GRANULAR_PREPARE,
+                                         STAGE_SCATTER,
+                                         STAGE_MARK_RIGID_NODES,
+                                         STAGE_MEASURE_WALL_GAPS,
+                                         STAGE_GRID_SOLVE,
+                                         STAGE_UPDATE_VELOCITIES,
+                                         STAGE_REMAP_MOMENTUM,
+                                         STAGE_GRID_VELOCITIES,
+                                         STAGE_MOVE_AND_DEFORM,
+                                         STAGE_RIGID_POINTS,
+                                         STAGE_END};
 
 /* USF: the stress is updated first, from the nodal velocities of the
  * momenta at the step's start, and sets the forces of the step. Updating
@@ -77,38 +131,138 @@ static gm_status run_usl(gm_domain *domain, double dt, bool modified) {
  * stress that answers lags the motion. The update is therefore split as
  * in Nairn's USAVG (Nairn 2003, CMES 4:649; tabulated next to USF, USL
  * and MUSL by Kularathna 2018, PhD thesis, Cambridge): half the strain
- * increment from the step's start velocities before the forces, half from the
- * velocities re-mapped from the updated particle momenta (remap_velocities, as
- * in USL) after the particles moved. The stress that sets the forces is then
- * half a step ahead of the committed one, the stress of the committed state is
+ * increment from the step's start velocities before the forces, half from
+ * the velocities re-mapped from the updated particle momenta (as in USL)
+ * after the particles moved. The stress that sets the forces is then half
+ * a step ahead of the committed one, the stress of the committed state is
  * centred on the step's velocities, and the block stays at rest
  * (gm_domain_step(3), "Why USF splits its stress update"). */
-static gm_status run_usf(gm_domain *domain, double dt) {
+static const step_stage usf_stages[] = {STAGE_BIN,
+                                        STAGE_GRANULAR_PREPARE,
+                                        STAGE_SCATTER_MOMENTUM,
+                                        STAGE_MARK_RIGID_NODES,
+                                        STAGE_MEASURE_WALL_GAPS,
+                                        STAGE_GRID_VELOCITIES,
+                                        STAGE_STRESS_FIRST_HALF,
+                                        STAGE_SCATTER_FORCES,
+                                        STAGE_GRID_SOLVE,
+                                        STAGE_UPDATE_POINTS,
+                                        STAGE_REMAP_MOMENTUM,
+                                        STAGE_GRID_VELOCITIES,
+                                        STAGE_STRESS_SECOND_HALF,
+                                        STAGE_RIGID_POINTS,
+                                        STAGE_END};
+
+static const step_stage *scheme_stages(gm_update_scheme scheme) {
+  switch (scheme) {
+  case GM_SCHEME_MUSL:
+    return musl_stages;
+  case GM_SCHEME_USF:
+    return usf_stages;
+  default:
+    return usl_stages;
+  }
+}
+
+/* Runs one stage of an attempt over dt, then collects the workers'
+ * errors. Every pass reads the committed buffer cur (velocities, stress)
+ * or what an earlier stage of this attempt wrote to the next one. */
+static gm_status run_stage(gm_domain *domain, step_stage stage, double dt) {
   int cur = domain->points.cur;
-  gm_p2g_pass momentum = {true, true, false, cur, cur, domain->inputs_edited};
-  gm_p2g(domain, &momentum);
-  gm_status status = collect(domain);
+  /* Host-written inputs are screened only when the host had the chance to
+   * write them; otherwise they come from a checked step. */
+  bool edited = domain->inputs_edited;
+  gm_status status = GM_OK;
+  switch (stage) {
+  case STAGE_BIN:
+    status = gm_bin_points(domain);
+    break;
+  case STAGE_GRANULAR_PREPARE:
+    if (domain->def.family == GM_FAMILY_GRANULAR)
+      status = gm_granular_prepare(domain); /* parallel grids */
+    break;
+  case STAGE_SCATTER: {
+    gm_p2g_pass pass = {true, true, true, cur, cur, edited};
+    gm_p2g(domain, &pass);
+    break;
+  }
+  case STAGE_SCATTER_MOMENTUM: {
+    gm_p2g_pass pass = {true, true, false, cur, cur, edited};
+    gm_p2g(domain, &pass);
+    break;
+  }
+  case STAGE_MARK_RIGID_NODES: /* the nodes rigid points reach (rigid.c) */
+    if (domain->rigid_count > 0)
+      gm_rigid_mark_nodes(domain);
+    break;
+  case STAGE_MEASURE_WALL_GAPS:
+    if (gm_gap_plane_count(domain) > 0)
+      gm_walls_measure_gaps(domain);
+    break;
+  case STAGE_GRID_SOLVE:
+    gm_grid_update(domain, dt, GM_GRID_FULL);
+    break;
+  case STAGE_GRID_VELOCITIES:
+    gm_grid_update(domain, dt, GM_GRID_VELOCITY_ONLY);
+    break;
+  case STAGE_STRESS_FIRST_HALF: {
+    gm_g2p_pass pass = {false, false, true, false, 0.5 * dt, false};
+    gm_g2p(domain, &pass);
+    break;
+  }
+  case STAGE_SCATTER_FORCES: {
+    /* Momentum is scattered again with the forces: the first grid update
+     * turned it into wall-constrained velocities, and the walls'
+     * acceleration correction -v/dt needs the unconstrained ones. The
+     * forces come from the half-updated stress in the next buffer. */
+    gm_p2g_pass pass = {false, true, true, cur, cur ^ 1, false};
+    gm_p2g(domain, &pass);
+    break;
+  }
+  case STAGE_UPDATE_POINTS: {
+    gm_g2p_pass pass = {true, true, false, false, dt, false};
+    gm_g2p(domain, &pass);
+    break;
+  }
+  case STAGE_UPDATE_VELOCITIES: {
+    gm_g2p_pass pass = {true, false, false, false, dt, false};
+    gm_g2p(domain, &pass);
+    break;
+  }
+  case STAGE_REMAP_MOMENTUM: {
+    /* m_i v_i = sum_p N_ip m_p v_p^{t+dt}, from the updated velocities in
+     * the next buffer (Sulsky, Zhou & Schreyer 1995). */
+    gm_p2g_pass pass = {false, true, false, cur ^ 1, cur, false};
+    gm_p2g(domain, &pass);
+    break;
+  }
+  case STAGE_DEFORM: {
+    gm_g2p_pass pass = {false, false, true, true, dt, false};
+    gm_g2p(domain, &pass);
+    break;
+  }
+  case STAGE_MOVE_AND_DEFORM: {
+    gm_g2p_pass pass = {false, true, true, true, dt, false};
+    gm_g2p(domain, &pass);
+    break;
+  }
+  case STAGE_STRESS_SECOND_HALF: {
+    gm_g2p_pass pass = {false, false, true, true, 0.5 * dt, true};
+    gm_g2p(domain, &pass);
+    break;
+  }
+  case STAGE_RIGID_POINTS:
+    if (domain->rigid_count > 0) { /* prescribed, not FLIP, velocities */
+      gm_rigid_set_point_velocities(domain);
+      gm_rigid_add_impulse(domain);
+    }
+    break;
+  case STAGE_END:
+    break;
+  }
   if (status != GM_OK)
     return status;
-  gm_grid_update(domain, dt, GM_GRID_VELOCITY_ONLY);
-  gm_g2p_pass first_half = {false, false, true, false, 0.5 * dt, false};
-  gm_g2p(domain, &first_half);
-  if ((status = collect(domain)) != GM_OK)
-    return status;
-  /* Momentum is scattered again with the forces: the first update turned
-   * it into wall-constrained velocities, and the walls' acceleration
-   * correction -v/dt needs the unconstrained ones. */
-  gm_p2g_pass forces = {false, true, true, cur, cur ^ 1, false};
-  gm_p2g(domain, &forces);
-  gm_grid_update(domain, dt, GM_GRID_FULL);
-  gm_g2p_pass motion = {true, true, false, false, dt, false};
-  gm_g2p(domain, &motion);
-  if ((status = collect(domain)) != GM_OK)
-    return status;
-  remap_velocities(domain, dt);
-  gm_g2p_pass second_half = {false, false, true, true, 0.5 * dt, true};
-  gm_g2p(domain, &second_half);
-  return collect(domain);
+  return gm_collect_worker_errors(domain);
 }
 
 /* One attempt over dt; commits on success, touches nothing committed on
@@ -124,19 +278,11 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
   domain->current_dt = dt;
   gm_status status = GM_OK;
   if (domain->points.count > 0) {
-    status = gm_bin_points(domain);
-    if (status == GM_OK && domain->def.family == GM_FAMILY_GRANULAR)
-      status = gm_granular_prepare(domain); /* parallel grids */
-    if (status == GM_OK)
-      status = domain->def.scheme == GM_SCHEME_USF
-                   ? run_usf(domain, dt)
-                   : run_usl(domain, dt, domain->def.scheme == GM_SCHEME_MUSL);
+    for (const step_stage *stage = scheme_stages(domain->def.scheme);
+         *stage != STAGE_END && status == GM_OK; stage++)
+      status = run_stage(domain, *stage, dt);
     if (status != GM_OK)
       return status;
-    if (domain->rigid_count > 0) { /* prescribed, not FLIP, velocities */
-      gm_rigid_set_point_velocities(domain);
-      gm_rigid_add_impulse(domain);
-    }
     domain->points.cur ^= 1;
     domain->points.keys_valid = true; /* the move pass keyed the new state */
     if (domain->def.family == GM_FAMILY_GRANULAR) {
@@ -214,8 +360,8 @@ static gm_status save_snapshot(gm_domain *domain) {
   return GM_OK;
 }
 
-static gm_status advance(gm_domain *domain, double dt, int retries_left,
-                         bool allow_reorder);
+static gm_status step_with_retries(gm_domain *domain, double dt,
+                                   int retries_left, bool allow_reorder);
 
 /* Retries the interval as two halves; restores the snapshot on failure. */
 /* Only the outermost retry saves and restores the snapshot: a nested
@@ -233,9 +379,10 @@ static gm_status retry_in_halves(gm_domain *domain, double dt,
   double time = domain->time, speed = domain->max_signal_speed;
   uint64_t steps = domain->step_count;
   int cur = points->cur;
-  gm_status status = advance(domain, 0.5 * dt, retries_left - 1, false);
+  gm_status status =
+      step_with_retries(domain, 0.5 * dt, retries_left - 1, false);
   if (status == GM_OK)
-    status = advance(domain, 0.5 * dt, retries_left - 1, false);
+    status = step_with_retries(domain, 0.5 * dt, retries_left - 1, false);
   domain->retry_depth--;
   if (status == GM_OK)
     domain->time = time + dt; /* exactly the interval asked for */
@@ -252,8 +399,8 @@ static gm_status retry_in_halves(gm_domain *domain, double dt,
   return status;
 }
 
-static gm_status advance(gm_domain *domain, double dt, int retries_left,
-                         bool allow_reorder) {
+static gm_status step_with_retries(gm_domain *domain, double dt,
+                                   int retries_left, bool allow_reorder) {
   gm_status status = try_step(domain, dt, allow_reorder);
   if (!recoverable_failure(domain, status))
     return status;
@@ -335,7 +482,7 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
   if (status == GM_OK)
     status = choose_dt(domain, &dt);
   if (status == GM_OK)
-    status = advance(domain, dt, domain->def.max_retries, true);
+    status = step_with_retries(domain, dt, domain->def.max_retries, true);
   if (status != GM_OK) {
     gm_sources_undo(domain, &undo);
     domain->busy = false;

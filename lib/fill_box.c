@@ -1,5 +1,5 @@
 /*
- * fill.c - gm_domain_fill_box: points on a regular lattice, n per cell
+ * fill_box.c - gm_domain_fill_box: points on a regular lattice, n per cell
  * edge, each at the centre of its sub-cell (the usual MPM initial
  * discretisation, e.g. 4 points per cell in 2D for n = 2).
  */
