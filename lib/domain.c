@@ -233,6 +233,10 @@ static void free_grid(gm_grid *grid) {
   gm_free(grid->contact_wall);
   gm_free(grid->contact_force[0]);
   gm_free(grid->contact_force[1]);
+  gm_free(grid->pool_wall);
+  gm_free(grid->pool_normal);
+  gm_free(grid->pool_tangent);
+  gm_free(grid->pool_sums);
   gm_free(grid->rigid_material);
   gm_free(grid->rigid_impulse[0]);
   gm_free(grid->rigid_impulse[1]);

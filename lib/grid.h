@@ -60,6 +60,18 @@ typedef struct gm_grid {
   int32_t *contact_wall;
   double *contact_force[2];
   size_t contact_capacity; /* nodes allocated */
+  /* Per node, in the last grid update, for the friction shared along the
+   * wall (walls.c, gm_walls_share_friction): the one wall that acted
+   * (wall id + 1; 0 = none, or several), the node's normal impulse from it
+   * (kg m/s) and its tangential velocity before friction (m/s, along
+   * (n_y, -n_x)). Sized like contact_wall. */
+  int32_t *pool_wall;
+  double *pool_normal;
+  double *pool_tangent;
+  /* Per wall and tangential bin of one cell: the pooled normal impulse and
+   * tangential momentum (kg m/s), wall_bins pairs per wall. */
+  double *pool_sums;
+  size_t pool_sums_capacity; /* doubles allocated */
   /* Per node and planar wall (node * wall_stride + wall): the smallest
    * distance (m) from the wall to the domain of a point the node carries;
    * the node may approach the wall by that much in a step (walls.c). */

@@ -123,9 +123,17 @@ static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
       grid->wall_gap + node * (size_t)gm_gap_plane_count(domain);
   const double *centre_gap =
       grid->wall_centre_gap + node * (size_t)domain->wall_count;
-  if (!gm_walls_contact(domain, position, velocity, gap, centre_gap, ctx->dt,
-                        full ? block_force : NULL, grid->mass[node] / ctx->dt,
-                        &first_wall))
+  gm_wall_pool_record record = {-1, 0.0, 0.0};
+  bool acted =
+      gm_walls_contact(domain, position, velocity, gap, centre_gap, ctx->dt,
+                       full ? block_force : NULL, grid->mass[node] / ctx->dt,
+                       &first_wall, &record);
+  if (record.wall >= 0) { /* its friction is shared along the wall */
+    grid->pool_wall[node] = record.wall + 1;
+    grid->pool_normal[node] = record.normal_change;
+    grid->pool_tangent[node] = record.tangent_before;
+  }
+  if (!acted)
     return;
   for (int k = 0; k < dim; k++) {
     grid->momentum[k][node] = velocity[k];
@@ -170,6 +178,8 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
         memset(grid->contact_wall + b * GM_BLOCK_NODES, 0,
                GM_BLOCK_NODES * sizeof(int32_t));
       }
+      memset(grid->pool_wall + b * GM_BLOCK_NODES, 0,
+             GM_BLOCK_NODES * sizeof(int32_t));
     }
     for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
       size_t node = b * GM_BLOCK_NODES + local;
@@ -214,9 +224,12 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
       }
       if (near_walls && mass > 0.0)
         apply_walls(ctx, node, ix, iy, old_velocity, block_force);
-      if (rigid) /* last: a rigid body overrides walls where they meet */
+      if (rigid) { /* last: a rigid body overrides walls where they meet */
         gm_rigid_constrain_node(domain, node, old_velocity, dt,
                                 ctx->mode == GM_GRID_FULL);
+        if (domain->wall_count > 0)
+          grid->pool_wall[node] = 0;
+      }
     }
   }
 }
@@ -224,5 +237,6 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
 void gm_grid_update(gm_domain *domain, double dt, int mode) {
   update_context ctx = {domain, dt, mode};
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks, &ctx);
-  gm_bspline_mirror_ghosts(domain, mode); /* ghosts reflect their mirrors */
+  gm_walls_share_friction(domain, dt, mode); /* serial: worker-independent */
+  gm_bspline_mirror_ghosts(domain, mode);    /* ghosts reflect their mirrors */
 }

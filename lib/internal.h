@@ -459,11 +459,26 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
  * (one per wall, m, or NULL) the same for the nodes the wall's contact
  * does not reach, from the nearest point centre; returns true if
  * a wall acted. If block_force is not NULL, mass/dt times each wall's velocity
- * change (N) is added to block_force[2 w], [2 w + 1]. */
+ * change (N) is added to block_force[2 w], [2 w + 1]. If record is not
+ * NULL it gets the one wall that acted and its normal change and the
+ * tangential velocity before friction, for gm_walls_share_friction
+ * (wall -1 when none or several acted). */
+typedef struct gm_wall_pool_record {
+  int wall;              /* the one wall that acted; -1: none or several */
+  double normal_change;  /* m/s, its normal velocity change (> 0) */
+  double tangent_before; /* m/s, tangential velocity before its friction,
+                            along (n_y, -n_x) */
+} gm_wall_pool_record;
 bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
                       double velocity[2], const double *gap,
                       const double *centre_gap, double dt, double *block_force,
-                      double mass_over_dt, int *first_wall);
+                      double mass_over_dt, int *first_wall,
+                      gm_wall_pool_record *record);
+/* Coulomb friction shared along each wall (walls.c): after the nodal
+ * update, the per-node friction of the nodes with one wall is replaced by
+ * Coulomb's law on the pooled normal impulse and tangential momentum of
+ * the nodes in each one-cell strip along the wall. Serial, block order. */
+void gm_walls_share_friction(gm_domain *domain, double dt, int mode);
 /* The node gaps to every planar wall and to the box faces that hold
  * material (grid->wall_gap, gm_gap_plane_count per node: the walls, then
  * the faces) from the committed point domains, after the mass P2G

@@ -169,26 +169,25 @@ static run_result run(gm_update_scheme scheme, double theta, double mu,
 }
 
 /* NOT YET MET: the sliding block (40 deg, mu 0.5) on the floor 0.625
- * cells above a node row slides 8-14 % too far, and on the tilted plane
- * 0.3 cells off a row 5-8 % too far (every other case here is within
- * 2 %; before the wall acted on the nodes less than a cell in front of the
- * plane these two slid 36-56 % and 2-3 % too far, and the others up to
- * 144 %: the tilted case got worse). Both are asserted at 15 % so that
- * they cannot get worse; the 2 % target is open. Measured at the floor
- * 0.625 cells up (MUSL): the friction is lost at the node row behind the
- * plane, whose nodes carry only 1/8 of the weight of the bottom points
- * yet take 56 % of the wall's normal impulse (a traction on the plane
- * would give them 37.5 %, N at the plane) and stick in 10 % of their
- * contacts, so their friction is 0.466 of their normal impulse, not 0.5;
- * the row in front gives 0.498. Which nodes act is not the cause: a reach
- * of 1.5 cells gives the same numbers to five digits. */
-static bool known_shortfall(const slope_case *slope, bool tilted,
-                            double offset_cells) {
-  bool slides = slope->degrees > 30.0;
-  return slides && (tilted ? offset_cells < 0.5 : offset_cells == 0.625);
+ * cells above a node row slides 5.1-6.5 % too far, and on the tilted
+ * plane 0.3 cells off a row 2.3-4.3 % too far (every other case here is
+ * within 2 %, and every mean normal force within 2 %). Asserted at 8 %
+ * and 5 % so that they cannot get worse; the 2 % target is open. With
+ * Coulomb's law per node, before it was applied to the sums of one-cell
+ * strips along the wall (walls.c, gm_walls_share_friction), they slid
+ * 10-14 % and 5.4-7.5 % too far and the normal force was 3.6 % off (MUSL,
+ * 0.625 cells): the light nodes of the row behind the plane stuck in 10 %
+ * of their contacts. Pooling over the whole contact patch reaches 0.7-2.8
+ * % here but breaks tests/test_janssen.c. */
+static double known_shortfall(const slope_case *slope, bool tilted,
+                              double offset_cells) {
+  if (slope->degrees < 30.0)
+    return 0.0;
+  if (tilted)
+    return offset_cells < 0.5 ? 0.05 : 0.0;  /* measured up to 4.3 % */
+  return offset_cells == 0.625 ? 0.08 : 0.0; /* measured up to 6.5 % */
 }
-static const double SLIDE_TOLERANCE = 0.02;     /* design.md, the issue */
-static const double SHORTFALL_TOLERANCE = 0.15; /* see known_shortfall */
+static const double SLIDE_TOLERANCE = 0.02; /* design.md, the issue */
 
 static void check(gm_update_scheme scheme, const slope_case *slope, bool tilted,
                   double offset_cells) {
@@ -200,9 +199,8 @@ static void check(gm_update_scheme scheme, const slope_case *slope, bool tilted,
   double expected = acceleration > 0.0 ? 0.5 * acceleration * t * t : 0.0;
   const char *how = tilted ? "tilted plane" : "rotated gravity";
   if (expected > 0.0) {
-    double tolerance = known_shortfall(slope, tilted, offset_cells)
-                           ? SHORTFALL_TOLERANCE
-                           : SLIDE_TOLERANCE;
+    double shortfall = known_shortfall(slope, tilted, offset_cells);
+    double tolerance = shortfall > 0.0 ? shortfall : SLIDE_TOLERANCE;
     ck_assert_msg(fabs(r.slide - expected) < tolerance * expected,
                   "%s, %s, %.0f deg mu %.1f, plane %.3f cells off a node row: "
                   "slid %.5f m, expected %.5f m (%+.1f %%)",
@@ -224,10 +222,7 @@ static void check(gm_update_scheme scheme, const slope_case *slope, bool tilted,
   /* The wall carries the weight's normal component on average (the block
    * neither leaves nor enters it): 2 %, the start-up transient included. */
   double weight_normal = r.mass * GRAVITY * cos(theta); /* N per m */
-  /* In the shortfall cases the normal force is off by up to 3.6 % (MUSL,
-   * 0.625 cells): asserted at 5 % there. */
-  double normal_tolerance =
-      known_shortfall(slope, tilted, offset_cells) ? 0.05 : 0.02;
+  double normal_tolerance = 0.02;
   ck_assert_msg(fabs(r.mean_normal - weight_normal) <
                     normal_tolerance * weight_normal,
                 "%s, %s, %.0f deg, plane %.3f cells off a node row: mean "
