@@ -341,7 +341,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
                                                        : GM_BATCH_SIZE;
     bool wide = v->shape_grid->shape != GM_SHAPE_LINEAR;
     if (wide)
-      gm_gather_chunk_wide(v, first, count, g);
+      gm_gather_chunk_wide(v, first, count, g, domain, scratch);
     else if (v->dim == 1)
       gather_chunk_1d(v, first, count, g);
     else

@@ -10,21 +10,31 @@
 #include <math.h>
 
 void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
-                          chunk_gather *out) {
+                          chunk_gather *out, const gm_domain *domain,
+                          gm_worker_scratch *scratch) {
   int dim = v->dim;
   const double *const *deformation = v->support_tensor;
   gm_support support;
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
-    /* Cannot fail: the binning placed the point by this support. */
-    gm_wide_support(v->shape_grid, dim, v->position, deformation,
-                    v->domain_size, p, &support);
+    bool found = gm_wide_support(v->shape_grid, dim, v->position, deformation,
+                                 v->domain_size, p, &support);
     uint32_t block = v->point_block[p];
     const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
     int64_t base[2];
     gm_block_base(v->grid, v->grid->block_key[block], base);
     int64_t x0 = support.lowest[0] - base[0];
     int64_t y0 = dim > 1 ? support.lowest[1] - base[1] : 0;
+    /* Two blocks per axis: the block and its neighbour links. */
+    int64_t edge = dim == 1 ? 2 * GM_BLOCK_NODES : 2 << v->shift;
+    if (!found || !gm_support_within(&support, dim, x0, y0, edge)) {
+      gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
+                      "step: the support of point id %lld does not fit the "
+                      "block it was binned in (its domain changed after "
+                      "binning); the step was not taken",
+                      (long long)domain->points.id[p]);
+      support.count = 0; /* gathers nothing: the step fails anyway */
+    }
     double acceleration[2] = {0.0, 0.0}, velocity[2] = {0.0, 0.0};
     double gradient[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* L_ab = dv_a/dx_b */
     double empty[2] = {0.0, 0.0}; /* gradient sum of massless nodes */

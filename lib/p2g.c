@@ -294,7 +294,8 @@ static void scatter_blocks(void *context, size_t begin, size_t end,
       check_inputs(domain, &domain->scratch[worker], view,
                    view->point_start[block], view->point_start[block + 1]);
     if (view->shape_grid->shape != GM_SHAPE_LINEAR)
-      gm_scatter_block_wide(view, ctx->pass, block);
+      gm_scatter_block_wide(view, ctx->pass, block, domain,
+                            &domain->scratch[worker]);
     else if (domain->dim == 1)
       scatter_block_1d(view, ctx->pass, block);
     else

@@ -83,7 +83,8 @@ static void affine_velocity(const gm_support *support, int dim,
 }
 
 void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
-                           uint32_t block) {
+                           uint32_t block, const gm_domain *domain,
+                           gm_worker_scratch *scratch) {
   int dim = v->grid->dim;
   int64_t tile_edge = dim == 1 ? WIDE_TILE_NODES : 2 << v->shift;
   wide_tile tile;
@@ -96,9 +97,8 @@ void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
     size_t p = v->order[k];
     if (v->skip_rigid && v->rigid[v->material[p]])
       continue; /* rigid points take no part (rigid.c) */
-    /* Cannot fail: the binning placed the point by this support. */
-    gm_wide_support(v->shape_grid, dim, v->position, v->deformation,
-                    v->domain_size, p, &support);
+    bool found = gm_wide_support(v->shape_grid, dim, v->position,
+                                 v->deformation, v->domain_size, p, &support);
     double m = v->mass[p];
     double momentum[2] = {m * v->velocity[0][p],
                           dim > 1 ? m * v->velocity[1][p] : 0.0};
@@ -114,6 +114,14 @@ void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
       body[0] -= v->stress[2][p] * volume / v->position[0][p];
     int64_t x0 = support.lowest[0] - base[0];
     int64_t y0 = dim > 1 ? support.lowest[1] - base[1] : 0;
+    if (!found || !gm_support_within(&support, dim, x0, y0, tile_edge)) {
+      gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
+                      "step: the support of point id %lld does not fit the "
+                      "block it was binned in (its domain changed after "
+                      "binning); the step was not taken",
+                      (long long)domain->points.id[p]);
+      continue;
+    }
     bool affine = v->apic && pass->momentum;
     double c[4] = {0.0, 0.0, 0.0, 0.0};       /* 1/s, B_p D_p^-1 */
     double offset[2][GM_SUPPORT_MAX_ENTRIES]; /* m, x_i - x_p */

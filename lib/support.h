@@ -148,6 +148,24 @@ static inline bool gm_wide_support(const gm_shape_grid *grid, int dim,
                               out);
 }
 
+/* Whether a support whose lowest node lies (x0, y0) nodes from a block's
+ * base stays within `edge` nodes of it along each axis (two blocks: the
+ * block and its +x/+y neighbours, which is all the scatter tile and the
+ * gather's neighbour links reach). The binning keys every point by its
+ * support, so this holds unless the keys and the supports disagree; the
+ * transfers check it anyway rather than write or read outside the tile. */
+static inline bool gm_support_within(const gm_support *support, int dim,
+                                     int64_t x0, int64_t y0, int64_t edge) {
+  if (x0 < 0 || y0 < 0)
+    return false;
+  int64_t reach[2] = {0, 0};
+  for (int e = 0; e < support->count; e++)
+    for (int k = 0; k < dim; k++)
+      reach[k] =
+          support->offset[k][e] > reach[k] ? support->offset[k][e] : reach[k];
+  return x0 + reach[0] < edge && (dim < 2 || y0 + reach[1] < edge);
+}
+
 /* Bounds of point p's support from SoA arrays, as gm_wide_support. */
 static inline bool gm_wide_support_bounds(const gm_shape_grid *grid, int dim,
                                           const double *const position[2],

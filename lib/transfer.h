@@ -112,11 +112,17 @@ struct chunk_gather {
 typedef struct chunk_gather chunk_gather;
 
 /* Scatters one block of points with a GIMP or CPDI support (p2g_wide.c). */
+/* A support that does not fit the block's tile fails the step
+ * (GM_ERR_OUT_OF_GRID on scratch) instead of writing outside it. */
 void gm_scatter_block_wide(const scatter_view *view, const gm_p2g_pass *pass,
-                           uint32_t block);
+                           uint32_t block, const gm_domain *domain,
+                           gm_worker_scratch *scratch);
 /* Gathers one chunk of points with a GIMP or CPDI support (g2p_wide.c). */
+/* The same check as the scatter: a support outside the block's
+ * neighbours fails the step instead of reading outside them. */
 void gm_gather_chunk_wide(const gather_view *view, size_t first, size_t count,
-                          chunk_gather *out);
+                          chunk_gather *out, const gm_domain *domain,
+                          gm_worker_scratch *scratch);
 /* Block keys of the chunk's moved and deformed points (next buffer) from
  * their supports; a support leaving the grid fails the step. */
 void gm_wide_keys_chunk(gm_domain *domain, const gather_view *view,
