@@ -29,9 +29,10 @@ void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
     int64_t edge = dim == 1 ? 2 * GM_BLOCK_NODES : 2 << v->shift;
     if (!found || !gm_support_within(&support, dim, x0, y0, edge)) {
       gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
-                      "step: the support of point id %lld does not fit the "
-                      "block it was binned in (its domain changed after "
-                      "binning); the step was not taken",
+                      "step: the support of point id %lld cannot be "
+                      "computed or does not fit the block it was binned in "
+                      "(a degenerate domain, e.g. an edge far below a cell); "
+                      "the step was not taken",
                       (long long)domain->points.id[p]);
       support.count = 0; /* gathers nothing: the step fails anyway */
     }

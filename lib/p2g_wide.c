@@ -116,9 +116,10 @@ void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
     int64_t y0 = dim > 1 ? support.lowest[1] - base[1] : 0;
     if (!found || !gm_support_within(&support, dim, x0, y0, tile_edge)) {
       gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
-                      "step: the support of point id %lld does not fit the "
-                      "block it was binned in (its domain changed after "
-                      "binning); the step was not taken",
+                      "step: the support of point id %lld cannot be "
+                      "computed or does not fit the block it was binned in "
+                      "(a degenerate domain, e.g. an edge far below a cell); "
+                      "the step was not taken",
                       (long long)domain->points.id[p]);
       continue;
     }

@@ -305,6 +305,17 @@ static gm_status validate_point(gm_domain *domain, const gm_points_def *def,
                           "8 cells",
                           i, 2.0 * shape.half_size[0], 2.0 * shape.half_size[1],
                           position[0], shape.position[1]);
+    /* A domain far thinner than a cell (edge 1e-175 m, say) passes the
+     * bounds but its weights cannot be computed (CPDI's corner gradients
+     * divide by its area): refused here, not by a failing step. */
+    gm_support support;
+    if (!gm_support_compute(&domain->shape_grid, &shape, &support))
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "gm_domain_add_points: point %zu domain (edges %g "
+                          "x %g m) is too thin for the shape functions to "
+                          "weigh its nodes",
+                          i, 2.0 * shape.half_size[0],
+                          2.0 * shape.half_size[1]);
   }
   double placed = def->mass ? def->mass[i] / volume : density; /* kg/m^3 */
   char what[64];

@@ -412,6 +412,26 @@ START_TEST(test_add_points_domain_too_large) {
 }
 END_TEST
 
+/* A CPDI domain far thinner than a cell (edges 1e-175 m: its area
+ * underflows, and the corner gradients divide by it) used to be accepted,
+ * and its support could not be computed at the step, which the scatter
+ * did not check (found by fuzz/fuzz_checkpoint: a write outside the scatter
+ * tile). gm_domain_add_points now refuses it, naming the point, and adds
+ * nothing. */
+START_TEST(test_add_points_domain_too_thin) {
+  char message[512];
+  size_t added = 0;
+  gm_status status = add_with_domain(GM_SHAPE_CPDI, 1.0, 1e-175, message,
+                                     sizeof message, &added);
+  ck_assert_msg(status == GM_ERR_INVALID_ARGUMENT, "status %d (%s)",
+                (int)status, message);
+  ck_assert_msg(names_integer(message, 3), "message does not name point 3: %s",
+                message);
+  ck_assert_msg(strstr(message, "thin") != NULL, "message: %s", message);
+  ck_assert_uint_eq(added, 0);
+}
+END_TEST
+
 static Suite *cpdi_domain_suite(void) {
   Suite *suite = suite_create("cpdi_domain");
   TCase *shear = tcase_create("shear");
@@ -423,6 +443,7 @@ static Suite *cpdi_domain_suite(void) {
   tcase_add_test(grid, test_domain_leaving_grid_cpdi);
   tcase_add_test(grid, test_domain_leaving_grid_cpgimp);
   tcase_add_test(grid, test_add_points_domain_too_large);
+  tcase_add_test(grid, test_add_points_domain_too_thin);
   suite_add_tcase(suite, grid);
   return suite;
 }
