@@ -43,6 +43,17 @@ static gm_status validate_fill(gm_domain *domain, const gm_fill_def *def) {
     if (!isfinite(def->velocity[k]))
       return gm_set_error(domain, GM_ERR_NOT_FINITE,
                           "gm_fill_def.velocity[%d] is not finite", k);
+    /* A box reaching a whole grid box beyond the grid would place points
+     * outside it, which the add refuses anyway; refusing it here keeps
+     * its lattice indices (sub-cells from the origin) in range of int64
+     * (found by fuzz/fuzz_api: a corner at 1e252 m). */
+    double origin = domain->def.origin[k], extent = domain->def.extent[k];
+    if (def->lower[k] < origin - extent || def->upper[k] > origin + 2 * extent)
+      return gm_set_error(domain, GM_ERR_OUT_OF_GRID,
+                          "gm_fill_def: lower[%d] = %g and upper[%d] = %g m "
+                          "reach far outside the grid box (%g to %g m)",
+                          k, def->lower[k], k, def->upper[k], origin,
+                          origin + extent);
   }
   return GM_OK;
 }

@@ -896,6 +896,15 @@ START_TEST(test_fill_box_misuse) {
                      gm_domain_fill_box(domain, &bad, &first_id, &count),
                      GM_ERR_INVALID_ARGUMENT, GM_ERR_INVALID_ARGUMENT,
                      "density", "fill_box density < 0");
+  /* A corner at 1e252 m: its lattice index overflowed int64 (undefined
+   * behaviour, found by fuzz/fuzz_api); refused as outside the grid. */
+  bad = fill;
+  bad.lower[1] = 1e252;
+  bad.upper[1] = 1.1e252;
+  check_domain_error(domain,
+                     gm_domain_fill_box(domain, &bad, &first_id, &count),
+                     GM_ERR_OUT_OF_GRID, GM_ERR_OUT_OF_GRID, "grid",
+                     "fill_box corner at 1e252 m");
   check_points_unchanged(domain, "fill_box misuse");
   gm_domain_destroy(domain);
 }
