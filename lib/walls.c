@@ -53,6 +53,15 @@ gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
       return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                           "gm_wall_def.point[%d] / normal[%d] must be finite",
                           k, k);
+    /* The friction strips are measured along the plane from this point
+     * in cells (int64): a point 1e306 m away (found by fuzz/fuzz_api)
+     * overflowed them. A billion cells is far beyond any grid. */
+    if (k < domain->dim && !(fabs(def->point[k] - domain->def.origin[k]) <=
+                             1e9 * domain->def.cell_size))
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "gm_wall_def.point[%d] is %g m, more than 1e9 "
+                          "cells from the grid origin",
+                          k, def->point[k]);
     if (k >= domain->dim && def->normal[k] != 0.0)
       return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                           "gm_wall_def.normal[%d] is %g but must be 0 in a "
