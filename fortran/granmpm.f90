@@ -643,6 +643,15 @@ module granmpm
       integer(c_size_t), value :: out_length
     end function gm_domain_get_field
 
+    function gm_domain_set_field(domain, field, values, length) bind(c, name="gm_domain_set_field")
+      import
+      integer(c_int) :: gm_domain_set_field
+      type(c_ptr), value :: domain
+      integer(c_int), value :: field
+      real(c_double), intent(in) :: values(*)
+      integer(c_size_t), value :: length
+    end function gm_domain_set_field
+
     function gm_domain_get_ids(domain, out, out_length) bind(c, name="gm_domain_get_ids")
       import
       integer(c_int) :: gm_domain_get_ids

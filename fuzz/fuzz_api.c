@@ -204,6 +204,24 @@ static void step(fuzz_input *in, gm_domain *domain) {
     broken("a failed step leaves the domain as it was", domain);
 }
 
+/* gm_domain_set_field with the values just read, one of them replaced by
+ * a hostile double: a refused call must leave the field as it was. */
+static void write_field(fuzz_input *in, gm_domain *domain, gm_field field,
+                        double *values, size_t length) {
+  double *before = malloc(length * sizeof *before);
+  if (!before)
+    return;
+  memcpy(before, values, length * sizeof *before);
+  values[fuzz_u32(in) % length] = fuzz_double(in);
+  gm_status status = gm_domain_set_field(domain, field, values, length);
+  expect_message(status, domain);
+  if (status != GM_OK &&
+      gm_domain_get_field(domain, field, values, length) == GM_OK &&
+      memcmp(values, before, length * sizeof *before) != 0)
+    broken("a refused gm_domain_set_field leaves the field as it was", domain);
+  free(before);
+}
+
 static void read_fields(fuzz_input *in, gm_domain *domain) {
   gm_field field = (gm_field)(fuzz_u8(in) % 18);
   size_t components = 0, count = gm_domain_point_count(domain);
@@ -216,7 +234,10 @@ static void read_fields(fuzz_input *in, gm_domain *domain) {
   double *out = malloc((length ? length : 1) * sizeof *out);
   if (!out)
     return;
-  expect_message(gm_domain_get_field(domain, field, out, length), domain);
+  status = gm_domain_get_field(domain, field, out, length);
+  expect_message(status, domain);
+  if (status == GM_OK && length > 0)
+    write_field(in, domain, field, out, length);
   free(out);
   const double *view = NULL;
   status = gm_domain_view_field(domain, field, fuzz_u8(in) % 10, &view);

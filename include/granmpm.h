@@ -421,29 +421,6 @@ static inline gm_wall_force gm_wall_force_default(void) {
 GM_API gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
                                           gm_wall_force *force);
 
-/** One node's share of a wall's load: the traction profile along a wall
- * (the wall-traction plots of 001/002). */
-typedef struct gm_wall_traction {
-  double position;   /* m along the wall from def.point, in the direction
-                        (normal_y, -normal_x) */
-  double normal;     /* Pa: the node's normal force per cell length (per
-                        unit thickness in plane strain; in axisymmetry the
-                        force on the whole ring, N/m: divide by 2 pi r for
-                        a pressure), >= 0 */
-  double tangential; /* Pa: its tangential (friction) force per cell
-                        length, signed along the same direction */
-} gm_wall_traction;
-
-/** The nodes the wall acted on in the last committed step, sorted by
- * position. *count receives their number; if it exceeds capacity nothing
- * is written and GM_ERR_INVALID_ARGUMENT is returned (call again with a
- * larger buffer). After a failed step the profile is unavailable
- * (GM_ERR_INVALID_ARGUMENT) until the next successful one. */
-GM_API gm_status gm_domain_get_wall_tractions(const gm_domain *domain,
-                                              int wall_id,
-                                              gm_wall_traction *tractions,
-                                              size_t capacity, size_t *count);
-
 /* ------------------------------------------------------ rigid obstacles */
 
 /** Rigid material points: a retaining wall, a load-cell plate, a moving
@@ -830,26 +807,16 @@ GM_API gm_status gm_domain_get_ids(const gm_domain *domain, int64_t *out,
 GM_API gm_status gm_domain_point_index(const gm_domain *domain, int64_t id,
                                        size_t *index);
 
-/** Zero-copy access to one component of a stored field (point-index order,
- * point_count values). Valid until the next call that changes the domain.
- * Components that are identically zero in this geometry, and computed
- * fields (GM_FIELD_DENSITY, GM_FIELD_MATERIAL, GM_FIELD_ID,
- * GM_FIELD_DOMAIN_CORNERS; GM_FIELD_STATE and GM_FIELD_COMPONENT outside the
- * granular family), are not stored and give GM_ERR_UNSUPPORTED: copy them
- * with gm_domain_get_field. */
-GM_API gm_status gm_domain_view_field(const gm_domain *domain, gm_field field,
-                                      size_t component, const double **data);
-
-/** Writable zero-copy access, for GM_FIELD_VELOCITY,
- * GM_FIELD_EXTERNAL_FORCE and (with GM_TRANSFER_APIC) GM_FIELD_AFFINE only,
- * between steps or from a step hook. Values written are validated at the
- * start of the next step. */
-GM_API gm_status gm_domain_edit_field(gm_domain *domain, gm_field field,
-                                      size_t component, double **data);
-
-/** Zero-copy access to the ids (point-index order). */
-GM_API gm_status gm_domain_view_ids(const gm_domain *domain,
-                                    const int64_t **ids);
+/** Copies values into a writable field for all points, interleaved
+ * (values[i*components + k]) in point-index order, as gm_domain_get_field
+ * gives them: GM_FIELD_VELOCITY, GM_FIELD_EXTERNAL_FORCE and (with
+ * GM_TRANSFER_APIC) GM_FIELD_AFFINE. length must be exactly point count x
+ * components. Every value must be finite: a NaN or infinity is refused
+ * (naming the point id and component) and nothing is written. Allowed
+ * between steps and from a step hook. The stable way to set point
+ * velocities; gm_domain_edit_field() is the zero-copy, provisional one. */
+GM_API gm_status gm_domain_set_field(gm_domain *domain, gm_field field,
+                                     const double *values, size_t length);
 
 /* ------------------------------------------------------------------- step */
 
@@ -863,7 +830,8 @@ typedef enum gm_hook_stage {
 
 /** A nonzero return at GM_HOOK_BEFORE_STEP cancels the step with
  * GM_ERR_CALLBACK (edits the hook made stay). The hook may read fields and
- * use gm_domain_edit_field(); other state-changing calls give GM_ERR_BUSY. */
+ * use gm_domain_set_field() or gm_domain_edit_field(); other state-changing
+ * calls give GM_ERR_BUSY. */
 typedef int gm_step_hook_fn(gm_domain *domain, gm_hook_stage stage, void *user);
 
 /** Installs (or with NULL removes) the step hook. */
@@ -985,10 +953,88 @@ GM_API gm_status gm_set_allocator(const gm_allocator *allocator);
 #include "granmpm/drucker_prager.h"
 #include "granmpm/filling.h"
 #include "granmpm/mohr_coulomb.h"
-#include "granmpm/mu_i.h"
 #include "granmpm/perzyna.h"
 #include "granmpm/stress_free.h"
 #include "granmpm/von_mises.h"
+
+/* ============================================================ PROVISIONAL
+ * Everything above this line is the stable API: from 1.0 on it changes only
+ * by additions (new functions, new enum values, new fields at the end of a
+ * struct that starts with struct_size), and 0.x releases already keep to
+ * that. Everything below is provisional: exported and versioned like the
+ * rest (the ABI check covers it), but its shape may still change in a 0.x
+ * release, each change named in the release notes:
+ *  - the zero-copy views gm_domain_view_field(), gm_domain_edit_field(),
+ *    gm_domain_view_ids(): they promise that each component of a field is
+ *    one contiguous array of doubles in point-index order, a storage layout
+ *    the coming speed and 3D work may change (the copies
+ *    gm_domain_get_field() and gm_domain_set_field() are stable);
+ *  - the wall traction profile gm_domain_get_wall_tractions(): its entry
+ *    struct has no struct_size to grow by, and its per-node force is the
+ *    impulse / dt that spikes after a very short step (gm_wall_force's
+ *    impulses and smoothed force are the stable readings);
+ *  - the mu(I) material (granmpm/mu_i.h): its steady inclined-plane flow
+ *    is not yet validated against the Bagnold profile to the intended 3 %,
+ *    and its parameters may change with that work.
+ * This is zstd's static-linking-only section turned around: a program that
+ * must rely on the stable part only defines GM_STABLE_ONLY before including
+ * this header, and the compiler then names every provisional call it makes.
+ * Without it (the default) both parts are declared, so existing programs
+ * compile unchanged. See granmpm(3), STABILITY. */
+#ifndef GM_STABLE_ONLY
+
+/* ------------------------------------------------- zero-copy field access */
+
+/** Zero-copy access to one component of a stored field (point-index order,
+ * point_count values). Valid until the next call that changes the domain.
+ * Components that are identically zero in this geometry, and computed
+ * fields (GM_FIELD_DENSITY, GM_FIELD_MATERIAL, GM_FIELD_ID,
+ * GM_FIELD_DOMAIN_CORNERS; GM_FIELD_STATE and GM_FIELD_COMPONENT outside the
+ * granular family), are not stored and give GM_ERR_UNSUPPORTED: copy them
+ * with gm_domain_get_field. */
+GM_API gm_status gm_domain_view_field(const gm_domain *domain, gm_field field,
+                                      size_t component, const double **data);
+
+/** Writable zero-copy access, for GM_FIELD_VELOCITY,
+ * GM_FIELD_EXTERNAL_FORCE and (with GM_TRANSFER_APIC) GM_FIELD_AFFINE only,
+ * between steps or from a step hook. Values written are validated at the
+ * start of the next step. */
+GM_API gm_status gm_domain_edit_field(gm_domain *domain, gm_field field,
+                                      size_t component, double **data);
+
+/** Zero-copy access to the ids (point-index order). */
+GM_API gm_status gm_domain_view_ids(const gm_domain *domain,
+                                    const int64_t **ids);
+
+/* ---------------------------------------------------- wall traction profile */
+
+/** One node's share of a wall's load: the traction profile along a wall
+ * (the wall-traction plots of 001/002). */
+typedef struct gm_wall_traction {
+  double position;   /* m along the wall from def.point, in the direction
+                        (normal_y, -normal_x) */
+  double normal;     /* Pa: the node's normal force per cell length (per
+                        unit thickness in plane strain; in axisymmetry the
+                        force on the whole ring, N/m: divide by 2 pi r for
+                        a pressure), >= 0 */
+  double tangential; /* Pa: its tangential (friction) force per cell
+                        length, signed along the same direction */
+} gm_wall_traction;
+
+/** The nodes the wall acted on in the last committed step, sorted by
+ * position. *count receives their number; if it exceeds capacity nothing
+ * is written and GM_ERR_INVALID_ARGUMENT is returned (call again with a
+ * larger buffer). After a failed step the profile is unavailable
+ * (GM_ERR_INVALID_ARGUMENT) until the next successful one. */
+GM_API gm_status gm_domain_get_wall_tractions(const gm_domain *domain,
+                                              int wall_id,
+                                              gm_wall_traction *tractions,
+                                              size_t capacity, size_t *count);
+
+/* ------------------------------------------------------------- mu(I) model */
+#include "granmpm/mu_i.h"
+
+#endif /* GM_STABLE_ONLY */
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,7 @@
  */
 #include "internal.h"
 
+#include <math.h>
 #include <string.h>
 
 static bool field_known(gm_field field) {
@@ -213,6 +214,39 @@ gm_status gm_domain_view_field(const gm_domain *domain, gm_field field,
   return GM_OK;
 }
 
+/* The checks shared by the two writers: the field is writable here, and
+ * the external forces exist (they are allocated on first use). */
+static gm_status check_writable(gm_domain *domain, gm_field field,
+                                const char *caller) {
+  if (domain->busy && !domain->in_hook)
+    return gm_set_error(domain, GM_ERR_BUSY, "%s: called during a step",
+                        caller);
+  if (field != GM_FIELD_VELOCITY && field != GM_FIELD_EXTERNAL_FORCE &&
+      field != GM_FIELD_AFFINE)
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s: field %d is read-only (only "
+                        "GM_FIELD_VELOCITY, GM_FIELD_EXTERNAL_FORCE and "
+                        "GM_FIELD_AFFINE are writable)",
+                        caller, (int)field);
+  if (field == GM_FIELD_AFFINE && domain->def.transfer != GM_TRANSFER_APIC)
+    return gm_set_error(domain, GM_ERR_UNSUPPORTED,
+                        "%s: GM_FIELD_AFFINE is stored with "
+                        "gm_domain_def.transfer GM_TRANSFER_APIC only",
+                        caller);
+  if (field == GM_FIELD_EXTERNAL_FORCE &&
+      gm_points_need_external_force(domain) != GM_OK)
+    return GM_ERR_NO_MEMORY;
+  return GM_OK;
+}
+
+/* What a writer must tell the next step: the stable dt must see new speeds,
+ * and edited inputs are screened for NaN/inf at the next step. */
+static void mark_edited(gm_domain *domain, gm_field field) {
+  if (field == GM_FIELD_VELOCITY)
+    domain->velocity_edited = true;
+  domain->inputs_edited = true;
+}
+
 gm_status gm_domain_edit_field(gm_domain *domain, gm_field field,
                                size_t component, double **data) {
   if (!domain)
@@ -220,31 +254,57 @@ gm_status gm_domain_edit_field(gm_domain *domain, gm_field field,
   if (!data)
     return gm_set_error(domain, GM_ERR_NULL,
                         "gm_domain_edit_field: data is NULL");
-  if (domain->busy && !domain->in_hook)
-    return gm_set_error(domain, GM_ERR_BUSY,
-                        "gm_domain_edit_field: called during a step");
-  if (field != GM_FIELD_VELOCITY && field != GM_FIELD_EXTERNAL_FORCE &&
-      field != GM_FIELD_AFFINE)
-    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
-                        "gm_domain_edit_field: field %d is read-only (only "
-                        "GM_FIELD_VELOCITY, GM_FIELD_EXTERNAL_FORCE and "
-                        "GM_FIELD_AFFINE are writable)",
-                        (int)field);
-  if (field == GM_FIELD_AFFINE && domain->def.transfer != GM_TRANSFER_APIC)
-    return gm_set_error(domain, GM_ERR_UNSUPPORTED,
-                        "gm_domain_edit_field: GM_FIELD_AFFINE is stored with "
-                        "gm_domain_def.transfer GM_TRANSFER_APIC only");
-  if (field == GM_FIELD_EXTERNAL_FORCE &&
-      gm_points_need_external_force(domain) != GM_OK)
-    return GM_ERR_NO_MEMORY;
-  gm_status status =
-      check_view(domain, field, component, "gm_domain_edit_field");
+  gm_status status = check_writable(domain, field, "gm_domain_edit_field");
+  if (status == GM_OK)
+    status = check_view(domain, field, component, "gm_domain_edit_field");
   if (status != GM_OK)
     return status;
-  if (field == GM_FIELD_VELOCITY) /* the stable dt must see the new speeds */
-    domain->velocity_edited = true;
-  domain->inputs_edited = true; /* screened for NaN/inf at the next step */
+  mark_edited(domain, field);
   *data = stored_component(domain, field, component);
+  return GM_OK;
+}
+
+gm_status gm_domain_set_field(gm_domain *domain, gm_field field,
+                              const double *values, size_t length) {
+  const char *what = "gm_domain_set_field";
+  if (!domain)
+    return GM_ERR_NULL;
+  if (!values)
+    return gm_set_error(domain, GM_ERR_NULL, "%s: values is NULL", what);
+  if (!field_known(field))
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s: field %d is not a gm_field value", what,
+                        (int)field);
+  gm_status status = check_writable(domain, field, what);
+  if (status != GM_OK)
+    return status;
+  size_t components = components_of(domain, field);
+  size_t count = domain->points.count;
+  if (length != count * components)
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "%s: length %zu, must be %zu points x %zu "
+                        "components",
+                        what, length, count, components);
+  for (size_t k = 0; k < components && status == GM_OK; k++)
+    status = check_view(domain, field, k, what); /* every component stored */
+  if (status != GM_OK)
+    return status;
+  /* Screen everything before writing anything: a refused call leaves the
+   * field as it was. */
+  for (size_t n = 0; n < length; n++)
+    if (!isfinite(values[n]))
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "%s: value %g for point id %lld component %zu is "
+                          "not finite",
+                          what, values[n],
+                          (long long)domain->points.id[n / components],
+                          n % components);
+  for (size_t k = 0; k < components; k++) {
+    double *stored = stored_component(domain, field, k);
+    for (size_t i = 0; i < count; i++)
+      stored[i] = values[i * components + k];
+  }
+  mark_edited(domain, field);
   return GM_OK;
 }
 

@@ -1018,6 +1018,73 @@ START_TEST(test_view_and_edit_misuse) {
 }
 END_TEST
 
+/* gm_domain_set_field: the stable copy-in writer. It writes what
+ * gm_domain_get_field reads back, refuses what edit_field refuses, and a
+ * refused call (a NaN at one point, a wrong length) writes nothing. */
+START_TEST(test_set_field) {
+  gm_domain *domain = create_domain_with_points();
+  const size_t n = 2 * EXISTING_POINTS; /* plane strain: 2 components */
+  double values[2 * EXISTING_POINTS], back[2 * EXISTING_POINTS];
+  for (size_t i = 0; i < n; i++)
+    values[i] = 0.25 * (double)i - 1.0; /* m/s, distinct per point */
+  TEST_ASSERT_OK(domain,
+                 gm_domain_set_field(domain, GM_FIELD_VELOCITY, values, n));
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_VELOCITY, back, n));
+  for (size_t i = 0; i < n; i++)
+    ck_assert_double_eq(back[i], values[i]); /* a copy: exact */
+  TEST_ASSERT_OK(
+      domain, gm_domain_set_field(domain, GM_FIELD_EXTERNAL_FORCE, values, n));
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_EXTERNAL_FORCE, back, n));
+  for (size_t i = 0; i < n; i++)
+    ck_assert_double_eq(back[i], values[i]);
+
+  double poisoned[2 * EXISTING_POINTS];
+  for (size_t i = 0; i < n; i++)
+    poisoned[i] = 7.0;
+  poisoned[2 * 3 + 1] = NAN; /* point index 3, component y */
+  ck_assert_int_eq(gm_domain_set_field(NULL, GM_FIELD_VELOCITY, values, n),
+                   GM_ERR_NULL);
+  check_domain_error(domain,
+                     gm_domain_set_field(domain, GM_FIELD_VELOCITY, NULL, n),
+                     GM_ERR_NULL, GM_ERR_NULL, "values", "set_field(NULL)");
+  check_domain_error(
+      domain, gm_domain_set_field(domain, GM_FIELD_VELOCITY, poisoned, n),
+      GM_ERR_INVALID_ARGUMENT, GM_ERR_INVALID_ARGUMENT, "finite",
+      "set_field(NaN)");
+  int64_t ids[EXISTING_POINTS];
+  TEST_ASSERT_OK(domain, gm_domain_get_ids(domain, ids, EXISTING_POINTS));
+  const char *message = gm_domain_last_error(domain);
+  ck_assert_msg(mentions_integer(message, ids[3]),
+                "message \"%s\" does not name point id %lld", message,
+                (long long)ids[3]);
+  check_domain_error(
+      domain, gm_domain_set_field(domain, GM_FIELD_VELOCITY, values, n - 1),
+      GM_ERR_INVALID_ARGUMENT, GM_ERR_INVALID_ARGUMENT, "length",
+      "set_field(short length)");
+  check_domain_error(domain,
+                     gm_domain_set_field(domain, GM_FIELD_POSITION, values, n),
+                     GM_ERR_INVALID_ARGUMENT, GM_ERR_INVALID_ARGUMENT, "read",
+                     "set_field(position)");
+  check_domain_error(domain,
+                     gm_domain_set_field(domain, (gm_field)42, values, n),
+                     GM_ERR_INVALID_ARGUMENT, GM_ERR_INVALID_ARGUMENT, "field",
+                     "set_field(unknown field)");
+  /* Without APIC there is no affine matrix to write. */
+  check_domain_error(domain,
+                     gm_domain_set_field(domain, GM_FIELD_AFFINE, values, n),
+                     GM_ERR_UNSUPPORTED, GM_ERR_UNSUPPORTED, "APIC",
+                     "set_field(affine without APIC)");
+  /* The refused calls wrote nothing: the velocities set first remain. */
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_VELOCITY, back, n));
+  for (size_t i = 0; i < n; i++)
+    ck_assert_double_eq(back[i], values[i]);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 START_TEST(test_point_index_misuse) {
   gm_domain *domain = create_domain_with_points();
   size_t index = 0;
@@ -1179,6 +1246,7 @@ static Suite *api_suite(void) {
   TCase *fields = tcase_create("fields");
   tcase_add_test(fields, test_field_access_misuse);
   tcase_add_test(fields, test_view_and_edit_misuse);
+  tcase_add_test(fields, test_set_field);
   tcase_add_test(fields, test_point_index_misuse);
   suite_add_tcase(suite, fields);
 

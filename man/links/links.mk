@@ -37,6 +37,7 @@ MAN_LINKS = \
 	man/links/gm_domain_point_count.3 \
 	man/links/gm_domain_point_index.3 \
 	man/links/gm_domain_save.3 \
+	man/links/gm_domain_set_field.3 \
 	man/links/gm_domain_set_force_smoothing_time.3 \
 	man/links/gm_domain_set_granular.3 \
 	man/links/gm_domain_set_rigid_velocity.3 \
