@@ -120,8 +120,10 @@ gm_status gm_add_builtin_material(gm_domain *domain,
       spec->state_count > GM_MAX_STATE)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "%s: built-in parameters too large", spec->name);
+  /* Messages name the def struct the caller filled in (gm_elastic_def,
+   * ...), as the models' own parameter checks do. */
   gm_status status =
-      check_common(domain, spec->name, spec->p_wave_modulus, spec->density);
+      check_common(domain, spec->def_name, spec->p_wave_modulus, spec->density);
   if (status != GM_OK)
     return status;
   gm_material material;

@@ -275,50 +275,6 @@ START_TEST(test_viscoplastic_shear) {
 }
 END_TEST
 
-/* Registration: the default def is accepted; each invalid field gives
- * GM_ERR_INVALID_ARGUMENT with its name in the message. */
-START_TEST(test_registration) {
-  gm_domain_def domain_def = gm_domain_def_default();
-  gm_domain *domain = test_create_domain(&domain_def);
-  gm_filling_def def = gm_filling_def_default();
-  int material = -1;
-  TEST_ASSERT_OK(domain, gm_domain_add_filling(domain, &def, &material));
-  ck_assert_int_eq(material, 0);
-  enum { INVALID = 13 };
-  struct {
-    const char *field;
-    gm_filling_def def;
-  } invalid[INVALID];
-  for (int k = 0; k < INVALID; k++)
-    invalid[k].def = gm_filling_def_default();
-  invalid[0].field = "density", invalid[0].def.density = -1.0;
-  invalid[1].field = "poisson_ratio", invalid[1].def.poisson_ratio = -1.0;
-  invalid[2].field = "kappa", invalid[2].def.kappa = 0.0;
-  invalid[3].field = "void_ratio", invalid[3].def.void_ratio = -0.1;
-  invalid[4].field = "reference_pressure",
-  invalid[4].def.reference_pressure = 0.0;
-  invalid[5].field = "bulk_viscosity", invalid[5].def.bulk_viscosity = -1.0;
-  invalid[6].field = "friction_angle", invalid[6].def.friction_angle = 0.0;
-  invalid[7].field = "fluidity", invalid[7].def.fluidity = INFINITY;
-  invalid[8].field = "exponent", invalid[8].def.exponent = 0.0;
-  invalid[9].field = "reference_stress", invalid[9].def.reference_stress = NAN;
-  invalid[10].field = "max_pressure", invalid[10].def.max_pressure = 100.0;
-  invalid[11].field = "max_iterations", invalid[11].def.max_iterations = 5000;
-  invalid[12].field = "friction_angle", invalid[12].def.friction_angle = 2.0;
-  for (int k = 0; k < INVALID; k++) {
-    gm_status status =
-        gm_domain_add_filling(domain, &invalid[k].def, &material);
-    ck_assert_int_eq(status, GM_ERR_INVALID_ARGUMENT);
-    ck_assert_msg(strstr(gm_domain_last_error(domain), invalid[k].field),
-                  "%s: %s", invalid[k].field, gm_domain_last_error(domain));
-  }
-  def.struct_size = 8;
-  ck_assert_int_eq(gm_domain_add_filling(domain, &def, &material),
-                   GM_ERR_STRUCT_SIZE);
-  gm_domain_destroy(domain);
-}
-END_TEST
-
 static Suite *filling_suite(void) {
   Suite *suite = suite_create("filling");
   TCase *tcase = tcase_create("filling");
@@ -327,7 +283,6 @@ static Suite *filling_suite(void) {
   tcase_add_test(tcase, test_bulk_viscosity);
   tcase_add_test(tcase, test_elastic_shear_modulus);
   tcase_add_test(tcase, test_viscoplastic_shear);
-  tcase_add_test(tcase, test_registration);
   suite_add_tcase(suite, tcase);
   return suite;
 }

@@ -380,43 +380,6 @@ START_TEST(test_iteration_limit_is_recoverable) {
 }
 END_TEST
 
-/* Registration: a valid def is accepted; each invalid field is rejected
- * with GM_ERR_INVALID_ARGUMENT and a message naming it. */
-START_TEST(test_registration) {
-  gm_domain_def domain_def = gm_domain_def_default();
-  gm_domain *domain = test_create_domain(&domain_def);
-  gm_perzyna_def def = gm_perzyna_def_default();
-  int material = -1;
-  TEST_ASSERT_OK(domain, gm_domain_add_perzyna(domain, &def, &material));
-  ck_assert_int_eq(material, 0);
-  struct {
-    const char *field;
-    gm_perzyna_def def;
-  } invalid[8];
-  for (int k = 0; k < 8; k++)
-    invalid[k].def = gm_perzyna_def_default();
-  invalid[0].field = "youngs_modulus", invalid[0].def.youngs_modulus = -1.0;
-  invalid[1].field = "poisson_ratio", invalid[1].def.poisson_ratio = 0.5;
-  invalid[2].field = "density", invalid[2].def.density = 0.0;
-  invalid[3].field = "friction_angle", invalid[3].def.friction_angle = 30.0;
-  invalid[4].field = "fluidity", invalid[4].def.fluidity = 0.0;
-  invalid[5].field = "exponent", invalid[5].def.exponent = NAN;
-  invalid[6].field = "reference_stress", invalid[6].def.reference_stress = -1;
-  invalid[7].field = "max_iterations", invalid[7].def.max_iterations = 0;
-  for (int k = 0; k < 8; k++) {
-    gm_status status =
-        gm_domain_add_perzyna(domain, &invalid[k].def, &material);
-    ck_assert_int_eq(status, GM_ERR_INVALID_ARGUMENT);
-    ck_assert_msg(strstr(gm_domain_last_error(domain), invalid[k].field),
-                  "%s: %s", invalid[k].field, gm_domain_last_error(domain));
-  }
-  def.struct_size = 8;
-  ck_assert_int_eq(gm_domain_add_perzyna(domain, &def, &material),
-                   GM_ERR_STRUCT_SIZE);
-  gm_domain_destroy(domain);
-}
-END_TEST
-
 static Suite *perzyna_suite(void) {
   Suite *suite = suite_create("perzyna");
   TCase *tcase = tcase_create("perzyna");
@@ -428,7 +391,6 @@ static Suite *perzyna_suite(void) {
   tcase_add_loop_test(tcase, test_rate_independent_limit, 0, 3);
   tcase_add_loop_test(tcase, test_stationary_simple_shear, 0, 2);
   tcase_add_test(tcase, test_iteration_limit_is_recoverable);
-  tcase_add_test(tcase, test_registration);
   suite_add_tcase(suite, tcase);
   return suite;
 }

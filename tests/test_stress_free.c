@@ -1,8 +1,9 @@
 /*
  * test_stress_free.c - the built-in stress-free material: the update
- * leaves exactly +0 in every stress component whatever it is given, the
- * registration validates its two parameters, and the p_wave_modulus it
- * registers is the one the stable time step uses (004 eqs 3.11-3.12).
+ * leaves exactly +0 in every stress component whatever it is given, and
+ * the p_wave_modulus it registers is the one the stable time step uses
+ * (004 eqs 3.11-3.12). Its registration checks are in
+ * test_material_contract.c, with every built-in model's.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -78,51 +79,6 @@ START_TEST(test_stress_is_zero) {
 }
 END_TEST
 
-typedef struct bad_parameter {
-  const char *field;
-  int knob;     /* 0 density, 1 p_wave_modulus */
-  double value; /* the invalid value */
-} bad_parameter;
-
-static const bad_parameter BAD_PARAMETERS[] = {
-    {"density", 0, 0.0},         {"density", 0, -1000.0},
-    {"density", 0, NAN},         {"p_wave_modulus", 1, 0.0},
-    {"p_wave_modulus", 1, -1e6}, {"p_wave_modulus", 1, INFINITY},
-};
-
-START_TEST(test_invalid_parameters) {
-  const bad_parameter *bad = &BAD_PARAMETERS[_i];
-  gm_domain_def domain_def = gm_domain_def_default();
-  gm_domain *domain = test_create_domain(&domain_def);
-  gm_stress_free_def def = gm_stress_free_def_default();
-  double *fields[] = {&def.density, &def.p_wave_modulus};
-  *fields[bad->knob] = bad->value;
-  int material = -1;
-  gm_status status = gm_domain_add_stress_free(domain, &def, &material);
-  ck_assert_int_eq(status, GM_ERR_INVALID_ARGUMENT);
-  const char *message = gm_domain_last_error(domain);
-  ck_assert_msg(strstr(message, bad->field) != NULL &&
-                    strstr(message, "gm_stress_free_def") != NULL,
-                "message '%s' does not name %s", message, bad->field);
-  gm_domain_destroy(domain);
-}
-END_TEST
-
-START_TEST(test_bad_calls) {
-  gm_domain_def domain_def = gm_domain_def_default();
-  gm_domain *domain = test_create_domain(&domain_def);
-  gm_stress_free_def def = gm_stress_free_def_default();
-  int material = -1;
-  ck_assert_int_eq(gm_domain_add_stress_free(domain, NULL, &material),
-                   GM_ERR_NULL);
-  ck_assert_int_eq(gm_domain_add_stress_free(domain, &def, NULL), GM_ERR_NULL);
-  def.struct_size = 4;
-  ck_assert_int_eq(gm_domain_add_stress_free(domain, &def, &material),
-                   GM_ERR_STRUCT_SIZE);
-  gm_domain_destroy(domain);
-}
-END_TEST
-
 /* A block at rest of the registered material: the stable dt is
  * cfl h / sqrt(M / rho) with the registered M and rho (004 eqs 3.11-3.12),
  * and after a step under gravity in a closed box the stress is still 0. */
@@ -167,11 +123,6 @@ static Suite *stress_free_suite(void) {
   tcase_add_loop_test(update, test_stress_is_zero, 0, 3);
   tcase_add_test(update, test_in_a_domain);
   suite_add_tcase(suite, update);
-  TCase *registration = tcase_create("registration");
-  tcase_add_loop_test(registration, test_invalid_parameters, 0,
-                      (int)(sizeof BAD_PARAMETERS / sizeof BAD_PARAMETERS[0]));
-  tcase_add_test(registration, test_bad_calls);
-  suite_add_tcase(suite, registration);
   return suite;
 }
 

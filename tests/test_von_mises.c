@@ -255,56 +255,6 @@ START_TEST(test_uniaxial_plateau) {
 }
 END_TEST
 
-/* ------------------------------------------------------------ registration */
-
-typedef struct bad_parameter {
-  const char *field;
-  int knob;     /* 0 E, 1 nu, 2 density, 3 yield stress */
-  double value; /* the invalid value */
-} bad_parameter;
-
-static const bad_parameter BAD_PARAMETERS[] = {
-    {"youngs_modulus", 0, 0.0}, {"youngs_modulus", 0, NAN},
-    {"poisson_ratio", 1, 0.5},  {"poisson_ratio", 1, -1.5},
-    {"density", 2, -1.0},       {"yield_stress", 3, 0.0},
-    {"yield_stress", 3, -1e6},  {"yield_stress", 3, INFINITY},
-};
-
-START_TEST(test_invalid_parameters) {
-  const bad_parameter *bad = &BAD_PARAMETERS[_i];
-  gm_domain_def domain_def = gm_domain_def_default();
-  gm_domain *domain = test_create_domain(&domain_def);
-  gm_von_mises_def def = gm_von_mises_def_default();
-  double *fields[] = {&def.youngs_modulus, &def.poisson_ratio, &def.density,
-                      &def.yield_stress};
-  *fields[bad->knob] = bad->value;
-  int material = -1;
-  gm_status status = gm_domain_add_von_mises(domain, &def, &material);
-  ck_assert_int_eq(status, GM_ERR_INVALID_ARGUMENT);
-  const char *message = gm_domain_last_error(domain);
-  ck_assert_msg(strstr(message, bad->field) != NULL &&
-                    strstr(message, "gm_von_mises_def") != NULL,
-                "message '%s' does not name %s", message, bad->field);
-  gm_domain_destroy(domain);
-}
-END_TEST
-
-START_TEST(test_valid_registration) {
-  gm_domain_def domain_def = gm_domain_def_default();
-  gm_domain *domain = test_create_domain(&domain_def);
-  gm_von_mises_def def = gm_von_mises_def_default();
-  int material = -1;
-  TEST_ASSERT_OK(domain, gm_domain_add_von_mises(domain, &def, &material));
-  ck_assert_int_eq(material, 0);
-  def.struct_size = 8;
-  ck_assert_int_eq(gm_domain_add_von_mises(domain, &def, &material),
-                   GM_ERR_STRUCT_SIZE);
-  ck_assert_int_eq(gm_domain_add_von_mises(domain, NULL, &material),
-                   GM_ERR_NULL);
-  gm_domain_destroy(domain);
-}
-END_TEST
-
 static Suite *von_mises_suite(void) {
   Suite *suite = suite_create("von_mises");
   TCase *map = tcase_create("return_map");
@@ -312,11 +262,6 @@ static Suite *von_mises_suite(void) {
   tcase_add_test(map, test_random_trial_states);
   tcase_add_loop_test(map, test_uniaxial_plateau, 0, 2);
   suite_add_tcase(suite, map);
-  TCase *registration = tcase_create("registration");
-  tcase_add_loop_test(registration, test_invalid_parameters, 0,
-                      (int)(sizeof BAD_PARAMETERS / sizeof BAD_PARAMETERS[0]));
-  tcase_add_test(registration, test_valid_registration);
-  suite_add_tcase(suite, registration);
   return suite;
 }
 
