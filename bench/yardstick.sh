@@ -27,10 +27,10 @@
 #                      Default: this=<source tree>/build
 #   --yardstick-dir D  where mpm2d.c and libblock.c are (default
 #                      $YARDSTICK_DIR, else <source tree>/../shared/yardstick)
-#   --quick            sizes 1e4 1e5 1e6, 3 repetitions, short runs (~1 min
-#                      on an idle 2-core machine; the default)
+#   --quick            sizes 1e4 1e5 1e6, 3 repetitions, short runs (the
+#                      default; 64 s on the 2-core machine at load 6)
 #   --full             sizes 1e4 1e5 1e6, 7 repetitions, runs 7.5x longer
-#                      (~3 min idle, ~10 min with the 2 cores busy)
+#                      (about 11 min on the 2-core machine at load 7-8)
 #   --sizes "N ..."    points (a square block of round(sqrt(N/4)) cells per
 #                      side; 1e4, 1e5, 1e6 give 10 000, 99 856, 1 000 000)
 #   --reps R           repetitions
