@@ -6,6 +6,8 @@
 #   make bench-chart     speed vs accuracy chart (bench/results/)
 #   make check           build and run the whole test suite
 #   make bench           build and run the benchmark (CSV on stdout)
+#   make bench-yardstick the library against ../shared/yardstick, interleaved
+#                        (YARDSTICK_ARGS=--full; bench/README.md)
 #   make install PREFIX=/usr/local DESTDIR=
 #   make abi-check       compare the library ABI with abi/libgranmpm.abi
 #   make distcheck       build, test and check the release tarball
@@ -18,7 +20,8 @@ DESTDIR ?=
 CONFIGURE_FLAGS ?=
 TOP := $(CURDIR)
 
-FORWARD := all check demo demo-bar demo-collapse bench bench-chart install \
+FORWARD := all check demo demo-bar demo-collapse bench bench-chart \
+	bench-yardstick install \
 	uninstall abi-check abi-dump check-valgrind installcheck
 # Forwarded without prefix/DESTDIR: a command-line prefix would reach
 # distcheck's own install step through MAKEFLAGS and override its private
