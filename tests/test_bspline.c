@@ -32,8 +32,8 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
-#include "shape_bspline.h"
-#include "support.h"
+#include "shapes/shape_bspline.h"
+#include "shapes/support.h"
 
 #include "test_random.h"
 #include "test_util.h"

@@ -14,7 +14,7 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
-#include "internal.h"
+#include "points/points.h"
 #include "test_util.h"
 
 #include <check.h>

@@ -26,7 +26,7 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
-#include "interaction.h"
+#include "granular/interaction.h"
 
 #include "test_random.h"
 

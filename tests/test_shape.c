@@ -7,7 +7,7 @@
  * The grid has a non-zero origin and a cell size that is not a power of two
  * (0.37 m) so that the rounding in (x - origin) / h is exercised.
  */
-#include "shape_linear.h"
+#include "shapes/shape_linear.h"
 
 #include "test_random.h"
 

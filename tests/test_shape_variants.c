@@ -26,8 +26,8 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
-#include "shape_gimp.h"
-#include "support.h"
+#include "shapes/shape_gimp.h"
+#include "shapes/support.h"
 
 #include "test_random.h"
 

@@ -20,7 +20,7 @@
  *    so a call raises |F| by at most |J| / tau however short it is, and
  *    a constant force split into any number of calls gives the same F.
  */
-#include "internal.h"
+#include "boundaries/boundaries.h"
 
 #include <math.h>
 

@@ -10,7 +10,7 @@
  * with the prescribed velocity (their nodes all carry it, so the usual
  * G2P moves them exactly) and keep zero stress.
  */
-#include "internal.h"
+#include "boundaries/boundaries.h"
 
 #include <math.h>
 #include <string.h>

@@ -8,7 +8,7 @@
  * truncated away, the sources' clocks restored) when the step fails.
  * Removal happens after the step has committed and cannot fail.
  */
-#include "internal.h"
+#include "boundaries/boundaries.h"
 
 #include <math.h>
 #include <string.h>

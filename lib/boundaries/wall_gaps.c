@@ -25,7 +25,7 @@
  * visited colour by colour as in p2g.c, so the result is deterministic and
  * free of races.
  */
-#include "internal.h"
+#include "boundaries/boundaries.h"
 
 #include <math.h>
 

@@ -15,7 +15,7 @@
  * rather than 002's penalty-regularised tangential force because it needs
  * no penalty parameter and is exact for a node that sticks.
  */
-#include "internal.h"
+#include "boundaries/boundaries.h"
 
 #include <math.h>
 

@@ -3,7 +3,7 @@
  * allocation goes through here so an embedding code can route memory to
  * its own arena or tracker.
  */
-#include "internal.h"
+#include "core/core.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -4,9 +4,7 @@
  * layouts: the current size, the sizes of the earlier layouts still
  * accepted, and the defaults that complete them (api_check.h).
  */
-#include "api_check.h"
-
-#include "internal.h"
+#include "core/core.h"
 
 #include <string.h>
 

@@ -1,10 +1,10 @@
 /*
- * grid.c - the sparse block grid: which blocks exist this step (those
+ * block_grid.c - the sparse block grid: which blocks exist this step (those
  * holding points, plus the upper neighbours their cells' nodes reach), a
  * hash from block key to block index, neighbour links and colours.
  * Everything here is proportional to the occupied blocks, never to the box.
  */
-#include "internal.h"
+#include "core/core.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,12 +1,12 @@
 /*
- * grid.h - the sparse background grid. Nodes are stored in blocks of 64
+ * block_grid.h - the sparse background grid. Nodes are stored in blocks of 64
  * (8 x 8 in 2D, 64 in a row in 1D); only blocks near points exist, so memory
  * and work follow the occupied cells, not the box. Blocks are rebuilt every
  * step from the points' block keys and sorted by key, which fixes the order
  * of every sum (results do not depend on worker count).
  */
-#ifndef GM_GRID_H
-#define GM_GRID_H
+#ifndef GM_BLOCK_GRID_H
+#define GM_BLOCK_GRID_H
 
 #include <stddef.h>
 #include <stdint.h>

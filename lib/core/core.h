@@ -1,17 +1,21 @@
 /*
- * internal.h - the domain behind the opaque handle: SoA point storage, the
- * sparse block grid, materials, the worker pool. Private to the library.
+ * core.h - the core of the library: the domain behind the opaque handle and
+ * what every folder shares. It holds the data layout of the domain (the
+ * structs it embeds: SoA point storage, materials, walls, sources, the
+ * per-worker scratch, the granular work arrays), the basic constants, the
+ * allocator, error recording, the block grid (block_grid.h), the worker
+ * pool (threads.h) and the API checks (api_check.h). What each folder
+ * does is declared in that folder's own header (docs/architecture.md).
+ * Private to the library.
  */
-#ifndef GM_INTERNAL_H
-#define GM_INTERNAL_H
+#ifndef GM_CORE_H
+#define GM_CORE_H
 
-#include "api_check.h"
+#include "core/api_check.h"
+#include "core/block_grid.h"
+#include "core/threads.h"
 #include "granmpm.h"
-#include "grid.h"
-#include "interaction.h"
-#include "support.h"
-#include "threads.h"
-#include "union_find.h"
+#include "shapes/shapes.h"
 
 #include <stdarg.h>
 #include <stdbool.h>
@@ -64,11 +68,6 @@ typedef struct gm_force_report {
   double total_duration;    /* s */
   double smoothed_force[2]; /* N, first-order low-pass of the force */
 } gm_force_report;
-#define GM_DEFAULT_FORCE_SMOOTHING_TIME 1e-3 /* s */
-/* Commits a successful call of length dt (s) that exchanged `impulse`
- * (N s) with the obstacle; tau (s) is the smoothing time. */
-void gm_force_report_commit(gm_force_report *report, const double impulse[2],
-                            double dt, double tau);
 
 /* ------------------------------------------------------------ materials */
 typedef struct gm_material {
@@ -214,6 +213,11 @@ typedef struct gm_worker_scratch {
   char pad[64];
 } gm_worker_scratch;
 
+/* Declared in granular/ (interaction.h, union_find.h); the work arrays
+ * only point to them. */
+typedef struct gm_interaction_domain gm_interaction_domain;
+typedef struct gm_root_order gm_root_order;
+
 /* ----------------------------------------------------- granular scratch */
 /* Per-step work arrays of the granular family (components.c), sized with
  * the points and the blocks outside the step's hot path. */
@@ -316,11 +320,6 @@ gm_status gm_set_create_error(gm_status status, const char *format, ...)
 /* Records an error message on the domain and returns status. */
 gm_status gm_set_error(gm_domain *domain, gm_status status, const char *format,
                        ...) __attribute__((format(printf, 3, 4)));
-/* GM_ERR_INVALID_ARGUMENT if a point of granular material material_id
- * would be placed in the granular family below rho_cr - TOL (points.c says
- * why); `what` names the caller and the point or def for the message. */
-gm_status gm_check_placement_density(gm_domain *domain, int material_id,
-                                     double density, const char *what);
 /* The same into a per-worker scratch (keeps the lowest point index). */
 void gm_worker_error(gm_worker_scratch *scratch, gm_status status, size_t index,
                      const char *format, ...)
@@ -329,246 +328,14 @@ void gm_worker_error(gm_worker_scratch *scratch, gm_status status, size_t index,
 gm_status gm_collect_worker_errors(gm_domain *domain);
 void gm_clear_worker_errors(gm_domain *domain);
 
-/* A built-in material (written against the public callback interface):
- * its parameters are copied into the domain and passed to update as
- * `user` (materials.c). */
-typedef struct gm_builtin_material {
-  const char *def_name; /* the public def struct, for messages */
-  const char *name;
-  gm_material_update_fn *update;
-  const void *parameters; /* copied, at most GM_MAX_PARAMETER_BYTES */
-  size_t parameter_size;
-  size_t state_count;
-  const double *initial_state; /* state_count values, NULL = zeros */
-  double p_wave_modulus;       /* Pa, K + 4G/3 */
-  double density;              /* kg/m^3 */
-} gm_builtin_material;
-gm_status gm_add_builtin_material(gm_domain *domain,
-                                  const gm_builtin_material *spec,
-                                  int *material_id);
-/* Young's modulus finite > 0 and Poisson ratio in (-1, 0.5); sets the
- * message naming def_name's fields. */
-gm_status gm_check_elastic_constants(gm_domain *domain, const char *def_name,
-                                     double youngs_modulus,
-                                     double poisson_ratio);
-/* value finite and > 0 (or >= 0 when zero_allowed); message names
- * def_name.field and the unit. */
-gm_status gm_check_positive(gm_domain *domain, const char *def_name,
-                            const char *field, double value, const char *unit,
-                            bool zero_allowed);
-
-/* Point storage (points.c). */
-gm_status gm_points_reserve(gm_domain *domain, size_t capacity);
-void gm_points_free(gm_points *points);
-/* gm_domain_add_points without the busy check (sources inject mid-step). */
-gm_status gm_points_append(gm_domain *domain, const gm_points_def *def,
-                           int64_t *first_id);
-/* Removes the points whose flag is nonzero (flags: one per point),
- * keeping the order of the others (removal.c). */
-void gm_points_remove(gm_domain *domain, const uint32_t *flags);
-/* Drops the points added after `count` and the ids after `next_id`. */
-void gm_points_truncate(gm_domain *domain, size_t count, int64_t next_id);
-/* Widens the per-point state pool to stride doubles. */
-gm_status gm_points_restride_state(gm_domain *domain, size_t stride);
-/* Components of APIC's B_p a domain stores: dim x dim with
- * GM_TRANSFER_APIC, none otherwise. */
-static inline int gm_affine_stored(const gm_domain *domain) {
-  return domain->def.transfer == GM_TRANSFER_APIC ? domain->dim * domain->dim
-                                                  : 0;
-}
-/* Sizes one buffer set for capacity points (keeps contents). */
-gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
-                             size_t old_capacity, size_t capacity);
-/* Allocates the external-force arrays (zeros) if not yet there. */
-gm_status gm_points_need_external_force(gm_domain *domain);
-void gm_buffers_free(gm_point_buffers *buffer);
-/* Copies count points of every double-buffered field. */
-void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
-                     size_t count, size_t state_stride);
-/* The tensor that deforms the point domains of a buffer set: the CPDI
- * domain map D, or F (cpGIMP reads its diagonal; uGIMP and linear MPM
- * ignore it). F_XX..F_YY slots. */
-static inline void gm_support_tensor(const gm_domain *domain,
-                                     const gm_point_buffers *buffer,
-                                     const double *out[4]) {
-  bool cpdi = domain->shape_grid.shape == GM_SHAPE_CPDI;
-  for (int k = 0; k < 4; k++)
-    out[k] = cpdi ? buffer->domain_map[k] : buffer->deformation[k];
-}
-/* Point p's domain (support.h) in one buffer set (points.c). */
-void gm_point_domain_at(const gm_domain *domain, const gm_point_buffers *buffer,
-                        size_t p, gm_point_domain *out);
-/* Block key of a position (grid.c); false if outside the grid. */
+/* Block key of a position (block_grid.c); false if outside the grid. */
 bool gm_block_key_of(const gm_domain *domain, const double *position_xyz,
                      int64_t *key);
-
-/* Step phases. */
-gm_status gm_grid_build(gm_domain *domain); /* grid.c */
-gm_status gm_bin_points(gm_domain *domain); /* bins.c */
-void gm_reorder_points(gm_domain *domain);  /* bins.c */
-/* What a P2G pass accumulates (p2g.c). */
-typedef struct gm_p2g_pass {
-  bool mass;           /* nodal mass */
-  bool momentum;       /* nodal momentum */
-  bool forces;         /* internal, body and host forces */
-  int velocity_buffer; /* buffer whose velocities give the momentum */
-  int stress_buffer;   /* buffer whose stress and volume give forces */
-  bool check_inputs;   /* reject non-finite host-written inputs */
-} gm_p2g_pass;
-void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass);
-void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
+/* The block grid of the step from the points' block keys (block_grid.c). */
+gm_status gm_grid_build(gm_domain *domain);
 /* Grid update modes: momentum -> velocity only; momentum and force ->
  * updated velocity and acceleration. */
 enum { GM_GRID_VELOCITY_ONLY = 0, GM_GRID_FULL = 1 };
-/* B-splines on the box faces by images (bspline_faces.c; no-ops for the
- * other shapes): after a scatter, each ghost node's sums go to its mirror
- * node; after a grid update, each ghost node takes its mirror's velocity
- * (and acceleration in GM_GRID_FULL mode), reflected. */
-void gm_bspline_fold_ghosts(gm_domain *domain, const gm_p2g_pass *pass);
-void gm_bspline_mirror_ghosts(gm_domain *domain, int mode);
-
-/* What a G2P pass does (g2p.c). */
-typedef struct gm_g2p_pass {
-  bool flip_velocity; /* v_p += dt * sum N a_i  */
-  bool move_points;   /* x_p += dt * sum N v_i (nodal velocity) */
-  bool deform;        /* L from nodal velocity: F, V, stress */
-  bool finish;        /* the last pass of the step: block keys of wide
-                         supports (they need the final F) and the
-                         signal-speed bound of the new state */
-  double dt;
-  bool in_place; /* deform from the next buffer's F, D and stress (the
-                    second half of USF's split update, step.c) rather
-                    than from the committed ones */
-} gm_g2p_pass;
-void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);
-size_t gm_chunk_gather_size(void); /* bytes of a worker's G2P chunk buffer */
-
-/* Stress update for one chunk of points (stress_update.c). */
-/* Jaumann rotation, material call and stress write-back for points
- * [first, first+count) given their velocity gradients (1/s, L_xx L_xy L_yx
- * L_yy L_zz); reads the committed buffer (or, in_place, the next one),
- * writes the next one. */
-void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
-                            size_t first, size_t count, double dt,
-                            const double *const velocity_gradient[5],
-                            bool in_place);
-
-/* Walls (walls.c). Contact of one node with the walls: `velocity` (m/s)
- * is the node's updated velocity, changed in place; gap (one per wall, m,
- * or NULL = 0) lets it approach a wall by that much in dt, and centre_gap
- * (one per wall, m, or NULL) the same for the nodes the wall's contact
- * does not reach, from the nearest point centre; returns true if
- * a wall acted. If block_force is not NULL, mass/dt times each wall's velocity
- * change (N) is added to block_force[2 w], [2 w + 1]. If record is not
- * NULL it gets the one wall that acted and its normal change and the
- * tangential velocity before friction, for gm_walls_share_friction
- * (wall -1 when none or several acted). */
-typedef struct gm_wall_pool_record {
-  int wall;              /* the one wall that acted; -1: none or several */
-  double normal_change;  /* m/s, its normal velocity change (> 0) */
-  double tangent_before; /* m/s, tangential velocity before its friction,
-                            along (n_y, -n_x) */
-} gm_wall_pool_record;
-bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
-                      double velocity[2], const double *gap,
-                      const double *centre_gap, double dt, double *block_force,
-                      double mass_over_dt, int *first_wall,
-                      gm_wall_pool_record *record);
-/* Coulomb friction shared along each wall (walls.c): after the nodal
- * update, the per-node friction of the nodes with one wall is replaced by
- * Coulomb's law on the pooled normal impulse and tangential momentum of
- * the nodes in each one-cell strip along the wall. Serial, block order. */
-void gm_walls_share_friction(gm_domain *domain, double dt, int mode);
-/* The node gaps to every planar wall and to the box faces that hold
- * material (grid->wall_gap, gm_gap_plane_count per node: the walls, then
- * the faces) from the committed point domains, after the mass P2G
- * (wall_gaps.c; step.c's stage MEASURE_WALL_GAPS). */
-void gm_walls_measure_gaps(gm_domain *domain);
-/* Gap records per node: the planar walls and the measured box faces. */
-int gm_gap_plane_count(const gm_domain *domain);
-/* Slot of box face f (2 axis + side) in a node's gap records; -1 when
- * the face is not measured (open, or a B-spline mirror). */
-int gm_gap_face_slot(const gm_domain *domain, int face);
-/* Gaps (cells) below which a wall or a box face counts as touched: see
- * gm_walls_contact (walls.c). */
-#define GM_CONTACT_TOLERANCE 3e-3
-/* Sizes the per-block wall-force partial sums for the current walls. */
-gm_status gm_walls_reserve(gm_domain *domain);
-
-/* Rigid points (rigid.c). After the mass P2G (step.c's stage
- * MARK_RIGID_NODES): marks the nodes each rigid point touches with its
- * material (grid->rigid_material, 0 = none, material + 1 otherwise). */
-void gm_rigid_mark_nodes(gm_domain *domain);
-/* Grid update of one node touched by a rigid material: its velocity
- * becomes the prescribed one; in FULL mode the acceleration follows and
- * the node's impulse on the rigid body is stored for gm_rigid_add_impulse. */
-void gm_rigid_constrain_node(gm_domain *domain, size_t node,
-                             const double old_velocity[2], double dt,
-                             bool full);
-/* Adds the committed sub-step's impulses on each rigid material. */
-void gm_rigid_add_impulse(gm_domain *domain);
-/* Rigid points of the new (spare) buffer get their prescribed velocity. */
-void gm_rigid_set_point_velocities(gm_domain *domain);
-gm_status gm_rigid_reserve(gm_domain *domain);
-/* Does any wall reach into the block with lower corner node (ix, iy)? */
-bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
-                         int64_t base_y);
-/* Adds the committed sub-step's wall forces (summed per block in block
- * order) times dt to the impulse of the gm_domain_step call in progress. */
-void gm_walls_add_impulse(gm_domain *domain, double dt);
-
-/* Sources and sinks (sources.c). The sources' state before an injection,
- * to undo it when the step then fails. */
-typedef struct gm_injection_undo {
-  size_t count;    /* points before */
-  int64_t next_id; /* ids before */
-  gm_source sources[GM_MAX_SOURCES];
-} gm_injection_undo;
-/* Injects every due source (time <= domain->time); fills undo. */
-gm_status gm_sources_inject(gm_domain *domain, gm_injection_undo *undo);
-void gm_sources_undo(gm_domain *domain, const gm_injection_undo *undo);
-/* Removes the committed points inside sinks (cannot fail). */
-void gm_sinks_remove(gm_domain *domain);
-void gm_sources_free(gm_domain *domain);
-
-/* Granular family (components.c, density_control.c, granular.c). */
-/* After the plain binning: domains of interaction, components by
- * union-find, node layers; re-keys and re-bins the points by layer. */
-gm_status gm_granular_prepare(gm_domain *domain);
-/* After the stress update of a chunk: stress-free and density-control
- * rules of the stress_free and granular families (000 eqs 13-15, 18). */
-void gm_density_control_chunk(gm_domain *domain, size_t first, size_t count);
-/* CPDI domain reset (cpdi_reset.c). The largest ratio of the singular
- * values of a point's domain map D before it is reset to the initial
- * domain scaled to the same area: a square domain then has an aspect of
- * at most 3 (see cpdi_reset.c and gm_domain_create(3)). */
-#define GM_CPDI_MAX_DISTORTION 3.0
-/* Resets map (D_xx, D_xy, D_yx, D_yy) to sqrt(det D) I when the ratio of
- * its singular values exceeds max_distortion and det D > 0; true if it
- * did. */
-bool gm_cpdi_domain_reset(double map[4], double max_distortion);
-/* The resets of the next buffer's points [first, first + count): after
- * their deformation and density control (g2p.c); nothing in 1D. */
-void gm_cpdi_reset_chunk(const gm_domain *domain, size_t first, size_t count);
-/* Pair search (pair_search.c) and layers (layers.c). */
-typedef enum gm_pair_pass { GM_PASS_JOIN, GM_PASS_CONFLICTS } gm_pair_pass;
-/* Every pair sharing a node: from every point with half windows (subset
- * NULL), or from the points with subset[p] != 0 with full windows. JOIN
- * unites interacting pairs and records the forest; a subset search also
- * appends the pairs of different sets that do not interact to
- * work->conflict (point indices p << 32 | q: the candidates for the
- * conflicts of the layers, kept by components.c). CONFLICTS appends the
- * pairs of components that share a node (label low << 32 | high). */
-gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
-                         gm_pair_pass pass, const uint8_t *subset);
-gm_status gm_assign_layers(gm_domain *domain, size_t components,
-                           size_t *layer_count);
-/* Follows a reordering (points->order: new index k holds old order[k])
- * in the kept spanning forest; scratch: count entries. */
-void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch);
-/* Sizes the granular work arrays for the points and blocks. */
-gm_status gm_granular_reserve(gm_domain *domain);
-void gm_granular_free(gm_domain *domain);
 
 /* Stable dt (stable_dt.c). */
 /* max c_p + max |v_p| (m/s) of the committed state, recomputed. */

@@ -12,7 +12,7 @@
  * fields would overrun an older caller's storage; with the size the library
  * writes only what the caller has (design.md: fields are only appended).
  */
-#include "internal.h"
+#include "core/core.h"
 
 #include <stddef.h>
 #include <string.h>

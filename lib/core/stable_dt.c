@@ -11,7 +11,7 @@
  * omega^2 h^2 / c^2 <= 4 for the quadratic, <= 2 for the cubic, against 4
  * for the tents; gm_domain_create(3)).
  */
-#include "internal.h"
+#include "core/core.h"
 
 #include <math.h>
 

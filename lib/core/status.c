@@ -1,7 +1,7 @@
 /*
  * status.c - status codes, version, error messages.
  */
-#include "internal.h"
+#include "core/core.h"
 
 #include <stdio.h>
 #include <string.h>

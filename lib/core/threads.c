@@ -7,8 +7,7 @@
 /* clock_gettime() is POSIX, not C11. */
 #define _POSIX_C_SOURCE 200809L
 
-#include "threads.h"
-#include "internal.h"
+#include "core/core.h"
 
 #include <time.h>
 

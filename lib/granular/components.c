@@ -29,9 +29,11 @@
  * component and the union-find is skipped: only the edges are checked, in
  * parallel (a connected flow, the common case).
  */
-#include "pair_rules.h"
-#include "shape_bspline.h"
-#include "shape_gimp.h"
+#include "granular/granular.h"
+
+#include "grid/grid.h" /* gm_bin_points: against the layers, next commit */
+
+#include "granular/pair_rules.h"
 
 #include <math.h>
 #include <string.h>

@@ -12,7 +12,7 @@
  * With CPDI the domain map D (cpdi_reset.c) follows F in each case.
  * The result is written to the step's new buffer, with each point's state.
  */
-#include "internal.h"
+#include "granular/granular.h"
 
 #include <math.h>
 

@@ -3,7 +3,7 @@
  * marking materials granular, the per-step summary, and the sizing of the
  * work arrays that components.c uses inside the step.
  */
-#include "internal.h"
+#include "granular/granular.h"
 
 #include <float.h>
 #include <math.h>

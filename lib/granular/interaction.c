@@ -2,7 +2,7 @@
  * interaction.c - domains of interaction and their exact overlap test (see
  * interaction.h).
  */
-#include "interaction.h"
+#include "granular/granular.h"
 
 #include <math.h>
 

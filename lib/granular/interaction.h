@@ -16,7 +16,7 @@
 #ifndef GM_INTERACTION_H
 #define GM_INTERACTION_H
 
-#include "support.h"
+#include "shapes/shapes.h"
 
 #include <stdbool.h>
 

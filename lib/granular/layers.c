@@ -5,7 +5,7 @@
  * nodes with. A greedy colouring in label order keeps this deterministic
  * and uses few layers: components that share no node share a layer.
  */
-#include "internal.h"
+#include "granular/granular.h"
 
 #include <string.h>
 

@@ -7,7 +7,7 @@
 #ifndef GRANMPM_PAIR_RULES_H
 #define GRANMPM_PAIR_RULES_H
 
-#include "internal.h"
+#include "granular/granular.h"
 
 #include <math.h>
 

@@ -10,7 +10,9 @@
  * only: O(N), never all pairs. Interaction rules are at the top of
  * components.c.
  */
-#include "pair_rules.h"
+#include "granular/granular.h"
+
+#include "granular/pair_rules.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,7 +1,7 @@
 /*
  * union_find.c - disjoint sets and deterministic labels (see union_find.h).
  */
-#include "union_find.h"
+#include "granular/granular.h"
 
 #include <stdlib.h>
 

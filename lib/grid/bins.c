@@ -3,7 +3,7 @@
  * step) and the periodic physical reordering of the point arrays so that
  * memory order follows the grid (cache-friendly scatter and gather).
  */
-#include "internal.h"
+#include "grid/grid.h"
 
 #include <string.h>
 

@@ -30,7 +30,7 @@
  * y, which makes a corner's images right: its ghost folds into the
  * x-mirror, which as a y-ghost folds on into the diagonal node.
  */
-#include "internal.h"
+#include "grid/grid.h"
 
 /* Signs of the reflected velocity components beyond face (axis, side):
  * -1 for a component the face holds, +1 for a free one; false for an open

@@ -8,8 +8,9 @@
  * increment and may then be reset (cpdi_reset.c). Points are processed in
  * chunks of GM_BATCH_SIZE, the unit of a material call.
  */
-#include "shape_linear.h"
-#include "transfer.h"
+#include "grid/grid.h"
+
+#include "grid/transfer.h"
 
 #include <math.h>
 #include <string.h>

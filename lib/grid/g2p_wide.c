@@ -5,7 +5,9 @@
  * L = sum v_i (x) grad S_i, as in g2p.c, plus the block keys of the moved
  * points, which depend on the whole support and so on F as well.
  */
-#include "transfer.h"
+#include "grid/grid.h"
+
+#include "grid/transfer.h"
 
 #include <math.h>
 

@@ -9,7 +9,7 @@
  * B-splines the ghost nodes then take the reflected values of their mirror
  * nodes instead of the held zeros (bspline_faces.c).
  */
-#include "internal.h"
+#include "grid/grid.h"
 
 #include <math.h>
 

@@ -8,8 +8,9 @@
  * (struct scatter_view) so the compiler keeps them in registers instead of
  * reloading them after each store to the grid.
  */
-#include "shape_linear.h"
-#include "transfer.h"
+#include "grid/grid.h"
+
+#include "grid/transfer.h"
 
 #include <math.h>
 

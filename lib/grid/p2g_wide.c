@@ -9,7 +9,9 @@
  * neighbours: a tile of twice the block edge per axis holds them, and the
  * 4-colour scatter of p2g.c stays race-free and deterministic.
  */
-#include "transfer.h"
+#include "grid/grid.h"
+
+#include "grid/transfer.h"
 
 #include <string.h>
 

@@ -6,7 +6,7 @@
  * to the material, which integrates its own law. Materials thus never see
  * rigid rotations and stay objective without knowing about them.
  */
-#include "internal.h"
+#include "grid/grid.h"
 
 #include <math.h>
 #include <string.h>

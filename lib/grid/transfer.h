@@ -8,7 +8,7 @@
 #ifndef GM_TRANSFER_H
 #define GM_TRANSFER_H
 
-#include "internal.h"
+#include "grid/grid.h"
 
 /* The arrays of a P2G pass. */
 typedef struct scatter_view {

@@ -20,7 +20,9 @@
  * interaction boxes, and the wall traction profile (unavailable until the
  * next step). Load marks all of them stale.
  */
-#include "checkpoint_format.h"
+#include "io/io.h"
+
+#include "io/checkpoint_format.h"
 
 #include <limits.h>
 #include <math.h>

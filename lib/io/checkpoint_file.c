@@ -7,7 +7,9 @@
 /* fsync(), fileno() and open() are POSIX, not C11. */
 #define _POSIX_C_SOURCE 200809L
 
-#include "checkpoint_format.h"
+#include "io/io.h"
+
+#include "io/checkpoint_format.h"
 
 #include <errno.h>
 #include <fcntl.h>

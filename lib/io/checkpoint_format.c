@@ -4,7 +4,9 @@
  * records with their comparison (layout in checkpoint_format.h; the file
  * itself is checkpoint_file.c).
  */
-#include "checkpoint_format.h"
+#include "io/io.h"
+
+#include "io/checkpoint_format.h"
 
 #include <stdio.h>
 #include <string.h>

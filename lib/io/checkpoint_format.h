@@ -19,7 +19,7 @@
 #ifndef GM_CHECKPOINT_FORMAT_H
 #define GM_CHECKPOINT_FORMAT_H
 
-#include "internal.h"
+#include "io/io.h"
 
 #include <stdbool.h>
 #include <stddef.h>

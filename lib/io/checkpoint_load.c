@@ -6,7 +6,9 @@
  * only then is the domain's state replaced. Every refusal therefore leaves
  * the domain as it was. The payload layout is in checkpoint.c.
  */
-#include "checkpoint_format.h"
+#include "io/io.h"
+
+#include "io/checkpoint_format.h"
 
 #include <limits.h>
 #include <math.h>

@@ -12,7 +12,7 @@
  * .pvd on disk is always a complete collection even if the simulation is killed
  * between two frames.
  */
-#include "internal.h"
+#include "io/io.h"
 
 #include <errno.h>
 #include <stdio.h>

@@ -23,7 +23,9 @@
  * The file is written to "<path>.tmp" and renamed over path only when it is
  * complete, so a failed write never leaves a truncated file under path.
  */
-#include "vtu_format.h"
+#include "io/io.h"
+
+#include "io/vtu_format.h"
 
 #include <errno.h>
 #include <stdio.h>

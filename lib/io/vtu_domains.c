@@ -11,7 +11,9 @@
  * deform; they share no vertices), and the point's fields are the cell's
  * CellData. The file format is vtu.c's (vtu_format.h).
  */
-#include "vtu_format.h"
+#include "io/io.h"
+
+#include "io/vtu_format.h"
 
 /* 2D: the four corners of the domain, one VTK_QUAD per material point. */
 static const gm_vtu_layout quad_layout = {"gm_domain_write_domains_vtu",

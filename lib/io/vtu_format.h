@@ -15,7 +15,7 @@
 #ifndef GM_VTU_FORMAT_H
 #define GM_VTU_FORMAT_H
 
-#include "internal.h"
+#include "io/io.h"
 
 /* VTK cell type numbers (vtkCellType.h; fixed by the file format). */
 enum { GM_VTK_VERTEX = 1, GM_VTK_LINE = 3, GM_VTK_QUAD = 9 };

@@ -2,7 +2,7 @@
  * materials.c - the material registry: user callbacks and the built-in
  * linear elastic material, both stored the same way.
  */
-#include "internal.h"
+#include "materials/materials.h"
 
 #include <math.h>
 #include <stdio.h>

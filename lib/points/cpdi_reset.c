@@ -32,7 +32,7 @@
  * and s1^2 + s2^2 = |D|_F^2, so q = (rho + 1/rho) / 2 for rho = s1 / s2,
  * and rho > T exactly when q > (T + 1/T) / 2.
  */
-#include "internal.h"
+#include "points/points.h"
 
 #include <math.h>
 

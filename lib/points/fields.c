@@ -2,7 +2,7 @@
  * fields.c - reading and editing point fields: copies in point-index order,
  * zero-copy views of stored components, and domain totals.
  */
-#include "internal.h"
+#include "points/points.h"
 
 #include <string.h>
 

@@ -3,7 +3,7 @@
  * edge, each at the centre of its sub-cell (the usual MPM initial
  * discretisation, e.g. 4 points per cell in 2D for n = 2).
  */
-#include "internal.h"
+#include "points/points.h"
 
 #include <limits.h>
 #include <math.h>

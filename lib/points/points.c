@@ -2,7 +2,7 @@
  * points.c - SoA point storage: capacity, insertion with validation
  * (all-or-nothing), stable ids, the fill-a-box convenience.
  */
-#include "internal.h"
+#include "points/points.h"
 
 #include <float.h>
 #include <limits.h>

@@ -5,7 +5,7 @@
  * injection). Removed ids map to GM_REMOVED_POINT and are never reused,
  * so every other id still finds its point.
  */
-#include "internal.h"
+#include "points/points.h"
 
 #include <string.h>
 

@@ -26,7 +26,7 @@
 #ifndef GM_SHAPE_BSPLINE_H
 #define GM_SHAPE_BSPLINE_H
 
-#include "shape_gimp.h" /* gm_floor_index */
+#include "shapes/shape_gimp.h" /* gm_floor_index */
 
 #include <stdint.h>
 

@@ -17,10 +17,7 @@
  * The B-splines are tensor products of the axis functions of
  * shape_bspline.h, evaluated at the point's position.
  */
-#include "support.h"
-
-#include "shape_bspline.h"
-#include "shape_gimp.h"
+#include "shapes/shapes.h"
 
 #include <math.h>
 

@@ -2,7 +2,7 @@
  * advance.c - gm_domain_advance: a run to a given time, with a progress
  * callback for long runs.
  */
-#include "internal.h"
+#include "step/step.h"
 
 #include <math.h>
 

@@ -2,7 +2,7 @@
  * domain.c - domain lifecycle: validation of the definition, creation,
  * destruction, error messages, time, hooks.
  */
-#include "internal.h"
+#include "step/step.h"
 
 #include <math.h>
 #include <stddef.h>

@@ -49,7 +49,7 @@
  * that check host inputs and the G2P passes can raise one, and the first
  * one found abandons the attempt.
  */
-#include "internal.h"
+#include "step/step.h"
 
 #include <math.h>
 #include <stdio.h>
