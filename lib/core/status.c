@@ -38,6 +38,22 @@ int gm_geometry_dimension(gm_geometry geometry) {
   return 0;
 }
 
+/* The message of a failed gm_domain_create or gm_series_create, where no
+ * domain holds it (per thread). */
+static _Thread_local char create_error[GM_ERROR_MESSAGE_SIZE];
+
+const char *gm_last_create_error(void) {
+  return create_error;
+}
+
+gm_status gm_set_create_error(gm_status status, const char *format, ...) {
+  va_list args;
+  va_start(args, format);
+  vsnprintf(create_error, sizeof create_error, format, args);
+  va_end(args);
+  return status;
+}
+
 gm_status gm_set_error(gm_domain *domain, gm_status status, const char *format,
                        ...) {
   if (!domain)

@@ -31,8 +31,6 @@
  */
 #include "granular/granular.h"
 
-#include "grid/grid.h" /* gm_bin_points: against the layers, next commit */
-
 #include "granular/pair_rules.h"
 
 #include <math.h>
@@ -419,8 +417,7 @@ gm_status gm_granular_prepare(gm_domain *domain) {
     for (size_t p = 0; p < count; p++)
       points->block_key[p] +=
           (int64_t)work->component_layer[work->label[p]] * stride;
-    points->keys_valid = true;
-    status = gm_bin_points(domain);
+    points->keys_valid = true; /* the step bins them again (step.c) */
   }
   double end = gm_monotonic_seconds();
   work->summary.component_count = components;

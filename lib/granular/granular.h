@@ -16,7 +16,9 @@
 
 /* Granular family (components.c, density_control.c, granular.c). */
 /* After the plain binning: domains of interaction, components by
- * union-find, node layers; re-keys and re-bins the points by layer. */
+ * union-find, node layers; re-keys the points by layer (block_key, with
+ * keys_valid set). With summary.layer_count > 1 the caller (step.c) bins
+ * them again: the binning is in grid/, above this folder. */
 gm_status gm_granular_prepare(gm_domain *domain);
 /* After the stress update of a chunk: stress-free and density-control
  * rules of the stress_free and granular families (000 eqs 13-15, 18). */

@@ -1,6 +1,6 @@
 /*
  * domain.c - domain lifecycle: validation of the definition, creation,
- * destruction, error messages, time, hooks.
+ * destruction, the last error, time, hooks.
  */
 #include "step/step.h"
 
@@ -9,25 +9,10 @@
 #include <stdio.h>
 #include <string.h>
 
-static _Thread_local char create_error[GM_ERROR_MESSAGE_SIZE];
-
-const char *gm_last_create_error(void) {
-  return create_error;
-}
-
-gm_status gm_set_create_error(gm_status status, const char *format, ...) {
-  va_list args;
-  va_start(args, format);
-  vsnprintf(create_error, sizeof create_error, format, args);
-  va_end(args);
-  return status;
-}
-
+/* The message of a failed create goes to gm_last_create_error()
+ * (core/status.c). */
 #define CREATE_FAIL(status, ...)                                               \
-  do {                                                                         \
-    snprintf(create_error, sizeof create_error, __VA_ARGS__);                  \
-    return (status);                                                           \
-  } while (0)
+  return gm_set_create_error((status), __VA_ARGS__)
 
 static const char *face_name(int face) {
   static const char *names[6] = {"xmin", "xmax", "ymin",
@@ -158,7 +143,7 @@ static gm_status allocate_scratch(gm_domain *domain) {
 }
 
 gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
-  create_error[0] = '\0';
+  gm_set_create_error(GM_OK, "%s", ""); /* no message yet */
   if (!out)
     CREATE_FAIL(GM_ERR_NULL, "gm_domain_create: out is NULL");
   *out = NULL;
