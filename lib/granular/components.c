@@ -16,7 +16,8 @@
  *     share no node cannot affect each other on one grid, so only the
  *     components that do share a node are kept apart: a greedy colouring
  *     (in label order) gives each a node layer (layers.c), and the points
- *     are re-keyed into their layer's blocks (grid.h) and binned again.
+ *     are re-keyed into their layer's blocks (core/block_grid.h) and binned
+ *     again by the step (step/step.c).
  *     With one component, or none sharing nodes, nothing is re-binned.
  *
  * Most steps change few connections. The spanning forest of the last

@@ -1,8 +1,8 @@
 /*
  * layers.c - node layers for the parallel grids (000 sec 3.3): components
  * that share a grid node must not meet on one grid, so each gets a layer
- * of block keys (grid.h) different from those of the components it shares
- * nodes with. A greedy colouring in label order keeps this deterministic
+ * of block keys (core/block_grid.h) different from those of the components it
+ * shares nodes with. A greedy colouring in label order keeps this deterministic
  * and uses few layers: components that share no node share a layer.
  */
 #include "granular/granular.h"
