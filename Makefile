@@ -77,8 +77,7 @@ $(FUZZ_BUILD)/Makefile: configure
 	  LDFLAGS="$(FUZZ_SANITIZE)"
 
 CLANG_FORMAT ?= clang-format
-FORMAT_FILES = $(wildcard include/*.h include/granmpm/*.h lib/*.c lib/*.h \
-	lib/materials/*.c lib/materials/*.h \
+FORMAT_FILES = $(wildcard include/*.h include/granmpm/*.h lib/*/*.c lib/*/*.h \
 	tests/*.c tests/*.h examples/*.c bench/*.c .ci/*.c .ci/*.cpp \
 	fuzz/*.c fuzz/*.h)
 format:

@@ -2,7 +2,7 @@
  * fuzz/fuzz_checkpoint.c - libFuzzer harness for checkpoint loading
  * (gm_domain_load). The input is a checkpoint file; before it is written
  * to disk the harness makes its header consistent (the payload size, and
- * the FNV-1a 64 checksum of lib/checkpoint_format.h recomputed), so that
+ * the FNV-1a 64 checksum of lib/io/checkpoint_format.h recomputed), so that
  * mutations get past the checksum and reach the parser of the payload,
  * where a hostile file could do harm. Besides the sanitizers' findings,
  * it aborts where a promise of gm_checkpoint(3) breaks: a refused file
@@ -26,7 +26,7 @@
 #include <string.h>
 #include <unistd.h>
 
-enum { HEADER_SIZE = 32 }; /* bytes, lib/checkpoint_format.h */
+enum { HEADER_SIZE = 32 }; /* bytes, lib/io/checkpoint_format.h */
 static const uint64_t FNV_OFFSET = 0xcbf29ce484222325ull;
 static const uint64_t FNV_PRIME = 0x100000001b3ull;
 

@@ -7,7 +7,7 @@
  *      about the centre of mass, points' affine parts included,
  *      L = sum_p m_p ((x_p - c) x v_p + B_p,yx - B_p,xy), to round-off
  *      over 100 steps with the GIMP and CPDI shapes, within 2 % with linear
- *      MPM (which keeps C_p = B_p D_p^-1, lib/p2g.c), while PIC
+ *      MPM (which keeps C_p = B_p D_p^-1, lib/grid/p2g.c), while PIC
  *      (pic_fraction 1) loses nearly all of it. USL and USF are asserted;
  *      FLIP, and APIC with MUSL (which moves points with the re-mapped
  *      nodal velocities, not v_p: 2e-5), are printed.
@@ -37,7 +37,7 @@ static const double DISC_CENTRE = 1.0; /* m, both axes; box 2 x 2 m */
 static const int DISC_STEPS = 100;     /* ~1.1 s, 2.2 rad of rotation */
 
 /* What GM_FIELD_AFFINE holds for a linear velocity field v = v0 + A x:
- * B_p = A D_p for the wide shapes, C_p = A for linear MPM (lib/p2g.c
+ * B_p = A D_p for the wide shapes, C_p = A for linear MPM (lib/grid/p2g.c
  * says why linear MPM keeps C_p = B_p D_p^-1). */
 static double lattice_inertia(void);
 static double affine_scale(gm_shape shape) {
@@ -184,7 +184,7 @@ START_TEST(test_disc_keeps_angular_momentum) {
    * printout, so 1e-12 leaves a margin of 4 or more, while any transfer
    * error (FLIP's 2 %, linear MPM's 0.6 %) exceeds it by orders. */
   double tolerance = 1e-12;
-  /* Linear MPM keeps C_p, not B_p (lib/p2g.c): the affine moment
+  /* Linear MPM keeps C_p, not B_p (lib/grid/p2g.c): the affine moment
    * m_p C_p D_p is gathered with the D_p of one position and scattered
    * with the next, so L moves by sum_p m_p eps : (C_p dD_p) per step. For
    * a rotation C_p ~ the spin, and the sum telescopes: |L - L0| stays

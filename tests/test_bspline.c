@@ -1,7 +1,7 @@
 /*
  * test_bspline.c - the quadratic and cubic B-spline shape functions
- * (GM_SHAPE_BSPLINE2, GM_SHAPE_BSPLINE3; lib/shape_bspline.h,
- * lib/support.c, lib/bspline_faces.c).
+ * (GM_SHAPE_BSPLINE2, GM_SHAPE_BSPLINE3; lib/shapes/shape_bspline.h,
+ * lib/shapes/support.c, lib/grid/bspline_faces.c).
  *
  * White box, at random positions in a box with a non-zero origin and a
  * cell that is not a power of two (0.37 m), a tenth of them within 0.6
@@ -32,8 +32,8 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
-#include "shape_bspline.h"
-#include "support.h"
+#include "shapes/shape_bspline.h"
+#include "shapes/support.h"
 
 #include "test_random.h"
 #include "test_util.h"
@@ -103,7 +103,7 @@ static double centred_slope(int degree, double u) {
 /* A random position (m) in the box: mostly anywhere, a tenth within 0.6
  * cells of a random face, one in fifty on a lower face: the lowest
  * coordinate the library counts as inside, (x - origin) / h >= 1 cell from
- * node 0 in its arithmetic (grid.c). */
+ * node 0 in its arithmetic (lib/core/block_grid.c). */
 static void random_position(const gm_shape_grid *grid, double x[2]) {
   int dim = grid->dim;
   double kind = lcg_uniform();

@@ -16,7 +16,7 @@
  * Why uGIMP, 10 cm columns and 1 cm cells: uGIMP is the reference variant;
  * Granular CPDI runs the a = 3 and a = 6 columns next to it
  * (test_cpdi_as_close_as_ugimp): before its domains were reset under
- * shear (lib/cpdi_reset.c) it left the grid in both (a point thrown out
+ * shear (lib/points/cpdi_reset.c) it left the grid in both (a point thrown out
  * at t = 0.42 s and 0.48 s). 2 x 2 points per cell and 5 to 30 cells per
  * column side keep each case under ~10 s at -O2. CPDI_MARGIN: measured,
  * CPDI is -0.2 %/+2.0 % (uGIMP/CPDI) off the law at a = 3 and

@@ -40,7 +40,7 @@
  */
 #include "test_util.h"
 
-#include "internal.h"
+#include "granular/granular.h"
 #include "test_random.h"
 
 #include <check.h>

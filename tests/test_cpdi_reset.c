@@ -1,6 +1,6 @@
 /*
  * test_cpdi_reset.c - the reset of over-distorted CPDI domains
- * (lib/cpdi_reset.c):
+ * (lib/points/cpdi_reset.c):
  *  - gm_cpdi_domain_reset on given domain maps: a map whose singular
  *    values differ by more than GM_CPDI_MAX_DISTORTION becomes
  *    sqrt(det D) I (same area, no distortion); one within the bound is
@@ -14,7 +14,7 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
-#include "internal.h"
+#include "points/points.h"
 #include "test_util.h"
 
 #include <check.h>

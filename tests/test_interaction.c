@@ -1,6 +1,6 @@
 /*
  * test_interaction.c - white-box test of the domains of interaction of the
- * granular method (lib/interaction.c; 000 sec 3.3, Fig. 4, Table A2):
+ * granular method (lib/granular/interaction.c; 000 sec 3.3, Fig. 4, Table A2):
  *
  *  - gm_interaction_overlap in 2D on thousands of random parallelogram
  *    pairs (generic, axis-aligned rectangles, thin ones of aspect 1e-3,
@@ -26,7 +26,7 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
-#include "interaction.h"
+#include "granular/interaction.h"
 
 #include "test_random.h"
 

@@ -1,13 +1,13 @@
 /*
  * test_shape.c - white-box test of the linear (tent) shape functions in
- * lib/shape_linear.h (004 eq 3.25): partition of unity, zero-sum gradients,
- * exact reproduction of linear fields, bounds of the weights, the 1D axis
- * function, and weight 1 on a node a point sits on.
+ * lib/shapes/shape_linear.h (004 eq 3.25): partition of unity, zero-sum
+ * gradients, exact reproduction of linear fields, bounds of the weights, the 1D
+ * axis function, and weight 1 on a node a point sits on.
  *
  * The grid has a non-zero origin and a cell size that is not a power of two
  * (0.37 m) so that the rounding in (x - origin) / h is exercised.
  */
-#include "shape_linear.h"
+#include "shapes/shape_linear.h"
 
 #include "test_random.h"
 

@@ -1,8 +1,8 @@
 /*
  * test_shape_variants.c - white-box test of the supports of every shape
- * variant (lib/support.c, lib/shape_gimp.h): linear MPM, uGIMP, cpGIMP and
- * CPDI1, in 1D and 2D, at thousands of random points with random domains
- * and deformation gradients.
+ * variant (lib/shapes/support.c, lib/shapes/shape_gimp.h): linear MPM, uGIMP,
+ * cpGIMP and CPDI1, in 1D and 2D, at thousands of random points with random
+ * domains and deformation gradients.
  *
  * Checked against the variants' defining properties (000 sec 2.1):
  * partition of unity, zero-sum gradients, exact reproduction of linear
@@ -26,8 +26,8 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
-#include "shape_gimp.h"
-#include "support.h"
+#include "shapes/shape_gimp.h"
+#include "shapes/support.h"
 
 #include "test_random.h"
 

@@ -15,9 +15,10 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "materials/materials.h"
+
 #include "granmpm/drucker_prager.h"
-#include "internal.h"
-#include "invariants.h"
+#include "materials/invariants.h"
 
 #include <math.h>
 #include <string.h>

@@ -23,7 +23,8 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
-#include "internal.h"
+#include "materials/materials.h"
+
 #include "materials/principal.h"
 
 #include <math.h>

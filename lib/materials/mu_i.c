@@ -20,9 +20,10 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "materials/materials.h"
+
 #include "granmpm/mu_i.h"
-#include "internal.h"
-#include "invariants.h"
+#include "materials/invariants.h"
 
 #include <math.h>
 #include <stdio.h>

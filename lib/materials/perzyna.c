@@ -21,7 +21,7 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
-#include "internal.h"
+#include "materials/materials.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -7,6 +7,8 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "materials/materials.h"
+
 #include "materials/principal.h"
 
 #include <math.h>

@@ -5,8 +5,9 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "materials/materials.h"
+
 #include "granmpm/stress_free.h"
-#include "internal.h"
 
 #include <string.h>
 

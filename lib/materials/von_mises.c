@@ -9,9 +9,10 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "materials/materials.h"
+
 #include "granmpm/von_mises.h"
-#include "internal.h"
-#include "invariants.h"
+#include "materials/invariants.h"
 
 #include <string.h>
 

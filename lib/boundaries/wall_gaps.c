@@ -1,0 +1,219 @@
+/*
+ * wall_gaps.c - how far the material of each node is from each planar
+ * wall and each box face. A node on or behind a wall carries points whose
+ * domains may have left the wall; holding the node's velocity at zero toward
+ * the wall would then stop that material from ever coming back, and every
+ * vibration would press it harder against the wall (a ratchet). The gap of a
+ * node to a wall is the smallest distance from the wall to the domain of a
+ * point with weight on the node: the contact lets the node close that gap in a
+ * step and stops only the rest (walls.c).
+ *
+ * For the planar walls each node also gets the smallest distance from the
+ * wall to the centre of a point it carries (grid->wall_centre_gap): with
+ * the shapes wider than a tent (GIMP, CPDI, B-splines) a point gathers its
+ * velocity from nodes the wall's contact does not reach, and walls.c keeps
+ * those nodes from carrying a point's centre past the wall.
+ *
+ * The box faces that hold material (slip and fixed) get the same measure,
+ * after the planar walls in the gap records (gm_gap_face_slot): a face
+ * node held at zero while its material is still a fraction of a cell
+ * above the face would hang that material in the air (grid_update.c).
+ * The faces of the B-splines are mirrors (bspline_faces.c) and are not
+ * measured.
+ *
+ * Minima do not depend on the order they are taken in, and the blocks are
+ * visited colour by colour as in p2g.c, so the result is deterministic and
+ * free of races.
+ */
+#include "boundaries/boundaries.h"
+
+#include <math.h>
+
+/* Does box face f (2 axis + side) hold material and get a gap? */
+static bool face_measured(const gm_domain *domain, int face) {
+  return face / 2 < domain->dim && domain->def.walls[face] != GM_WALL_OPEN &&
+         !gm_shape_is_bspline(domain->def.shape);
+}
+
+int gm_gap_face_slot(const gm_domain *domain, int face) {
+  if (!face_measured(domain, face))
+    return -1;
+  int slot = domain->wall_count;
+  for (int f = 0; f < face; f++)
+    slot += face_measured(domain, f);
+  return slot;
+}
+
+int gm_gap_plane_count(const gm_domain *domain) {
+  int count = domain->wall_count;
+  for (int face = 0; face < 2 * domain->dim; face++)
+    count += face_measured(domain, face);
+  return count;
+}
+
+/* A plane whose gaps are measured: a point on it and its unit normal
+ * into the material's side. */
+typedef struct gap_plane {
+  double point[2];  /* m */
+  double normal[2]; /* unit */
+  bool face;        /* a box face: only its face and ghost nodes use it */
+} gap_plane;
+
+static int list_planes(const gm_domain *domain, gap_plane *planes) {
+  int count = 0;
+  for (int w = 0; w < domain->wall_count; w++, count++) {
+    for (int k = 0; k < 2; k++) {
+      planes[count].point[k] = domain->walls[w].point[k];
+      planes[count].normal[k] = domain->walls[w].normal[k];
+    }
+    planes[count].face = false;
+  }
+  double h = domain->def.cell_size;
+  for (int face = 0; face < 2 * domain->dim; face++) {
+    if (!face_measured(domain, face))
+      continue;
+    int axis = face / 2, side = face % 2;
+    gap_plane *plane = &planes[count++];
+    plane->point[0] = plane->point[1] = 0.0;
+    plane->normal[0] = plane->normal[1] = 0.0;
+    /* The face node: GM_GHOST_LAYERS above node 0 (support.h), or
+     * cells[axis] further on the upper side. */
+    int64_t node = GM_GHOST_LAYERS + (side ? domain->cells[axis] : 0);
+    plane->point[axis] = domain->shape_grid.origin[axis] + (double)node * h;
+    plane->normal[axis] = side ? -1.0 : 1.0;
+    plane->face = true;
+  }
+  return count;
+}
+
+typedef struct gap_context {
+  gm_domain *domain;
+  const uint32_t *blocks; /* of the colour being measured */
+  gap_plane planes[GM_MAX_WALLS + 4];
+  int plane_count;
+} gap_context;
+
+/* Half extent (m) of point p's current domain along the unit normal. */
+static double extent_along(const gm_domain *domain,
+                           const gm_point_domain *point,
+                           const double normal[2]) {
+  double corners[4][2];
+  gm_point_domain_corners(domain->shape_grid.shape, domain->dim, point,
+                          corners);
+  /* r1 = (c1 - c0) / 2, r2 = (c3 - c0) / 2 */
+  double r1[2] = {0.5 * (corners[1][0] - corners[0][0]),
+                  0.5 * (corners[1][1] - corners[0][1])};
+  double r2[2] = {0.5 * (corners[3][0] - corners[0][0]),
+                  0.5 * (corners[3][1] - corners[0][1])};
+  if (domain->dim == 1)
+    r2[0] = r2[1] = 0.0;
+  return fabs(r1[0] * normal[0] + r1[1] * normal[1]) +
+         fabs(r2[0] * normal[0] + r2[1] * normal[1]);
+}
+
+/* Lowers the gaps of the nodes point p reaches to its domain's distance
+ * from each plane its support may reach past. */
+static void measure_point(gm_domain *domain, const gap_context *ctx,
+                          uint32_t block, size_t p) {
+  const gm_points *points = &domain->points;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  gm_grid *grid = &domain->grid;
+  int dim = domain->dim, planes = ctx->plane_count;
+  gm_point_domain point;
+  gm_point_domain_at(domain, current, p, &point);
+  double h = domain->def.cell_size; /* m */
+  /* A support reaches at most 9 nodes (8 cells) from the point. */
+  double reach = 8.0 * h; /* m */
+  double distance[GM_MAX_WALLS + 4];
+  double centre_distance[GM_MAX_WALLS]; /* m, planar walls only */
+  int walls = domain->wall_count;
+  bool near = false;
+  for (int w = 0; w < planes; w++) {
+    const gap_plane *plane = &ctx->planes[w];
+    double centre = (point.position[0] - plane->point[0]) * plane->normal[0] +
+                    (point.position[1] - plane->point[1]) * plane->normal[1];
+    distance[w] = INFINITY;
+    if (w < walls)
+      centre_distance[w] = centre > reach ? INFINITY : centre;
+    if (centre > reach)
+      continue; /* no node of its support lies behind this plane */
+    double gap = centre - extent_along(domain, &point, plane->normal);
+    /* A box face acts on its face and ghost nodes only, which a linear,
+     * GIMP or CPDI support reaches only from less than a cell away. */
+    if (plane->face && gap >= h)
+      continue;
+    distance[w] = gap;
+    near = true;
+  }
+  if (!near)
+    return;
+  gm_support support;
+  if (!gm_support_compute(&domain->shape_grid, &point, &support))
+    return; /* cannot happen: the binning placed the point by it */
+  const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  int64_t base[2];
+  gm_block_base(grid, grid->block_key[block], base);
+  for (int e = 0; e < support.count; e++) {
+    if (support.weight[e] == 0.0)
+      continue;
+    int64_t x = support.lowest[0] - base[0] + support.offset[0][e];
+    int64_t y =
+        dim > 1 ? support.lowest[1] - base[1] + support.offset[1][e] : 0;
+    double *gap = grid->wall_gap +
+                  gm_block_node(links, grid->shift, x, y) * (size_t)planes;
+    for (int w = 0; w < planes; w++)
+      gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
+    double *centre_gap =
+        grid->wall_centre_gap +
+        gm_block_node(links, grid->shift, x, y) * (size_t)walls;
+    for (int w = 0; w < walls; w++)
+      centre_gap[w] = centre_distance[w] < centre_gap[w] ? centre_distance[w]
+                                                         : centre_gap[w];
+  }
+}
+
+static void measure_blocks(void *context, size_t begin, size_t end,
+                           int worker) {
+  (void)worker;
+  gap_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  const gm_grid *grid = &domain->grid;
+  const gm_points *points = &domain->points;
+  for (size_t item = begin; item < end; item++) {
+    uint32_t block = ctx->blocks[item];
+    for (uint32_t k = grid->point_start[block];
+         k < grid->point_start[block + 1]; k++) {
+      size_t p = points->order[k];
+      if (!domain->materials[points->material[p]].rigid)
+        measure_point(domain, ctx, block, p);
+    }
+  }
+}
+
+static void clear_gaps(void *context, size_t begin, size_t end, int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  size_t stride = GM_BLOCK_NODES * (size_t)gm_gap_plane_count(domain);
+  double *gap = domain->grid.wall_gap;
+  for (size_t k = begin * stride; k < end * stride; k++)
+    gap[k] = INFINITY;
+  size_t wall_stride = GM_BLOCK_NODES * (size_t)domain->wall_count;
+  double *centre_gap = domain->grid.wall_centre_gap;
+  for (size_t k = begin * wall_stride; k < end * wall_stride; k++)
+    centre_gap[k] = INFINITY;
+}
+
+void gm_walls_measure_gaps(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  gm_parallel_for(&domain->pool, grid->block_count, clear_gaps, domain);
+  gap_context ctx;
+  ctx.domain = domain;
+  ctx.blocks = NULL;
+  ctx.plane_count = list_planes(domain, ctx.planes);
+  for (int colour = 0; colour < 4; colour++) {
+    size_t first = grid->color_start[colour];
+    ctx.blocks = grid->color_block + first;
+    gm_parallel_for(&domain->pool, grid->color_start[colour + 1] - first,
+                    measure_blocks, &ctx);
+  }
+}

@@ -1,0 +1,210 @@
+/*
+ * block_grid.c - the sparse block grid: which blocks exist this step (those
+ * holding points, plus the upper neighbours their cells' nodes reach), a
+ * hash from block key to block index, neighbour links and colours.
+ * Everything here is proportional to the occupied blocks, never to the box.
+ */
+#include "core/core.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+bool gm_block_key_of(const gm_domain *domain, const double *position_xyz,
+                     int64_t *key) {
+  int64_t node[2] = {0, 0};
+  for (int k = 0; k < domain->dim; k++) {
+    /* The same arithmetic as gm_shape_linear_axis, so the block agrees
+     * with the cell the shape functions use; nodes count from the ghost
+     * layer below the box (support.h). */
+    double scaled =
+        (position_xyz[k] - domain->shape_grid.origin[k]) * domain->inv_cell;
+    if (!(scaled >= GM_GHOST_LAYERS &&
+          scaled < (double)(domain->cells[k] + GM_GHOST_LAYERS)))
+      return false;
+    node[k] = (int64_t)scaled;
+  }
+  *key = gm_block_key_of_node(&domain->grid, node[0], node[1]);
+  return true;
+}
+
+static size_t hash_slot(const gm_grid *grid, int64_t key) {
+  uint64_t mixed = (uint64_t)key * 0x9E3779B97F4A7C15ull;
+  return (size_t)(mixed >> 17) & (grid->hash_capacity - 1);
+}
+
+/* Index of key, or GM_NO_BLOCK. */
+uint32_t gm_grid_find(const gm_grid *grid, int64_t key) {
+  size_t slot = hash_slot(grid, key);
+  while (grid->hash_key[slot] != -1) {
+    if (grid->hash_key[slot] == key)
+      return grid->hash_value[slot];
+    slot = (slot + 1) & (grid->hash_capacity - 1);
+  }
+  return GM_NO_BLOCK;
+}
+
+/* Inserts key (value unset) if absent; returns false when out of memory. */
+static bool hash_insert(gm_grid *grid, int64_t key);
+
+static bool hash_rebuild(gm_grid *grid, size_t capacity) {
+  int64_t *old_key = grid->hash_key;
+  size_t old_capacity = grid->hash_capacity;
+  int64_t *new_key = gm_alloc(capacity * sizeof(int64_t));
+  uint32_t *new_value = gm_alloc(capacity * sizeof(uint32_t));
+  if (!new_key || !new_value) {
+    gm_free(new_key);
+    gm_free(new_value);
+    return false;
+  }
+  memset(new_key, 0xff, capacity * sizeof(int64_t)); /* all -1 = empty */
+  gm_free(grid->hash_value);
+  grid->hash_key = new_key;
+  grid->hash_value = new_value;
+  grid->hash_capacity = capacity;
+  grid->hash_used = 0;
+  for (size_t slot = 0; slot < old_capacity; slot++)
+    if (old_key[slot] != -1)
+      hash_insert(grid, old_key[slot]);
+  gm_free(old_key);
+  return true;
+}
+
+static bool hash_insert(gm_grid *grid, int64_t key) {
+  if (2 * (grid->hash_used + 1) > grid->hash_capacity &&
+      !hash_rebuild(grid, grid->hash_capacity ? 2 * grid->hash_capacity : 64))
+    return false;
+  size_t slot = hash_slot(grid, key);
+  while (grid->hash_key[slot] != -1) {
+    if (grid->hash_key[slot] == key)
+      return true;
+    slot = (slot + 1) & (grid->hash_capacity - 1);
+  }
+  grid->hash_key[slot] = key;
+  grid->hash_used++;
+  return true;
+}
+
+static void hash_clear(gm_grid *grid) {
+  if (grid->hash_capacity)
+    memset(grid->hash_key, 0xff, grid->hash_capacity * sizeof(int64_t));
+  grid->hash_used = 0;
+}
+
+static int compare_keys(const void *a, const void *b) {
+  int64_t left = *(const int64_t *)a, right = *(const int64_t *)b;
+  return (left > right) - (left < right);
+}
+
+/* Makes room for block_count blocks (node fields, links, counters). */
+static bool reserve_blocks(gm_domain *domain, size_t block_count) {
+  gm_grid *grid = &domain->grid;
+  if (block_count <= grid->block_capacity)
+    return true;
+  size_t old = grid->block_capacity;
+  size_t capacity = block_count + block_count / 2;
+  size_t nodes_old = old * GM_BLOCK_NODES, nodes = capacity * GM_BLOCK_NODES;
+  void **arrays[] = {(void **)&grid->mass, (void **)&grid->momentum[0],
+                     (void **)&grid->momentum[1], (void **)&grid->force[0],
+                     (void **)&grid->force[1]};
+  for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++)
+    if (!gm_grow(arrays[a], sizeof(double), nodes_old, nodes))
+      return false;
+  /* Each array is stored back as soon as it has grown: gm_grow frees the
+   * old one, so a later failure must not leave a stale pointer behind. */
+  struct {
+    void **array;
+    size_t element, old_count, new_count;
+  } links[] = {
+      {(void **)&grid->neighbour, GM_BLOCK_NEIGHBOURS * sizeof(uint32_t), old,
+       capacity},
+      {(void **)&grid->block_key, sizeof(int64_t), old, capacity},
+      {(void **)&grid->point_start, sizeof(uint32_t), old + 1, capacity + 1},
+      {(void **)&grid->color_block, sizeof(uint32_t), old, capacity},
+      {(void **)&grid->chunk_counts, GM_BIN_CHUNKS * sizeof(uint32_t), old,
+       capacity}};
+  for (size_t a = 0; a < sizeof links / sizeof links[0]; a++)
+    if (!gm_grow(links[a].array, links[a].element, links[a].old_count,
+                 links[a].new_count))
+      return false;
+  grid->block_capacity = capacity;
+  return true;
+}
+
+/* Adds the blocks whose nodes the cells of block `key` reach. */
+static bool insert_with_neighbours(gm_grid *grid, int64_t key) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  int64_t block[2];
+  gm_block_coordinates(grid, key, block);
+  int reach_y = grid->dim > 1 ? 1 : 0;
+  for (int64_t dy = 0; dy <= reach_y; dy++)
+    for (int64_t dx = 0; dx <= 1; dx++)
+      if (block[0] + dx < blocks_x &&
+          block[1] + dy < grid->blocks_per_axis[1] &&
+          !hash_insert(grid, key + dy * blocks_x + dx)) /* same layer */
+        return false;
+  return true;
+}
+
+static void link_blocks(gm_grid *grid) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  size_t colour_count[4] = {0, 0, 0, 0};
+  for (size_t b = 0; b < grid->block_count; b++) {
+    int64_t key = grid->block_key[b];
+    uint32_t *links = grid->neighbour + b * GM_BLOCK_NEIGHBOURS;
+    links[0] = (uint32_t)b;
+    links[1] = gm_grid_find(grid, key + 1);
+    links[2] = grid->dim > 1 ? gm_grid_find(grid, key + blocks_x) : GM_NO_BLOCK;
+    links[3] =
+        grid->dim > 1 ? gm_grid_find(grid, key + blocks_x + 1) : GM_NO_BLOCK;
+    int64_t block[2];
+    gm_block_coordinates(grid, key, block);
+    if (block[0] == blocks_x - 1) /* no wrap-around to the next row */
+      links[1] = links[3] = GM_NO_BLOCK;
+    if (grid->dim > 1 && block[1] == grid->blocks_per_axis[1] - 1)
+      links[2] = links[3] = GM_NO_BLOCK; /* nor to the next layer */
+    colour_count[gm_block_colour(grid, key)]++;
+  }
+  grid->color_start[0] = 0;
+  for (int c = 0; c < 4; c++)
+    grid->color_start[c + 1] = grid->color_start[c] + colour_count[c];
+  size_t fill[4];
+  memcpy(fill, grid->color_start, sizeof fill);
+  for (size_t b = 0; b < grid->block_count; b++)
+    grid->color_block[fill[gm_block_colour(grid, grid->block_key[b])]++] =
+        (uint32_t)b;
+}
+
+gm_status gm_grid_build(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  const gm_points *points = &domain->points;
+  const int64_t *point_key = points->block_key;
+  hash_clear(grid);
+  int64_t previous = -1;
+  for (size_t i = 0; i < points->count; i++) {
+    if (point_key[i] == previous)
+      continue; /* points are sorted by block: most keys repeat */
+    previous = point_key[i];
+    if (!insert_with_neighbours(grid, previous))
+      return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                          "grid: out of memory for the block hash");
+  }
+  if (!reserve_blocks(domain, grid->hash_used))
+    return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                        "grid: out of memory for %zu blocks", grid->hash_used);
+  size_t count = 0;
+  for (size_t slot = 0; slot < grid->hash_capacity; slot++)
+    if (grid->hash_key[slot] != -1)
+      grid->block_key[count++] = grid->hash_key[slot];
+  /* Sorted keys fix the order of every grid sum. */
+  qsort(grid->block_key, count, sizeof(int64_t), compare_keys);
+  grid->block_count = count;
+  for (size_t b = 0; b < count; b++) {
+    size_t slot = hash_slot(grid, grid->block_key[b]);
+    while (grid->hash_key[slot] != grid->block_key[b])
+      slot = (slot + 1) & (grid->hash_capacity - 1);
+    grid->hash_value[slot] = (uint32_t)b;
+  }
+  link_blocks(grid);
+  return GM_OK;
+}

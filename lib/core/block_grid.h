@@ -1,0 +1,178 @@
+/*
+ * block_grid.h - the sparse background grid. Nodes are stored in blocks of 64
+ * (8 x 8 in 2D, 64 in a row in 1D); only blocks near points exist, so memory
+ * and work follow the occupied cells, not the box. Blocks are rebuilt every
+ * step from the points' block keys and sorted by key, which fixes the order
+ * of every sum (results do not depend on worker count).
+ */
+#ifndef GM_BLOCK_GRID_H
+#define GM_BLOCK_GRID_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define GM_BLOCK_NODES    64
+#define GM_BLOCK_SHIFT_2D 3 /* 8 x 8 nodes */
+#define GM_BLOCK_EDGE_2D  8
+#define GM_BLOCK_SHIFT_1D 6 /* 64 nodes */
+#define GM_NO_BLOCK       UINT32_MAX
+/* Neighbour slots: self, +x, +y, +x+y (a cell's upper nodes may lie in the
+ * next block along each axis). */
+#define GM_BLOCK_NEIGHBOURS 4
+/* Points are binned in this many fixed chunks (not per worker), so the
+ * order of points inside a block never depends on the worker count. */
+#define GM_BIN_CHUNKS 32
+
+typedef struct gm_grid {
+  int dim;
+  int shift;                  /* log2 of nodes per block edge */
+  int64_t blocks_per_axis[3]; /* blocks covering nodes 0..cells */
+  size_t block_count;
+  size_t block_capacity;
+  int64_t *block_key;     /* sorted; key = by * blocks_x + bx */
+  uint32_t *neighbour;    /* block_capacity * GM_BLOCK_NEIGHBOURS */
+  uint32_t *point_start;  /* block_capacity + 1, ranges in order[] */
+  uint32_t *color_block;  /* block indices grouped by colour */
+  size_t color_start[5];  /* colour c: color_block[start[c]..start[c+1]) */
+  uint32_t *chunk_counts; /* GM_BIN_CHUNKS * block_capacity */
+  /* Open-addressing hash: block key -> block index. */
+  int64_t *hash_key;
+  uint32_t *hash_value;
+  size_t hash_capacity; /* power of two */
+  size_t hash_used;
+  /* Node fields, block_capacity * GM_BLOCK_NODES each. */
+  double *mass;        /* kg */
+  double *momentum[2]; /* kg m/s; velocity (m/s) after the grid update */
+  double *force[2];    /* N; acceleration (m/s^2) after the grid update */
+  /* Wall forces per block (N): block_capacity * wall_stride * 2 values,
+   * summed in block order after the update (deterministic). */
+  double *wall_force;
+  /* Rigid materials (only when the domain has one): per node, the rigid
+   * material + 1 touching it (0 = none) and the node's impulse (N s) on
+   * it this step. Sized like the node fields. */
+  int32_t *rigid_material;
+  double *rigid_impulse[2];
+  size_t rigid_capacity;      /* nodes allocated */
+  size_t wall_force_capacity; /* doubles allocated */
+  int wall_stride;
+  /* Per node, in the last full grid update: the first wall that acted
+   * (wall id + 1, 0 = none) and the node's force from the walls (N). */
+  int32_t *contact_wall;
+  double *contact_force[2];
+  size_t contact_capacity; /* nodes allocated */
+  /* Per node, in the last grid update, for the friction shared along the
+   * wall (walls.c, gm_walls_share_friction): the one wall that acted
+   * (wall id + 1; 0 = none, or several), the node's normal impulse from it
+   * (kg m/s) and its tangential velocity before friction (m/s, along
+   * (n_y, -n_x)). Sized like contact_wall. */
+  int32_t *pool_wall;
+  double *pool_normal;
+  double *pool_tangent;
+  /* Per wall and tangential bin of one cell: the pooled normal impulse and
+   * tangential momentum (kg m/s), wall_bins pairs per wall. */
+  double *pool_sums;
+  size_t pool_sums_capacity; /* doubles allocated */
+  /* Per node and planar wall (node * wall_stride + wall): the smallest
+   * distance (m) from the wall to the domain of a point the node carries;
+   * the node may approach the wall by that much in a step (walls.c). */
+  double *wall_gap;
+  size_t wall_gap_capacity; /* doubles allocated */
+  /* Per node and planar wall (node * wall_count + wall): the smallest
+   * distance (m) from the wall to the centre of a point the node carries
+   * (wall_gaps.c); nodes the wall's tent does not reach may carry a point
+   * by at most that much toward the wall in a step (walls.c). */
+  double *wall_centre_gap;
+  size_t wall_centre_gap_capacity; /* doubles allocated */
+} gm_grid;
+
+/* Colour of a block for the parallel scatter: blocks of one colour are two
+ * apart along each axis, so their nodes (own block and +1 neighbours) never
+ * overlap and they can be scattered concurrently. */
+static inline int gm_block_colour(const gm_grid *grid, int64_t key) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  return (int)((key % blocks_x) & 1) | (int)(((key / blocks_x) & 1) << 1);
+}
+
+/* The four node indices (grid field arrays) of the cell at local (x, y)
+ * of the block with these links, order (0,0) (1,0) (0,1) (1,1). */
+static inline void gm_cell_nodes_2d(const uint32_t *links, int shift,
+                                    int64_t local_x, int64_t local_y,
+                                    size_t node[4]) {
+  int64_t edge = (int64_t)1 << shift, mask = edge - 1;
+  int64_t next_x = local_x + 1, next_y = local_y + 1;
+  int over_x = (int)(next_x >> shift), over_y = (int)(next_y >> shift);
+  next_x &= mask;
+  next_y &= mask;
+  node[0] =
+      (size_t)links[0] * GM_BLOCK_NODES + (size_t)(local_x + edge * local_y);
+  node[1] = (size_t)links[over_x] * GM_BLOCK_NODES +
+            (size_t)(next_x + edge * local_y);
+  node[2] = (size_t)links[2 * over_y] * GM_BLOCK_NODES +
+            (size_t)(local_x + edge * next_y);
+  node[3] = (size_t)links[over_x + 2 * over_y] * GM_BLOCK_NODES +
+            (size_t)(next_x + edge * next_y);
+}
+
+/* Block key of a position inside the grid (x, y: m; y ignored in 1D).
+ * Truncation is floor here: inside the grid the cell coordinates are >= 0.
+ * The arithmetic matches gm_shape_linear_axis, so the block agrees with
+ * the cell the shape functions use. */
+static inline int64_t gm_block_key_inside(const gm_grid *grid, double x,
+                                          double y, const double *origin,
+                                          double inv_cell) {
+  int64_t block_x = (int64_t)((x - origin[0]) * inv_cell) >> grid->shift;
+  if (grid->dim == 1)
+    return block_x;
+  int64_t block_y = (int64_t)((y - origin[1]) * inv_cell) >> grid->shift;
+  return block_y * grid->blocks_per_axis[0] + block_x;
+}
+
+/* Key of the block holding node (node_x, node_y) (node_y ignored in 1D). */
+static inline int64_t gm_block_key_of_node(const gm_grid *grid, int64_t node_x,
+                                           int64_t node_y) {
+  int64_t block_x = node_x >> grid->shift;
+  if (grid->dim == 1)
+    return block_x;
+  return (node_y >> grid->shift) * grid->blocks_per_axis[0] + block_x;
+}
+
+/* Keys of one node layer. The granular family keeps components that share
+ * nodes on separate layers: layer L holds keys L * stride + key, so its
+ * blocks are distinct from every other layer's (parallel grids, 000 sec
+ * 3.3) while the position of a node follows from key modulo stride. */
+static inline int64_t gm_grid_layer_stride(const gm_grid *grid) {
+  return grid->blocks_per_axis[0] *
+         (grid->dim == 1 ? 1 : grid->blocks_per_axis[1]);
+}
+
+/* Block coordinates (x, y) of a key, whatever its layer. */
+static inline void gm_block_coordinates(const gm_grid *grid, int64_t key,
+                                        int64_t block[2]) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  block[0] = key % blocks_x;
+  block[1] = grid->dim == 1 ? 0 : (key / blocks_x) % grid->blocks_per_axis[1];
+}
+
+/* Lowest node (x, y) of the block with this key. */
+static inline void gm_block_base(const gm_grid *grid, int64_t key,
+                                 int64_t base[2]) {
+  gm_block_coordinates(grid, key, base);
+  base[0] <<= grid->shift;
+  base[1] <<= grid->shift;
+}
+
+/* Grid field index of the node (x, y) nodes from the lower corner of the
+ * block with these links; x, y < 2 * edge (the block or its +x, +y, +x+y
+ * neighbours). The neighbour must exist. */
+static inline size_t gm_block_node(const uint32_t *links, int shift, int64_t x,
+                                   int64_t y) {
+  int64_t mask = ((int64_t)1 << shift) - 1;
+  int neighbour = (int)(x >> shift) + 2 * (int)(y >> shift);
+  return (size_t)links[neighbour] * GM_BLOCK_NODES +
+         (size_t)((x & mask) + ((y & mask) << shift));
+}
+
+/* Block index of key this step, or GM_NO_BLOCK. */
+uint32_t gm_grid_find(const gm_grid *grid, int64_t key);
+
+#endif

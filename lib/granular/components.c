@@ -1,0 +1,431 @@
+/*
+ * components.c - parallel grids of the granular method (000 sec 3.3-3.4,
+ * Tables A1-A3), run after the plain binning of each step:
+ *
+ *  1. each point's support (the node box it sends data to) and domain of
+ *     interaction (interaction.h);
+ *  2. the pre-task: candidate pairs are the points whose supports share a
+ *     node, found in O(N) from cell buckets (pair_search.c);
+ *  3. task 1: a candidate pair interacts if its domains of interaction
+ *     overlap (both granular), if the granular point's domain of
+ *     interaction overlaps the other point's own domain (one granular), or
+ *     always (neither granular: plain MPM between them);
+ *  4. task 2: connected components of the interaction graph by union-find,
+ *     labelled in order of their smallest point id (deterministic);
+ *  5. every component must behave as if alone on its grid. Components that
+ *     share no node cannot affect each other on one grid, so only the
+ *     components that do share a node are kept apart: a greedy colouring
+ *     (in label order) gives each a node layer (layers.c), and the points
+ *     are re-keyed into their layer's blocks (core/block_grid.h) and binned
+ *     again by the step (step/step.c).
+ *     With one component, or none sharing nodes, nothing is re-binned.
+ *
+ * Most steps change few connections. The spanning forest of the last
+ * search is kept: its edges that still interact join sets that each lie
+ * inside one component, and every edge between two sets has an end outside
+ * the largest one, so only those points search (with full windows). More
+ * than half the points outside it, or points reordered, added or removed,
+ * mean a full search.
+ * When the kept forest spans all points and every edge holds, there is one
+ * component and the union-find is skipped: only the edges are checked, in
+ * parallel (a connected flow, the common case).
+ */
+#include "granular/granular.h"
+
+#include "granular/pair_rules.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Support box and domain of interaction of one point in the general way
+ * (any variant; used for CPDI). */
+static void general_geometry(gm_domain *domain, size_t p,
+                             const gm_point_domain *point, double measure) {
+  gm_granular_work *work = &domain->granular;
+  int64_t low[2], high[2];
+  /* Cannot fail: the binning checked the same support. */
+  gm_support_bounds(&domain->shape_grid, point, low, high);
+  for (int k = 0; k < 2; k++) {
+    work->support_low[k][p] = low[k];
+    work->support_high[k][p] = high[k];
+  }
+  gm_interaction_domain *interaction = &work->interaction[p];
+  gm_interaction_domain_of(domain->shape_grid.shape, domain->dim, point,
+                           measure, interaction);
+}
+
+/* The same for the rectangle variants, directly: the support as in
+ * gm_support_bounds, the box half edges scaled to `measure`. */
+static void rectangle_geometry(gm_domain *domain, size_t p,
+                               const gm_point_domain *point, double measure) {
+  gm_granular_work *work = &domain->granular;
+  const gm_shape_grid *grid = &domain->shape_grid;
+  int dim = domain->dim;
+  double half[2] = {0.0, 0.0}; /* m, current half edges */
+  for (int k = 0; k < dim; k++) {
+    half[k] = point->half_size[k];
+    if (grid->shape == GM_SHAPE_CPGIMP)
+      half[k] *= fabs(point->deformation[3 * k]);
+    double s = (point->position[k] - grid->origin[k]) * grid->inv_cell;
+    int span = 2;
+    int64_t low;
+    if (grid->shape == GM_SHAPE_LINEAR) {
+      low = (int64_t)s; /* s >= 0 inside the grid */
+    } else if (grid->shape == GM_SHAPE_BSPLINE2) {
+      low = gm_bspline2_lowest(s);
+      span = 3;
+    } else if (grid->shape == GM_SHAPE_BSPLINE3) {
+      low = gm_bspline3_lowest(s);
+      span = 4;
+    } else {
+      low = gm_gimp_axis_bounds(s, half[k] * grid->inv_cell, &span);
+    }
+    work->support_low[k][p] = low;
+    work->support_high[k][p] = low + span - 1;
+  }
+  /* Constant: linear MPM, uGIMP and the B-splines (whose domain is the
+   * initial rectangle, as uGIMP's). */
+  if (work->boxes_valid)
+    return;
+  double scale = 1.0;
+  double current = dim == 1 ? 2.0 * half[0] : 4.0 * half[0] * half[1];
+  if (measure > 0.0 && current > 0.0) /* concentric and proportional */
+    scale = dim == 1 ? measure / current : sqrt(measure / current);
+  for (int k = 0; k < 2; k++)
+    work->box_half[k][p] = half[k] * scale;
+}
+
+/* Support box and domain of interaction of every point (committed state). */
+static void point_geometry(void *context, size_t begin, size_t end,
+                           int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_points *points = &domain->points;
+  gm_granular_work *work = &domain->granular;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  int dim = domain->dim;
+  const double *const position[2] = {current->position[0],
+                                     current->position[dim > 1 ? 1 : 0]};
+  const double *deformation[4];
+  gm_support_tensor(domain, current, deformation);
+  const double *const size[2] = {points->domain_size[0],
+                                 points->domain_size[dim > 1 ? 1 : 0]};
+  bool parallelograms = domain->shape_grid.shape == GM_SHAPE_CPDI;
+  for (size_t p = begin; p < end; p++) {
+    gm_point_domain point;
+    gm_load_point_domain(dim, position, deformation, size, p, &point);
+    const gm_material *material = &domain->materials[points->material[p]];
+    double measure = 0.0; /* non-granular: its own domain */
+    if (material->granular && !work->boxes_valid) {
+      /* The initial domain's area (length in 1D) scaled to V_cr:
+       * A0 V_cr / V0 = A0 (m / V0) / rho_cr (000 sec 3.3, Table A2). */
+      double initial = size[0][p] * (dim > 1 ? size[1][p] : 1.0);
+      measure = initial * points->mass[p] / points->initial_volume[p] /
+                material->critical_density;
+    }
+    work->granular[p] = material->granular;
+    if (parallelograms)
+      general_geometry(domain, p, &point, measure);
+    else
+      rectangle_geometry(domain, p, &point, measure);
+  }
+}
+
+/* The geometry of linear MPM once the interaction boxes are cached: only
+ * the supports move, the cell of the point and the next node per axis. */
+static void linear_supports(void *context, size_t begin, size_t end,
+                            int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  const gm_points *points = &domain->points;
+  gm_granular_work *work = &domain->granular;
+  const gm_shape_grid *grid = &domain->shape_grid;
+  for (int k = 0; k < domain->dim; k++) {
+    const double *position = points->buffer[points->cur].position[k];
+    int64_t *low = work->support_low[k], *high = work->support_high[k];
+    double origin = grid->origin[k], inv_cell = grid->inv_cell; /* m, 1/m */
+    for (size_t p = begin; p < end; p++) {
+      low[p] = (int64_t)((position[p] - origin) * inv_cell); /* >= 0 */
+      high[p] = low[p] + 1;
+    }
+  }
+  for (size_t p = begin; p < end; p++)
+    work->granular[p] = domain->materials[points->material[p]].granular;
+}
+
+void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch) {
+  gm_granular_work *work = &domain->granular;
+  if (!work->forest_valid)
+    return;
+  const gm_points *points = &domain->points;
+  size_t count = points->count;
+  for (size_t k = 0; k < count; k++) /* old index -> new index */
+    scratch[points->order[k]] = (uint32_t)k;
+  for (size_t e = 0; e < work->forest_count; e++) {
+    uint32_t p = scratch[work->forest[e] >> 32];
+    uint32_t q = scratch[work->forest[e] & 0xffffffffu];
+    work->forest[e] = (uint64_t)p << 32 | q;
+  }
+  /* The renamed edges, counting-sorted by their first end so that the
+   * next steps' checks walk the point arrays in order (the reordering put
+   * neighbours next to each other). Union-find scratch is free here: the
+   * parent array counts, min_id holds the sorted edges; both are sized at
+   * the last granular step, so points added since skip the sort (it only
+   * saves time). */
+  if (work->capacity < count)
+    return;
+  uint32_t *start = work->parent;
+  uint64_t *sorted = (uint64_t *)work->min_id; /* forest_count < count */
+  memset(start, 0, count * sizeof(uint32_t));
+  for (size_t e = 0; e < work->forest_count; e++)
+    start[work->forest[e] >> 32]++;
+  uint32_t offset = 0;
+  for (size_t p = 0; p < count; p++) {
+    uint32_t edges = start[p];
+    start[p] = offset;
+    offset += edges;
+  }
+  for (size_t e = 0; e < work->forest_count; e++)
+    sorted[start[work->forest[e] >> 32]++] = work->forest[e];
+  memcpy(work->forest, sorted, work->forest_count * sizeof(uint64_t));
+}
+
+/* The widest support of the step, in nodes per axis (2 for linear MPM,
+ * whose support is always the cell's nodes). */
+static void widest_support(const gm_domain *domain, int max_span[2]) {
+  const gm_granular_work *work = &domain->granular;
+  max_span[0] = max_span[1] =
+      domain->shape_grid.shape == GM_SHAPE_LINEAR ? 2 : 1;
+  if (max_span[0] == 2)
+    return;
+  for (size_t p = 0; p < domain->points.count; p++)
+    for (int k = 0; k < domain->dim; k++) {
+      int span = (int)(work->support_high[k][p] - work->support_low[k][p] + 1);
+      max_span[k] = span > max_span[k] ? span : max_span[k];
+    }
+}
+
+/* Forest edges per task of the parallel check below. */
+#define FOREST_CHUNK 4096
+
+/* Do p and q, the ends of a kept forest edge, still interact? */
+static bool edge_holds(const gm_domain *domain, uint64_t edge) {
+  uint32_t p = (uint32_t)(edge >> 32), q = (uint32_t)(edge & 0xffffffffu);
+  return gm_supports_share_node(&domain->granular, domain->dim, p, q) &&
+         gm_pair_interacts(domain, p, q);
+}
+
+/* Flags (in work->visit, one per chunk of FOREST_CHUNK edges) the chunks
+ * holding an edge that no longer holds. */
+static void check_forest_chunks(void *context, size_t begin, size_t end,
+                                int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_granular_work *work = &domain->granular;
+  for (size_t c = begin; c < end; c++) {
+    size_t first = c * FOREST_CHUNK, last = first + FOREST_CHUNK;
+    last = last < work->forest_count ? last : work->forest_count;
+    uint8_t broken = 0;
+    for (size_t e = first; e < last && !broken; e++)
+      broken = !edge_holds(domain, work->forest[e]);
+    work->visit[c] = broken;
+  }
+}
+
+/* Checks the kept forest's edges, in parallel (they are independent);
+ * true if it is valid and every edge holds. The chunk flags stay in
+ * work->visit for rejoin_forest. */
+static bool check_forest(gm_domain *domain) {
+  gm_granular_work *work = &domain->granular;
+  if (!work->forest_valid)
+    return false;
+  size_t chunks = (work->forest_count + FOREST_CHUNK - 1) / FOREST_CHUNK;
+  gm_parallel_for(&domain->pool, chunks, check_forest_chunks, domain);
+  bool all_hold = true;
+  for (size_t c = 0; c < chunks; c++)
+    all_hold = all_hold && !work->visit[c];
+  return all_hold;
+}
+
+/* Re-joins the kept forest's edges that still hold (checked again only in
+ * the chunks check_forest flagged) and drops the others: each set is then
+ * connected by interacting pairs, a part of one component. */
+static void rejoin_forest(gm_domain *domain) {
+  gm_granular_work *work = &domain->granular;
+  size_t kept = 0;
+  for (size_t e = 0; e < work->forest_count; e++) {
+    if (work->visit[e / FOREST_CHUNK] && !edge_holds(domain, work->forest[e]))
+      continue;
+    uint32_t p = (uint32_t)(work->forest[e] >> 32);
+    uint32_t q = (uint32_t)(work->forest[e] & 0xffffffffu);
+    gm_union_find_join(work->parent, work->set_size, p, q);
+    work->forest[kept++] = work->forest[e];
+  }
+  work->forest_count = kept;
+}
+
+/* Marks the points outside the largest set (lowest root index on ties);
+ * returns how many there are. */
+static size_t mark_outside_largest(gm_domain *domain) {
+  gm_granular_work *work = &domain->granular;
+  size_t count = domain->points.count;
+  uint32_t largest = gm_union_find_root(work->parent, 0);
+  for (size_t p = 0; p < count; p++)
+    if (work->parent[p] == p && work->set_size[p] > work->set_size[largest])
+      largest = (uint32_t)p; /* roots hold their set's size */
+  size_t outside = 0;
+  for (size_t p = 0; p < count; p++) {
+    work->visit[p] = gm_union_find_root(work->parent, (uint32_t)p) != largest;
+    outside += work->visit[p];
+  }
+  return outside;
+}
+
+/* Task 1 and the union-find: the sets of interacting points, and the
+ * forest that produced them. */
+static gm_status join_interacting(gm_domain *domain, const int max_span[2]) {
+  gm_granular_work *work = &domain->granular;
+  size_t count = domain->points.count;
+  work->conflict_count = 0; /* the candidates of this search */
+  gm_union_find_init(work->parent, work->set_size, count);
+  work->summary.forest_reused = 0;
+  if (work->forest_valid) {
+    rejoin_forest(domain);
+    /* A point searching for the kept sets takes full windows, twice the
+     * half windows of the full search: past half the points, start over. */
+    if (mark_outside_largest(domain) <= count / 2) {
+      work->summary.forest_reused = 1;
+      return gm_pair_search(domain, max_span, GM_PASS_JOIN, work->visit);
+    }
+  }
+  gm_union_find_init(work->parent, work->set_size, count);
+  work->forest_count = 0;
+  return gm_pair_search(domain, max_span, GM_PASS_JOIN, NULL);
+}
+
+/* Turns the candidates of a subset search (point pairs sharing a node that
+ * did not interact) into the pairs of different components, by label.
+ * Every pair of components sharing a node is among them: the search met it
+ * from at least one end (with full windows from every point outside the
+ * largest kept set, and a pair of two components has an end outside that
+ * set), and it was not joined. */
+static void keep_conflicts(gm_domain *domain) {
+  gm_granular_work *work = &domain->granular;
+  size_t kept = 0;
+  for (size_t i = 0; i < work->conflict_count; i++) {
+    int32_t a = work->label[work->conflict[i] >> 32];
+    int32_t b = work->label[work->conflict[i] & 0xffffffffu];
+    if (a == b)
+      continue;
+    uint32_t low = (uint32_t)(a < b ? a : b), high = (uint32_t)(a < b ? b : a);
+    work->conflict[kept++] = (uint64_t)low << 32 | high;
+  }
+  work->conflict_count = kept;
+}
+
+/* Labels by smallest id: through the id map when it is not much longer
+ * than the point list (no sort), else by sorting the roots (after sinks
+ * removed many points, the map is mostly holes). */
+static size_t label_components(gm_domain *domain) {
+  gm_granular_work *work = &domain->granular;
+  const gm_points *points = &domain->points;
+  size_t count = points->count, id_count = (size_t)points->next_id;
+  if (id_count <= 4 * count)
+    return gm_union_find_labels_by_id(work->parent, points->index_of_id,
+                                      id_count, GM_REMOVED_POINT, count,
+                                      work->label, work->component_layer);
+  return gm_union_find_labels(work->parent, points->id, count, work->label,
+                              work->min_id, work->roots);
+}
+
+gm_status gm_granular_prepare(gm_domain *domain) {
+  gm_status status = gm_granular_reserve(domain);
+  if (status != GM_OK)
+    return status;
+  gm_points *points = &domain->points;
+  gm_granular_work *work = &domain->granular;
+  size_t count = points->count;
+  double start = gm_monotonic_seconds();
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  for (int k = 0; k < 2; k++) /* box centres are the points' positions */
+    work->box_centre[k] = current->position[k < domain->dim ? k : 0];
+  gm_shape shape = domain->shape_grid.shape;
+  gm_parallel_for(&domain->pool, count,
+                  shape == GM_SHAPE_LINEAR && work->boxes_valid
+                      ? linear_supports
+                      : point_geometry,
+                  domain);
+  work->boxes_valid = shape == GM_SHAPE_LINEAR || shape == GM_SHAPE_UGIMP ||
+                      gm_shape_is_bspline(shape);
+  work->cells_sorted = false; /* sorted on the first search (pair_search.c) */
+  int max_span[2];
+  widest_support(domain, max_span);
+  double geometry_done = gm_monotonic_seconds();
+  size_t components = 1;
+  double search_done = 0.0, labels_done = 0.0; /* s */
+  /* A kept spanning tree of all points whose edges all hold: one
+   * component, whatever other pairs interact, and neither union-find nor
+   * a search is needed (a connected flow, the common case). */
+  bool one_component = check_forest(domain) && work->forest_count + 1 == count;
+  if (one_component) {
+    work->summary.forest_reused = 1;
+  } else {
+    status = join_interacting(domain, max_span);
+    work->forest_valid = status == GM_OK;
+    if (status != GM_OK)
+      return status;
+    one_component =
+        count > 0 &&
+        work->set_size[gm_union_find_root(work->parent, 0)] == count;
+  }
+  search_done = gm_monotonic_seconds();
+  if (one_component) {
+    memset(work->label, 0, count * sizeof(int32_t));
+    work->component_size[0] = (uint32_t)count;
+  } else {
+    components = label_components(domain);
+    memset(work->component_size, 0, components * sizeof(uint32_t));
+    for (size_t p = 0; p < count; p++)
+      work->component_size[work->label[p]]++;
+  }
+  labels_done = gm_monotonic_seconds();
+  size_t layers = 1;
+  memset(work->component_layer, 0, components * sizeof(int32_t));
+  if (components > 1) {
+    /* A subset search collected the candidates as it went; after a full
+     * one (rare: the first step, or too many broken pairs) a second pass
+     * finds the conflicts, which spares recording every non-interacting
+     * pair of the early, fragmented union-find (~15 per point). */
+    if (work->summary.forest_reused) {
+      keep_conflicts(domain);
+    } else {
+      work->conflict_count = 0;
+      status = gm_pair_search(domain, max_span, GM_PASS_CONFLICTS, NULL);
+    }
+    if (status == GM_OK)
+      status = gm_assign_layers(domain, components, &layers);
+    if (status != GM_OK)
+      return status;
+  }
+  double *label_out = points->buffer[points->cur ^ 1].component;
+  if (components == 1) /* all-bits-zero is 0.0 in IEEE 754 */
+    memset(label_out, 0, count * sizeof(double));
+  else
+    for (size_t p = 0; p < count; p++)
+      label_out[p] = (double)work->label[p];
+  if (layers > 1) {
+    int64_t stride = gm_grid_layer_stride(&domain->grid);
+    for (size_t p = 0; p < count; p++)
+      points->block_key[p] +=
+          (int64_t)work->component_layer[work->label[p]] * stride;
+    points->keys_valid = true; /* the step bins them again (step.c) */
+  }
+  double end = gm_monotonic_seconds();
+  work->summary.component_count = components;
+  work->summary.layer_count = layers;
+  work->summary.geometry_seconds = geometry_done - start;
+  work->summary.pair_search_seconds = search_done - geometry_done;
+  work->summary.label_seconds = labels_done - search_done;
+  work->summary.layer_seconds = end - labels_done;
+  return status;
+}

@@ -1,0 +1,96 @@
+/*
+ * density_control.c - what the stress_free and granular families do to a
+ * point after its stress update (000 sec 3.2), chunk by chunk inside the
+ * G2P pass that deforms the points:
+ *  - stress_free: a granular point below its critical density carries no
+ *    stress (Dunatunga & Kamrin); its F evolves freely.
+ *  - granular, disconnected (alone on its parallel grid): stress-free, and
+ *    F and the volume stay those of the previous step (density frozen).
+ *  - granular, connected, rho < rho_cr - TOL: stress 0 (eq 13), F back to
+ *    the previous step's (eq 14) or scaled to V = V_cr (eq 18), and
+ *    V = det F V0 (eq 15). The point is then in the moderate state.
+ * With CPDI the domain map D (cpdi_reset.c) follows F in each case.
+ * The result is written to the step's new buffer, with each point's state.
+ */
+#include "granular/granular.h"
+
+#include <math.h>
+
+/* sigma = 0 (eq 13). */
+static void clear_stress(gm_point_buffers *to, size_t p) {
+  for (int k = 0; k < GM_STRESS_STORED; k++)
+    to->stress[k][p] = 0.0;
+}
+
+/* F and V of the previous step (eq 14 with the exact inverse). */
+static void keep_previous_deformation(const gm_point_buffers *from,
+                                      gm_point_buffers *to, size_t p) {
+  for (int k = 0; k < GM_F_STORED; k++)
+    if (to->deformation[k])
+      to->deformation[k][p] = from->deformation[k][p];
+  for (int k = 0; k < 4; k++) /* CPDI: the domain goes back with F */
+    if (to->domain_map[k])
+      to->domain_map[k][p] = from->domain_map[k][p];
+  to->volume[p] = from->volume[p];
+}
+
+/* Eq 18: F <- (V_cr / V)^(1/d) F, d the dimension F acts in (3 in
+ * axisymmetry, where the hoop stretch is part of det F); then eq 15. */
+static void scale_to_critical(const gm_domain *domain, gm_point_buffers *to,
+                              size_t p, double critical_volume) {
+  const gm_points *points = &domain->points;
+  int dimension = domain->axisymmetric ? 3 : domain->dim;
+  double factor = pow(critical_volume / to->volume[p], 1.0 / dimension);
+  int components = domain->dim == 1 ? 1 : 4;
+  for (int k = 0; k < components; k++) {
+    to->deformation[k][p] *= factor;
+    if (to->domain_map[k]) /* CPDI: the domain scales with F */
+      to->domain_map[k][p] *= factor;
+  }
+  double jacobian = to->deformation[F_XX][p] * to->deformation[F_YY][p] -
+                    to->deformation[F_XY][p] * to->deformation[F_YX][p];
+  if (domain->axisymmetric) {
+    to->deformation[F_ZZ][p] *= factor;
+    jacobian *= to->deformation[F_ZZ][p];
+  }
+  to->volume[p] = jacobian * points->initial_volume[p];
+}
+
+void gm_density_control_chunk(gm_domain *domain, size_t first, size_t count) {
+  gm_family family = domain->def.family;
+  if (family == GM_FAMILY_PLAIN)
+    return;
+  gm_points *points = &domain->points;
+  const gm_point_buffers *from = &points->buffer[points->cur];
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const gm_granular_work *work = &domain->granular;
+  bool granular_family = family == GM_FAMILY_GRANULAR;
+  for (size_t p = first; p < first + count; p++) {
+    const gm_material *material = &domain->materials[points->material[p]];
+    bool disconnected =
+        granular_family && work->component_size[work->label[p]] == 1;
+    int state = disconnected ? GM_STATE_DISCONNECTED : GM_STATE_QUASI_STATIC;
+    if (material->granular) {
+      double critical = material->critical_density; /* kg/m^3 */
+      double density = points->mass[p] / to->volume[p];
+      if (!granular_family) {
+        if (density < critical)
+          clear_stress(to, p);
+      } else if (disconnected) {
+        clear_stress(to, p);
+        keep_previous_deformation(from, to, p);
+      } else if (density < critical - material->tolerance) {
+        clear_stress(to, p);
+        if (material->density_control == GM_DENSITY_CONTROL_RETURN)
+          keep_previous_deformation(from, to, p);
+        else
+          scale_to_critical(domain, to, p, points->mass[p] / critical);
+        state = GM_STATE_MODERATE;
+      } else if (fabs(density - critical) <= material->tolerance) {
+        state = GM_STATE_MODERATE;
+      }
+    }
+    if (to->granular_state)
+      to->granular_state[p] = state;
+  }
+}

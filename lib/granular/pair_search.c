@@ -1,0 +1,186 @@
+/*
+ * pair_search.c - the pre-task and task 1 of the granular method (000 sec
+ * 3.4, Tables A1-A2): the pairs of points whose supports share a grid node,
+ * and which of them interact.
+ *
+ * Points are bucketed by block (the plain binning) and, inside a block, by
+ * the cell of their support's lowest node. A partner q of p shares a node
+ * only if q's lowest node lies within [low_p - span + 1, high_p] per axis,
+ * span being the widest support of the step, so p looks at those few cells
+ * only: O(N), never all pairs. Interaction rules are at the top of
+ * components.c.
+ */
+#include "granular/granular.h"
+
+#include "granular/pair_rules.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Number of local cells of a block (64 in 1D and 2D). */
+#define BLOCK_CELLS GM_BLOCK_NODES
+
+/* Groups each block's points by the local cell of their support's lowest
+ * node (a counting sort per block). */
+static void sort_block_cells(void *context, size_t begin, size_t end,
+                             int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_grid *grid = &domain->grid;
+  gm_points *points = &domain->points;
+  gm_granular_work *work = &domain->granular;
+  int shift = grid->shift;
+  int64_t mask = ((int64_t)1 << shift) - 1;
+  for (size_t b = begin; b < end; b++) {
+    uint32_t *start = work->cell_start + b * (BLOCK_CELLS + 1);
+    memset(start, 0, (BLOCK_CELLS + 1) * sizeof(uint32_t));
+    uint32_t first = grid->point_start[b], last = grid->point_start[b + 1];
+    for (uint32_t k = first; k < last; k++) {
+      uint32_t p = points->order[k];
+      int64_t cell = (work->support_low[0][p] & mask) +
+                     ((work->support_low[1][p] & mask) << shift);
+      start[cell + 1]++;
+    }
+    start[0] = first;
+    for (int c = 0; c < BLOCK_CELLS; c++)
+      start[c + 1] += start[c];
+    uint32_t fill[BLOCK_CELLS];
+    memcpy(fill, start, sizeof fill);
+    for (uint32_t k = first; k < last; k++) {
+      uint32_t p = points->order[k];
+      int64_t cell = (work->support_low[0][p] & mask) +
+                     ((work->support_low[1][p] & mask) << shift);
+      work->cell_order[fill[cell]++] = p;
+    }
+  }
+}
+
+/* Each pair sharing a node lies in both points' candidate windows, so it
+ * is visited only from its first point in (lowest node y, x, index) order. */
+static bool later_in_raster(const gm_granular_work *work, uint32_t p,
+                            uint32_t q) {
+  int64_t py = work->support_low[1][p], qy = work->support_low[1][q];
+  if (py != qy)
+    return qy > py;
+  int64_t px = work->support_low[0][p], qx = work->support_low[0][q];
+  return qx != px ? qx > px : q > p;
+}
+
+/* Appends a b to work->conflict: two points that share a node but did not
+ * interact (JOIN pass of a subset search: components.c keeps those of
+ * different components), or two components that share a node (CONFLICTS
+ * pass, as low << 32 | high). */
+static gm_status add_pair(gm_domain *domain, uint32_t a, uint32_t b) {
+  gm_granular_work *work = &domain->granular;
+  if (work->conflict_count == work->conflict_capacity) {
+    size_t capacity =
+        work->conflict_capacity ? 2 * work->conflict_capacity : 1024;
+    if (!gm_grow((void **)&work->conflict, sizeof(uint64_t),
+                 work->conflict_capacity, capacity))
+      return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                          "granular: out of memory for grid conflicts");
+    work->conflict_capacity = capacity;
+  }
+  work->conflict[work->conflict_count++] = (uint64_t)a << 32 | b;
+  return GM_OK;
+}
+
+/* One pair sharing a node. JOIN: nothing if the two are already joined
+ * through others; joined if they interact; else, in a subset search, a
+ * candidate conflict. CONFLICTS: the pair of their components if those
+ * differ. */
+static gm_status handle_pair(gm_domain *domain, gm_pair_pass pass, uint32_t p,
+                             uint32_t q, uint32_t *root_p, bool subset) {
+  gm_granular_work *work = &domain->granular;
+  if (pass == GM_PASS_CONFLICTS) {
+    int32_t a = work->label[p], b = work->label[q];
+    return a == b ? GM_OK
+                  : add_pair(domain, (uint32_t)(a < b ? a : b),
+                             (uint32_t)(a < b ? b : a));
+  }
+  if (*root_p == gm_union_find_root(work->parent, q))
+    return GM_OK;
+  if (!gm_pair_interacts(domain, p, q))
+    return subset ? add_pair(domain, p, q) : GM_OK;
+  gm_union_find_join(work->parent, work->set_size, *root_p, q);
+  *root_p = gm_union_find_root(work->parent, p);
+  work->forest[work->forest_count++] = (uint64_t)p << 32 | q;
+  return GM_OK;
+}
+
+/* The partners of p among the points of one block whose lowest node lies
+ * in the window [from, to] (node indices per axis). */
+static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
+                             uint32_t *root_p, bool half, uint32_t block,
+                             const int64_t base[2], const int64_t from[2],
+                             const int64_t to[2]) {
+  gm_granular_work *work = &domain->granular;
+  int dim = domain->dim, shift = domain->grid.shift;
+  int64_t last = ((int64_t)1 << shift) - 1; /* local index of a block edge */
+  const uint32_t *start = work->cell_start + block * (BLOCK_CELLS + 1);
+  int64_t low[2] = {0, 0}, high[2] = {0, 0};
+  for (int k = 0; k < dim; k++) {
+    low[k] = from[k] > base[k] ? from[k] - base[k] : 0;
+    high[k] = to[k] - base[k] < last ? to[k] - base[k] : last;
+  }
+  for (int64_t y = low[1]; y <= high[1]; y++) {
+    for (int64_t x = low[0]; x <= high[0]; x++) {
+      int64_t cell = x + (y << shift);
+      for (uint32_t k = start[cell]; k < start[cell + 1]; k++) {
+        uint32_t q = work->cell_order[k];
+        if ((half && !later_in_raster(work, p, q)) || q == p ||
+            !gm_supports_share_node(work, dim, p, q))
+          continue;
+        gm_status status = handle_pair(domain, pass, p, q, root_p, !half);
+        if (status != GM_OK)
+          return status;
+      }
+    }
+  }
+  return GM_OK;
+}
+
+gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
+                         gm_pair_pass pass, const uint8_t *subset) {
+  gm_grid *grid = &domain->grid;
+  gm_granular_work *work = &domain->granular;
+  int dim = domain->dim, shift = grid->shift;
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  bool half = subset == NULL; /* every pair from its first point only */
+  for (size_t p = 0; p < domain->points.count; p++) {
+    if (subset && !subset[p])
+      continue;
+    if (!work->cells_sorted) { /* only when some point searches */
+      gm_parallel_for(&domain->pool, grid->block_count, sort_block_cells,
+                      domain);
+      work->cells_sorted = true;
+    }
+    /* A partner's lowest node lies in [low - span + 1, high] per axis;
+     * with half windows, rows below p's hold no partner later in raster
+     * order. */
+    int64_t from[2] = {0, 0}, to[2] = {0, 0};
+    for (int k = 0; k < dim; k++) {
+      from[k] = work->support_low[k][p] - max_span[k] + 1;
+      from[k] = from[k] < 0 ? 0 : from[k];
+      to[k] = work->support_high[k][p];
+    }
+    if (half && dim > 1)
+      from[1] = work->support_low[1][p];
+    uint32_t root_p = gm_union_find_root(work->parent, (uint32_t)p);
+    for (int64_t by = from[1] >> shift; by <= to[1] >> shift; by++) {
+      for (int64_t bx = from[0] >> shift; bx <= to[0] >> shift; bx++) {
+        if (bx >= blocks_x || (dim > 1 && by >= grid->blocks_per_axis[1]))
+          continue;
+        uint32_t block = gm_grid_find(grid, by * blocks_x + bx);
+        if (block == GM_NO_BLOCK)
+          continue;
+        int64_t base[2] = {bx << shift, dim > 1 ? by << shift : 0};
+        gm_status status = visit_block(domain, pass, (uint32_t)p, &root_p, half,
+                                       block, base, from, to);
+        if (status != GM_OK)
+          return status;
+      }
+    }
+  }
+  return GM_OK;
+}

@@ -1,0 +1,212 @@
+/*
+ * bins.c - grouping points by grid block (a counting sort of indices, every
+ * step) and the periodic physical reordering of the point arrays so that
+ * memory order follows the grid (cache-friendly scatter and gather).
+ */
+#include "grid/grid.h"
+
+#include <string.h>
+
+static size_t chunk_begin(size_t count, size_t chunk) {
+  return count * chunk / GM_BIN_CHUNKS;
+}
+
+/* Block of every point of the chunks, and per-chunk counts per block. */
+static void locate_chunks(void *context, size_t begin, size_t end, int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_grid *grid = &domain->grid;
+  gm_points *points = &domain->points;
+  const int64_t *point_key = points->block_key;
+  for (size_t chunk = begin; chunk < end; chunk++) {
+    uint32_t *counts = grid->chunk_counts;
+    for (size_t b = 0; b < grid->block_count; b++)
+      counts[b * GM_BIN_CHUNKS + chunk] = 0;
+    int64_t cached_key = -1;
+    uint32_t cached_block = GM_NO_BLOCK;
+    size_t last = chunk_begin(points->count, chunk + 1);
+    for (size_t i = chunk_begin(points->count, chunk); i < last; i++) {
+      if (point_key[i] != cached_key) {
+        cached_key = point_key[i];
+        cached_block = gm_grid_find(grid, cached_key);
+      }
+      points->point_block[i] = cached_block;
+      counts[(size_t)cached_block * GM_BIN_CHUNKS + chunk]++;
+    }
+  }
+}
+
+/* Writes each chunk's points into its slots of order[]. */
+static void scatter_chunks(void *context, size_t begin, size_t end,
+                           int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_points *points = &domain->points;
+  uint32_t *counts = domain->grid.chunk_counts;
+  for (size_t chunk = begin; chunk < end; chunk++) {
+    size_t last = chunk_begin(points->count, chunk + 1);
+    for (size_t i = chunk_begin(points->count, chunk); i < last; i++) {
+      size_t slot = (size_t)points->point_block[i] * GM_BIN_CHUNKS + chunk;
+      points->order[counts[slot]++] = (uint32_t)i;
+    }
+  }
+}
+
+/* Block key of every committed point (all inside the grid: positions and
+ * domains are validated when added and when moved). Needed only when the
+ * keys the last move pass wrote are stale (after adding points, a failed
+ * step or a reordering). Linear MPM keys by the point's cell, the wider
+ * supports by their lowest node (support.h). */
+static void key_ranges(void *context, size_t begin, size_t end, int worker) {
+  gm_domain *domain = context;
+  gm_points *points = &domain->points;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  int dim = domain->dim;
+  const double *const position[2] = {current->position[0],
+                                     current->position[dim > 1 ? 1 : 0]};
+  const double *origin = domain->shape_grid.origin;
+  if (domain->shape_grid.shape == GM_SHAPE_LINEAR) {
+    for (size_t i = begin; i < end; i++)
+      points->block_key[i] =
+          gm_block_key_inside(&domain->grid, position[0][i], position[1][i],
+                              origin, domain->inv_cell);
+    return;
+  }
+  const double *deformation[4];
+  gm_support_tensor(domain, current, deformation);
+  const double *const size[2] = {points->domain_size[0],
+                                 points->domain_size[dim > 1 ? 1 : 0]};
+  for (size_t i = begin; i < end; i++) {
+    int64_t lowest[2], highest[2];
+    if (gm_wide_support_bounds(&domain->shape_grid, dim, position, deformation,
+                               size, i, lowest, highest)) {
+      points->block_key[i] =
+          gm_block_key_of_node(&domain->grid, lowest[0], lowest[1]);
+      continue;
+    }
+    points->block_key[i] = 0; /* never used: the step fails */
+    gm_worker_error(&domain->scratch[worker], GM_ERR_OUT_OF_GRID, i,
+                    "step: the domain of point id %lld reaches past the "
+                    "ghost cell layer around the grid box",
+                    (long long)points->id[i]);
+  }
+}
+
+gm_status gm_bin_points(gm_domain *domain) {
+  if (!domain->points.keys_valid) {
+    gm_parallel_for(&domain->pool, domain->points.count, key_ranges, domain);
+    gm_status keys = gm_collect_worker_errors(domain);
+    if (keys != GM_OK)
+      return keys;
+  }
+  domain->points.keys_valid = false; /* until this step's move pass ends */
+  gm_status status = gm_grid_build(domain);
+  if (status == GM_OK)
+    status = gm_walls_reserve(domain);
+  if (status == GM_OK)
+    status = gm_rigid_reserve(domain);
+  if (status != GM_OK)
+    return status;
+  gm_grid *grid = &domain->grid;
+  gm_parallel_for(&domain->pool, GM_BIN_CHUNKS, locate_chunks, domain);
+  /* Exclusive prefix over (block, chunk): points keep index order inside
+   * a block whatever the worker count. */
+  uint32_t running = 0;
+  for (size_t b = 0; b < grid->block_count; b++) {
+    grid->point_start[b] = running;
+    uint32_t *counts = grid->chunk_counts + b * GM_BIN_CHUNKS;
+    for (size_t chunk = 0; chunk < GM_BIN_CHUNKS; chunk++) {
+      uint32_t in_chunk = counts[chunk];
+      counts[chunk] = running;
+      running += in_chunk;
+    }
+  }
+  grid->point_start[grid->block_count] = running;
+  gm_parallel_for(&domain->pool, GM_BIN_CHUNKS, scatter_chunks, domain);
+  return GM_OK;
+}
+
+/* ------------------------------------------------------------ reordering */
+
+static void permute_doubles(double *target, const double *source,
+                            const uint32_t *order, size_t begin, size_t end) {
+  for (size_t k = begin; k < end; k++)
+    target[k] = source[order[k]];
+}
+
+/* Permutes the committed double-buffered fields into the spare buffer. */
+static void permute_buffers(void *context, size_t begin, size_t end,
+                            int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_points *points = &domain->points;
+  const gm_point_buffers *from = &points->buffer[points->cur];
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const uint32_t *order = points->order;
+  for (int k = 0; k < domain->dim; k++) {
+    permute_doubles(to->position[k], from->position[k], order, begin, end);
+    permute_doubles(to->velocity[k], from->velocity[k], order, begin, end);
+  }
+  for (int k = 0; k < GM_STRESS_STORED; k++)
+    permute_doubles(to->stress[k], from->stress[k], order, begin, end);
+  for (int k = 0; k < GM_F_STORED; k++)
+    if (from->deformation[k])
+      permute_doubles(to->deformation[k], from->deformation[k], order, begin,
+                      end);
+  for (int k = 0; k < 4; k++)
+    if (from->domain_map[k])
+      permute_doubles(to->domain_map[k], from->domain_map[k], order, begin,
+                      end);
+  permute_doubles(to->volume, from->volume, order, begin, end);
+  if (from->granular_state) {
+    permute_doubles(to->granular_state, from->granular_state, order, begin,
+                    end);
+    permute_doubles(to->component, from->component, order, begin, end);
+  }
+  for (int k = 0; k < GM_AFFINE_STORED; k++)
+    if (from->affine[k])
+      permute_doubles(to->affine[k], from->affine[k], order, begin, end);
+  size_t stride = points->state_stride;
+  for (size_t i = begin; stride && i < end; i++)
+    memcpy(to->state + i * stride, from->state + (size_t)order[i] * stride,
+           stride * sizeof(double));
+}
+
+/* Permutes one single-buffered array through scratch (count doubles). */
+static void permute_in_place(gm_points *points, double *field,
+                             double *scratch) {
+  if (!field)
+    return;
+  permute_doubles(scratch, field, points->order, 0, points->count);
+  memcpy(field, scratch, points->count * sizeof(double));
+}
+
+void gm_reorder_points(gm_domain *domain) {
+  gm_points *points = &domain->points;
+  /* point_block is free until the next binning */
+  gm_granular_remap_forest(domain, points->point_block);
+  domain->granular.boxes_valid = false;
+  size_t count = points->count;
+  gm_parallel_for(&domain->pool, count, permute_buffers, domain);
+  points->cur ^= 1;
+  /* The buffer just released holds nothing needed: its volume array is
+   * the scratch for the single-buffered fields (8 bytes per point). */
+  double *scratch = points->buffer[points->cur ^ 1].volume;
+  permute_in_place(points, points->mass, scratch);
+  permute_in_place(points, points->initial_volume, scratch);
+  for (int k = 0; k < domain->dim; k++) {
+    permute_in_place(points, points->domain_size[k], scratch);
+    permute_in_place(points, points->external_force[k], scratch);
+  }
+  int64_t *id_scratch = (int64_t *)(void *)scratch;
+  for (size_t k = 0; k < count; k++)
+    id_scratch[k] = points->id[points->order[k]];
+  memcpy(points->id, id_scratch, count * sizeof(int64_t));
+  int32_t *material_scratch = (int32_t *)(void *)scratch;
+  for (size_t k = 0; k < count; k++)
+    material_scratch[k] = points->material[points->order[k]];
+  memcpy(points->material, material_scratch, count * sizeof(int32_t));
+  for (size_t k = 0; k < count; k++)
+    points->index_of_id[points->id[k]] = (uint32_t)k;
+  points->keys_valid = false; /* recomputed at the next binning */
+}

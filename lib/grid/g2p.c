@@ -1,0 +1,480 @@
+/*
+ * g2p.c - grid-to-particle transfer and kinematics. One pass can update
+ * particle velocities with the nodal accelerations (FLIP, 004 eq 3.17),
+ * move points with the nodal velocities, and compute the velocity gradient
+ * L = sum v_i (x) grad N_i (plus the hoop rate sum N_i v_ix / x in
+ * axisymmetry), from which F <- (I + L dt) F, V = det F V0 (004 eq 3.23)
+ * and the stress update follow; with CPDI the domain map D takes the same
+ * increment and may then be reset (cpdi_reset.c). Points are processed in
+ * chunks of GM_BATCH_SIZE, the unit of a material call.
+ */
+#include "grid/grid.h"
+
+#include "grid/transfer.h"
+
+#include <math.h>
+#include <string.h>
+
+typedef struct g2p_context {
+  gm_domain *domain;
+  const gm_g2p_pass *pass;
+  gather_view view;
+} g2p_context;
+
+static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
+                            chunk_gather *out) {
+  const double *restrict px = v->position[0] + first;
+  const double *restrict py = v->position[1] + first;
+  const uint32_t *restrict point_block = v->point_block + first;
+  const uint32_t *restrict neighbour = v->neighbour;
+  const double *restrict gvx = v->grid_velocity[0];
+  const double *restrict gvy = v->grid_velocity[1];
+  const double *restrict gax = v->grid_acceleration[0];
+  const double *restrict gay = v->grid_acceleration[1];
+  const double *restrict gm = v->grid_mass;
+  double origin_x = v->origin[0], origin_y = v->origin[1];
+  double inv_cell = v->inv_cell;
+  int shift = v->shift;
+  int64_t mask = ((int64_t)1 << shift) - 1;
+  bool axisymmetric = v->axisymmetric;
+  for (size_t j = 0; j < count; j++) {
+    double wx[2], dx[2], wy[2], dy[2];
+    int64_t cx = gm_shape_linear_axis(px[j], origin_x, inv_cell, wx, dx);
+    int64_t cy = gm_shape_linear_axis(py[j], origin_y, inv_cell, wy, dy);
+    const uint32_t *links =
+        neighbour + (size_t)point_block[j] * GM_BLOCK_NEIGHBOURS;
+    size_t node[4];
+    gm_cell_nodes_2d(links, shift, cx & mask, cy & mask, node);
+    double weight[4] = {wx[0] * wy[0], wx[1] * wy[0], wx[0] * wy[1],
+                        wx[1] * wy[1]};
+    double grad_x[4] = {dx[0] * wy[0], dx[1] * wy[0], dx[0] * wy[1],
+                        dx[1] * wy[1]};
+    double grad_y[4] = {wx[0] * dy[0], wx[1] * dy[0], wx[0] * dy[1],
+                        wx[1] * dy[1]};
+    double ax = 0, ay = 0, vx = 0, vy = 0, lxx = 0, lxy = 0, lyx = 0, lyy = 0;
+    double empty_x = 0, empty_y = 0; /* gradient sum of massless nodes */
+    for (int n = 0; n < 4; n++) {
+      double nvx = gvx[node[n]], nvy = gvy[node[n]];
+      double empty = gm[node[n]] == 0.0 ? 1.0 : 0.0;
+      ax += weight[n] * gax[node[n]];
+      ay += weight[n] * gay[node[n]];
+      vx += weight[n] * nvx;
+      vy += weight[n] * nvy;
+      lxx += nvx * grad_x[n];
+      lxy += nvx * grad_y[n];
+      lyx += nvy * grad_x[n];
+      lyy += nvy * grad_y[n];
+      empty_x += empty * grad_x[n];
+      empty_y += empty * grad_y[n];
+    }
+    /* A point exactly on a cell edge has zero weight, hence possibly no
+     * mass, on the nodes across it; their velocity is undefined (stored as
+     * 0) yet their gradient is not zero. Give them the point's own
+     * interpolated velocity, which removes the spurious gradient. */
+    lxx += vx * empty_x;
+    lxy += vx * empty_y;
+    lyx += vy * empty_x;
+    lyy += vy * empty_y;
+    out->acceleration[0][j] = ax;
+    out->acceleration[1][j] = ay;
+    out->velocity[0][j] = vx;
+    out->velocity[1][j] = vy;
+    out->gradient[0][j] = lxx;
+    out->gradient[1][j] = lxy;
+    out->gradient[2][j] = lyx;
+    out->gradient[3][j] = lyy;
+    /* Hoop strain rate v_r / r (002 sec 3, last row of B). */
+    out->gradient[4][j] = axisymmetric ? vx / px[j] : 0.0;
+  }
+}
+
+static void gather_chunk_1d(const gather_view *v, size_t first, size_t count,
+                            chunk_gather *out) {
+  int64_t edge = (int64_t)1 << v->shift, mask = edge - 1;
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    double w[2], d[2];
+    int64_t local = gm_shape_linear_axis(v->position[0][p], v->origin[0],
+                                         v->inv_cell, w, d) &
+                    mask;
+    const uint32_t *links =
+        v->neighbour + (size_t)v->point_block[p] * GM_BLOCK_NEIGHBOURS;
+    int64_t next = local + 1;
+    size_t node[2] = {(size_t)links[0] * GM_BLOCK_NODES + (size_t)local,
+                      (size_t)links[next >> v->shift] * GM_BLOCK_NODES +
+                          (size_t)(next & mask)};
+    double acceleration = 0.0, velocity = 0.0, gradient = 0.0, empty = 0.0;
+    for (int a = 0; a < 2; a++) {
+      double nodal = v->grid_velocity[0][node[a]];
+      acceleration += w[a] * v->grid_acceleration[0][node[a]];
+      velocity += w[a] * nodal;
+      gradient += nodal * d[a];
+      empty += v->grid_mass[node[a]] == 0.0 ? d[a] : 0.0;
+    }
+    gradient += velocity * empty; /* see gather_chunk_2d */
+    out->acceleration[0][j] = acceleration;
+    out->velocity[0][j] = velocity;
+    out->gradient[0][j] = gradient;
+    for (int k = 1; k < 5; k++)
+      out->gradient[k][j] = 0.0;
+  }
+}
+
+/* Particle velocities, FLIP: v_p += dt * sum N_i a_i (004 eq 3.17),
+ * blended with PIC, v_p = sum N_i v_i, by gm_domain_def.pic_fraction. The
+ * nodal velocities here are already the updated ones (grid_update.c).
+ * APIC (Jiang et al. 2015), gathered at the positions of the step's
+ * start: v_p = sum N_i v_i, and the affine matrix: B_p = sum N_i v_i
+ * (x_i - x_p)^T for the wide shapes (g2p_wide.c), C_p = sum v_i (x) grad
+ * N_i, the velocity gradient L already gathered, for linear MPM (p2g.c
+ * says why linear MPM keeps C_p rather than B_p). */
+static void flip_chunk(const gather_view *v, size_t first, size_t count,
+                       const chunk_gather *g, double dt) {
+  if (v->apic) {
+    for (int k = 0; k < v->dim; k++)
+      memcpy(v->next_velocity[k] + first, g->velocity[k],
+             count * sizeof(double));
+    bool linear = v->shape_grid->shape == GM_SHAPE_LINEAR;
+    for (int k = 0; k < v->dim * v->dim; k++) /* L: xx xy yx yy, as B */
+      memcpy(v->next_affine[k] + first, linear ? g->gradient[k] : g->affine[k],
+             count * sizeof(double));
+    return;
+  }
+  double pic = v->pic_fraction, flip = 1.0 - pic; /* - */
+  for (int k = 0; k < v->dim; k++) {
+    const double *restrict velocity = v->velocity[k] + first;
+    const double *restrict acceleration = g->acceleration[k];
+    const double *restrict grid_velocity = g->velocity[k];
+    double *restrict next = v->next_velocity[k] + first;
+    if (pic == 0.0) { /* FLIP: bitwise as before the blend existed */
+      for (size_t j = 0; j < count; j++)
+        next[j] = velocity[j] + dt * acceleration[j];
+      continue;
+    }
+    for (size_t j = 0; j < count; j++)
+      next[j] =
+          flip * (velocity[j] + dt * acceleration[j]) + pic * grid_velocity[j];
+  }
+}
+
+/* x_p += dt * sum N_i v_i; a point leaving the grid fails the step. */
+static void move_chunk(gm_domain *domain, const gather_view *v,
+                       gm_worker_scratch *scratch, size_t first, size_t count,
+                       const chunk_gather *g, double dt) {
+  bool inside = true;
+  for (int k = 0; k < v->dim; k++) {
+    const double *restrict position = v->position[k] + first;
+    const double *restrict velocity = g->velocity[k];
+    double *restrict next = v->next_position[k] + first;
+    /* Same arithmetic as gm_block_key_of and the shape functions. */
+    double origin = v->origin[k], inv_cell = v->inv_cell, cells = v->cells[k];
+    bool axis_inside = true;
+    for (size_t j = 0; j < count; j++) {
+      next[j] = position[j] + dt * velocity[j];
+      double scaled = (next[j] - origin) * inv_cell;
+      axis_inside &= scaled >= GM_GHOST_LAYERS && scaled < cells;
+    }
+    inside = inside && axis_inside;
+  }
+  bool wide = v->shape_grid->shape != GM_SHAPE_LINEAR; /* keys: later */
+  if (inside && !wide) { /* keys of the moved points, for the next step */
+    const double *x = v->next_position[0] + first;
+    const double *y = v->next_position[v->dim > 1 ? 1 : 0] + first;
+    int64_t *restrict key = v->block_key + first;
+    for (size_t j = 0; j < count; j++)
+      key[j] =
+          gm_block_key_inside(v->grid, x[j], y[j], v->origin_xy, v->inv_cell);
+    return;
+  }
+  for (size_t p = first; p < first + count; p++) {
+    double moved[2] = {v->next_position[0][p],
+                       v->dim > 1 ? v->next_position[1][p] : 0.0};
+    int64_t key;
+    if (gm_block_key_of(domain, moved, &key))
+      continue;
+    bool finite = isfinite(moved[0]) && isfinite(moved[1]);
+    gm_worker_error(scratch, finite ? GM_ERR_OUT_OF_GRID : GM_ERR_NOT_FINITE, p,
+                    "step: point id %lld %s (x = %g, y = %g m at t = %g s); "
+                    "the step was not taken",
+                    (long long)domain->points.id[p],
+                    finite ? "would leave the grid box"
+                           : "got a non-finite position",
+                    moved[0], moved[1], domain->time + dt);
+  }
+}
+
+/* F <- (I + L dt) F and V = det F V0 (004 eq 3.23); det F <= 0 fails the
+ * step (returns false). In USF's second half (step.c) F and D are updated
+ * in place: each is read whole before it is written, and the F and D
+ * pointers are not restrict. */
+static bool deform_chunk(gm_domain *domain, const gather_view *v,
+                         gm_worker_scratch *scratch, size_t first, size_t count,
+                         const chunk_gather *g, double dt) {
+  const double *f_xx = v->deformation[F_XX] + first;
+  const double *f_xy = v->deformation[F_XY] + first;
+  const double *f_yx = v->deformation[F_YX] + first;
+  const double *f_yy = v->deformation[F_YY] + first;
+  double *n_xx = v->next_deformation[F_XX] + first;
+  double *n_xy = v->next_deformation[F_XY] + first;
+  double *n_yx = v->next_deformation[F_YX] + first;
+  double *n_yy = v->next_deformation[F_YY] + first;
+  const double *restrict initial_volume = v->initial_volume + first;
+  double *restrict volume = v->next_volume + first;
+  const double *restrict l_xx = g->gradient[0], *restrict l_xy = g->gradient[1];
+  const double *restrict l_yx = g->gradient[2], *restrict l_yy = g->gradient[3];
+  bool positive = true;
+  for (size_t j = 0; j < count; j++) {
+    double i_xx = 1.0 + l_xx[j] * dt, i_xy = l_xy[j] * dt;
+    double i_yx = l_yx[j] * dt, i_yy = 1.0 + l_yy[j] * dt;
+    double a_xx = f_xx[j], a_xy = f_xy[j], a_yx = f_yx[j], a_yy = f_yy[j];
+    double b_xx = i_xx * a_xx + i_xy * a_yx, b_xy = i_xx * a_xy + i_xy * a_yy;
+    double b_yx = i_yx * a_xx + i_yy * a_yx, b_yy = i_yx * a_xy + i_yy * a_yy;
+    n_xx[j] = b_xx;
+    n_xy[j] = b_xy;
+    n_yx[j] = b_yx;
+    n_yy[j] = b_yy;
+    double jacobian = b_xx * b_yy - b_xy * b_yx;
+    volume[j] = jacobian * initial_volume[j];
+    positive &= jacobian > 0.0 && jacobian < INFINITY;
+  }
+  if (v->next_domain_map[0]) { /* CPDI: the domain map takes F's increment */
+    const double *d_xx = v->domain_map[F_XX] + first;
+    const double *d_xy = v->domain_map[F_XY] + first;
+    const double *d_yx = v->domain_map[F_YX] + first;
+    const double *d_yy = v->domain_map[F_YY] + first;
+    double *m_xx = v->next_domain_map[F_XX] + first;
+    double *m_xy = v->next_domain_map[F_XY] + first;
+    double *m_yx = v->next_domain_map[F_YX] + first;
+    double *m_yy = v->next_domain_map[F_YY] + first;
+    for (size_t j = 0; j < count; j++) { /* the same arithmetic as F's */
+      double i_xx = 1.0 + l_xx[j] * dt, i_xy = l_xy[j] * dt;
+      double i_yx = l_yx[j] * dt, i_yy = 1.0 + l_yy[j] * dt;
+      double a_xx = d_xx[j], a_xy = d_xy[j], a_yx = d_yx[j], a_yy = d_yy[j];
+      m_xx[j] = i_xx * a_xx + i_xy * a_yx;
+      m_xy[j] = i_xx * a_xy + i_xy * a_yy;
+      m_yx[j] = i_yx * a_xx + i_yy * a_yx;
+      m_yy[j] = i_yx * a_xy + i_yy * a_yy;
+    }
+  }
+  if (v->axisymmetric) { /* the hoop stretch multiplies det F */
+    const double *f_zz = v->deformation[F_ZZ] + first;
+    double *n_zz = v->next_deformation[F_ZZ] + first;
+    const double *restrict l_zz = g->gradient[4];
+    for (size_t j = 0; j < count; j++) {
+      n_zz[j] = (1.0 + l_zz[j] * dt) * f_zz[j];
+      volume[j] *= n_zz[j];
+      positive &= n_zz[j] > 0.0;
+    }
+  }
+  if (positive)
+    return true;
+  for (size_t j = 0; j < count; j++) {
+    double jacobian = volume[j] / initial_volume[j];
+    if (jacobian > 0.0 && jacobian < INFINITY)
+      continue;
+    gm_worker_error(scratch, GM_ERR_NOT_FINITE, first + j,
+                    "step: point id %lld has det F = %g (inverted or "
+                    "non-finite deformation at t = %g s); reduce dt",
+                    (long long)domain->points.id[first + j], jacobian,
+                    domain->time + dt);
+    /* A finite inversion is a step too large for the motion (an impact):
+     * the step is retried with a smaller dt (step.c). */
+    if (scratch->error_index == first + j && isfinite(jacobian))
+      scratch->error_inverted = true;
+  }
+  return false;
+}
+
+/* Signal-speed bound of the chunk's new state: the largest c_p^2 and the
+ * largest |v_p|^2 (stable_dt.c combines them; no square root per point). */
+static void chunk_signal_speed(gm_domain *domain, const gather_view *v,
+                               gm_worker_scratch *scratch, size_t first,
+                               size_t count) {
+  const gm_material *materials = domain->materials;
+  const double *restrict vx = v->next_velocity[0];
+  const double *restrict vy = v->next_velocity[1];
+  const double *restrict volume = v->next_volume, *restrict mass = v->mass;
+  const int32_t *restrict material = v->material;
+  double wave = scratch->max_wave_speed_squared;
+  double flow = scratch->max_point_speed_squared;
+  double screen = 0.0; /* NaN if any value is not finite */
+  bool planar = v->dim > 1;
+  for (size_t p = first; p < first + count; p++) {
+    double speed_squared = vx[p] * vx[p] + (planar ? vy[p] * vy[p] : 0.0);
+    /* c^2 = M / rho = M V / m */
+    double wave_squared =
+        materials[material[p]].p_wave_modulus * volume[p] / mass[p];
+    screen += (speed_squared + wave_squared) * 0.0;
+    flow = speed_squared > flow ? speed_squared : flow;
+    wave = wave_squared > wave ? wave_squared : wave;
+  }
+  scratch->max_wave_speed_squared = wave;
+  scratch->max_point_speed_squared = flow;
+  if (screen == 0.0)
+    return;
+  for (size_t p = first; p < first + count; p++) {
+    if (isfinite(vx[p]) && (!planar || isfinite(vy[p])))
+      continue;
+    gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
+                    "step: point id %lld got a non-finite velocity at t = "
+                    "%g s; the step was not taken",
+                    (long long)domain->points.id[p],
+                    domain->time + domain->current_dt);
+  }
+}
+
+/* The chunks of one pass; flip, move and deform are constants in each
+ * specialisation below. */
+static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
+                                             size_t end, int worker,
+                                             const bool flip, const bool move,
+                                             const bool deform) {
+  g2p_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  const gather_view *v = &ctx->view;
+  gm_worker_scratch *scratch = &domain->scratch[worker];
+  size_t point_count = domain->points.count;
+  double dt = ctx->pass->dt;
+  chunk_gather *g = scratch->gather;
+  for (size_t chunk = begin; chunk < end; chunk++) {
+    size_t first = chunk * GM_BATCH_SIZE;
+    size_t count = point_count - first < GM_BATCH_SIZE ? point_count - first
+                                                       : GM_BATCH_SIZE;
+    bool wide = v->shape_grid->shape != GM_SHAPE_LINEAR;
+    if (wide)
+      gm_gather_chunk_wide(v, first, count, g, domain, scratch);
+    else if (v->dim == 1)
+      gather_chunk_1d(v, first, count, g);
+    else
+      gather_chunk_2d(v, first, count, g);
+    if (flip)
+      flip_chunk(v, first, count, g, dt);
+    if (move)
+      move_chunk(domain, v, scratch, first, count, g, dt);
+    /* A chunk with an inverted point skips its material call: the step
+     * fails anyway, and materials never see a non-positive density. */
+    bool deformed = true;
+    if (deform && deform_chunk(domain, v, scratch, first, count, g, dt)) {
+      const double *gradient[5] = {g->gradient[0], g->gradient[1],
+                                   g->gradient[2], g->gradient[3],
+                                   g->gradient[4]};
+      gm_stress_update_chunk(domain, scratch, first, count, dt, gradient,
+                             ctx->pass->in_place);
+      if (domain->def.family != GM_FAMILY_PLAIN) {
+        double start = gm_monotonic_seconds();
+        gm_density_control_chunk(domain, first, count);
+        scratch->density_control_seconds += gm_monotonic_seconds() - start;
+      }
+      if (v->next_domain_map[0]) /* once D is final but for the reset */
+        gm_cpdi_reset_chunk(domain, first, count);
+    } else if (deform) {
+      deformed = false;
+    }
+    /* A wide support depends on F (cpGIMP) or D (CPDI) too: keys once
+     * they are final. */
+    bool finish = ctx->pass->finish; /* the new state is complete */
+    if (finish && wide && deformed)
+      gm_wide_keys_chunk(domain, v, scratch, first, count);
+    if (finish)
+      chunk_signal_speed(domain, v, scratch, first, count);
+  }
+}
+
+static void g2p_flip_only(void *c, size_t b, size_t e, int w) {
+  g2p_chunks_kind(c, b, e, w, true, false, false); /* MUSL, first */
+}
+static void g2p_move_deform(void *c, size_t b, size_t e, int w) {
+  g2p_chunks_kind(c, b, e, w, false, true, true); /* MUSL, second */
+}
+static void g2p_deform_only(void *c, size_t b, size_t e, int w) {
+  g2p_chunks_kind(c, b, e, w, false, false, true); /* USF first, USL second */
+}
+static void g2p_flip_move(void *c, size_t b, size_t e, int w) {
+  g2p_chunks_kind(c, b, e, w, true, true, false); /* USL first, USF second */
+}
+
+/* The passes of the three schemes (step.c): USL flip+move then deform,
+ * MUSL flip then move+deform, USF deform then flip+move. */
+static gm_parallel_fn *pass_kernel(const gm_g2p_pass *pass) {
+  if (pass->flip_velocity && pass->move_points)
+    return g2p_flip_move;
+  if (pass->flip_velocity)
+    return g2p_flip_only;
+  if (pass->move_points)
+    return g2p_move_deform;
+  return g2p_deform_only;
+}
+
+static void make_view(gm_domain *domain, gather_view *view) {
+  gm_points *points = &domain->points;
+  gm_grid *grid = &domain->grid;
+  const gm_point_buffers *from = &points->buffer[points->cur];
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  for (int k = 0; k < 2; k++) {
+    int c = k < domain->dim ? k : 0; /* 1D: the y slots alias x, unused */
+    view->position[k] = from->position[c];
+    view->velocity[k] = from->velocity[c];
+    view->next_position[k] = to->position[c];
+    view->next_velocity[k] = to->velocity[c];
+    view->grid_velocity[k] = grid->momentum[c]; /* velocity by now */
+    view->grid_mass = grid->mass;
+    view->grid_acceleration[k] = grid->force[c];
+    view->origin[k] = domain->shape_grid.origin[c]; /* node 0 */
+    view->cells[k] = (double)(domain->cells[c] + GM_GHOST_LAYERS);
+    view->domain_size[k] = points->domain_size[c];
+  }
+  for (int k = 0; k < GM_F_STORED; k++) {
+    view->deformation[k] = from->deformation[k];
+    view->next_deformation[k] = to->deformation[k];
+  }
+  /* The support of wide shapes stays the committed one (the step's shape
+   * functions); only F, D and the stress (stress_update.c) may come from
+   * the next buffer (gm_g2p). */
+  gm_support_tensor(domain, from, view->support_tensor);
+  gm_support_tensor(domain, to, view->next_support_tensor);
+  for (int k = 0; k < 4; k++) { /* NULL unless CPDI */
+    view->domain_map[k] = from->domain_map[k];
+    view->next_domain_map[k] = to->domain_map[k];
+  }
+  view->point_block = points->point_block;
+  view->grid = grid;
+  view->block_key = points->block_key;
+  view->origin_xy = domain->shape_grid.origin;
+  view->shape_grid = &domain->shape_grid;
+  view->neighbour = grid->neighbour;
+  view->mass = points->mass;
+  view->initial_volume = points->initial_volume;
+  view->material = points->material;
+  view->next_volume = to->volume;
+  view->inv_cell = domain->inv_cell;
+  view->pic_fraction = domain->def.pic_fraction;
+  view->shift = grid->shift;
+  view->dim = domain->dim;
+  view->axisymmetric = domain->axisymmetric;
+  view->apic = domain->def.transfer == GM_TRANSFER_APIC;
+  view->affine = false; /* set by gm_g2p for a velocity pass */
+  view->cell = domain->def.cell_size;
+  for (int k = 0; k < 4; k++) /* 1D: only B_xx */
+    view->next_affine[k] =
+        view->apic ? to->affine[k < gm_affine_stored(domain) ? k : 0] : NULL;
+}
+
+size_t gm_chunk_gather_size(void) {
+  return sizeof(chunk_gather);
+}
+
+void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass) {
+  g2p_context ctx;
+  ctx.domain = domain;
+  ctx.pass = pass;
+  make_view(domain, &ctx.view);
+  ctx.view.affine = ctx.view.apic && pass->flip_velocity;
+  if (pass->in_place) {
+    for (int k = 0; k < GM_F_STORED; k++)
+      ctx.view.deformation[k] = ctx.view.next_deformation[k];
+    for (int k = 0; k < 4; k++)
+      ctx.view.domain_map[k] = ctx.view.next_domain_map[k];
+  }
+  size_t chunks = (domain->points.count + GM_BATCH_SIZE - 1) / GM_BATCH_SIZE;
+  gm_parallel_for(&domain->pool, chunks, pass_kernel(pass), &ctx);
+}

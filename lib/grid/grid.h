@@ -1,0 +1,64 @@
+/*
+ * grid.h - the grid folder: the step's kernels over the block grid:
+ * binning and reordering (bins.c), particle-to-grid (p2g.c, p2g_wide.c),
+ * the grid update (grid_update.c), the B-spline faces (bspline_faces.c),
+ * grid-to-particle (g2p.c, g2p_wide.c) and the stress update
+ * (stress_update.c). The kernels call down into boundaries/ (node
+ * conditions), granular/ (density control) and points/ (CPDI reset). The
+ * block grid's layout is core/block_grid.h; transfer.h is this folder's
+ * own. Private to the library.
+ */
+#ifndef GM_GRID_H
+#define GM_GRID_H
+
+#include "boundaries/boundaries.h"
+#include "granular/granular.h"
+#include "points/points.h"
+
+gm_status gm_bin_points(gm_domain *domain); /* bins.c */
+void gm_reorder_points(gm_domain *domain);  /* bins.c */
+/* What a P2G pass accumulates (p2g.c). */
+typedef struct gm_p2g_pass {
+  bool mass;           /* nodal mass */
+  bool momentum;       /* nodal momentum */
+  bool forces;         /* internal, body and host forces */
+  int velocity_buffer; /* buffer whose velocities give the momentum */
+  int stress_buffer;   /* buffer whose stress and volume give forces */
+  bool check_inputs;   /* reject non-finite host-written inputs */
+} gm_p2g_pass;
+void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass);
+void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
+/* B-splines on the box faces by images (bspline_faces.c; no-ops for the
+ * other shapes): after a scatter, each ghost node's sums go to its mirror
+ * node; after a grid update, each ghost node takes its mirror's velocity
+ * (and acceleration in GM_GRID_FULL mode), reflected. */
+void gm_bspline_fold_ghosts(gm_domain *domain, const gm_p2g_pass *pass);
+void gm_bspline_mirror_ghosts(gm_domain *domain, int mode);
+
+/* What a G2P pass does (g2p.c). */
+typedef struct gm_g2p_pass {
+  bool flip_velocity; /* v_p += dt * sum N a_i  */
+  bool move_points;   /* x_p += dt * sum N v_i (nodal velocity) */
+  bool deform;        /* L from nodal velocity: F, V, stress */
+  bool finish;        /* the last pass of the step: block keys of wide
+                         supports (they need the final F) and the
+                         signal-speed bound of the new state */
+  double dt;
+  bool in_place; /* deform from the next buffer's F, D and stress (the
+                    second half of USF's split update, step.c) rather
+                    than from the committed ones */
+} gm_g2p_pass;
+void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);
+size_t gm_chunk_gather_size(void); /* bytes of a worker's G2P chunk buffer */
+
+/* Stress update for one chunk of points (stress_update.c). */
+/* Jaumann rotation, material call and stress write-back for points
+ * [first, first+count) given their velocity gradients (1/s, L_xx L_xy L_yx
+ * L_yy L_zz); reads the committed buffer (or, in_place, the next one),
+ * writes the next one. */
+void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
+                            size_t first, size_t count, double dt,
+                            const double *const velocity_gradient[5],
+                            bool in_place);
+
+#endif

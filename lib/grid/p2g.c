@@ -1,0 +1,385 @@
+/*
+ * p2g.c - particle-to-grid transfer: lumped nodal mass, momentum and forces
+ * (004 eqs 3.13-3.15; 002 eq 9 with the axisymmetric hoop row N_i/x of B).
+ * Blocks are scattered colour by colour, each block by one worker, in a
+ * fixed order: the sums are bitwise identical for any worker count.
+ *
+ * The kernels copy every array pointer into restrict-qualified locals
+ * (struct scatter_view) so the compiler keeps them in registers instead of
+ * reloading them after each store to the grid.
+ */
+#include "grid/grid.h"
+
+#include "grid/transfer.h"
+
+#include <math.h>
+
+typedef struct p2g_context {
+  gm_domain *domain;
+  const gm_p2g_pass *pass;
+  scatter_view view;
+  const uint32_t *blocks; /* blocks of the colour being scattered */
+} p2g_context;
+
+/* Names the first point of a block whose host inputs are not finite. A
+ * cheap screen first: x * 0 is 0 for every finite x and NaN otherwise. */
+static void check_inputs(gm_domain *domain, gm_worker_scratch *scratch,
+                         const scatter_view *v, uint32_t begin, uint32_t end) {
+  int dim = domain->dim;
+  double screen = 0.0;
+  for (uint32_t k = begin; k < end; k++) {
+    size_t p = v->order[k];
+    for (int c = 0; c < dim; c++) {
+      screen += v->velocity[c][p] * 0.0;
+      if (v->external_force[c])
+        screen += v->external_force[c][p] * 0.0;
+    }
+    for (int c = 0; v->apic && c < dim * dim; c++)
+      screen += v->affine[c][p] * 0.0;
+  }
+  if (screen == 0.0)
+    return;
+  for (uint32_t k = begin; k < end; k++) {
+    size_t p = v->order[k];
+    for (int c = 0; c < dim; c++) {
+      double force = v->external_force[c] ? v->external_force[c][p] : 0.0;
+      if (isfinite(v->velocity[c][p]) && isfinite(force))
+        continue;
+      gm_worker_error(
+          scratch, GM_ERR_NOT_FINITE, p,
+          "step: point id %lld has a non-finite %s (component "
+          "%d); the step was not taken",
+          (long long)domain->points.id[p],
+          isfinite(v->velocity[c][p]) ? "external force" : "velocity", c);
+    }
+    for (int c = 0; v->apic && c < dim * dim; c++)
+      if (!isfinite(v->affine[c][p]))
+        gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
+                        "step: point id %lld has a non-finite affine "
+                        "matrix B_p (GM_FIELD_AFFINE component %d); the "
+                        "step was not taken",
+                        (long long)domain->points.id[p], c);
+  }
+}
+
+/* A block's points are first summed into a stack tile of the block's
+ * nodes plus the one-node halo its cells reach (9 x 9 in 2D), where the
+ * four nodes of a cell are at i, i+1, i+T, i+T+1: no neighbour lookups per
+ * point, and pairs of adjacent nodes vectorise. The tile is then added to
+ * the grid once per block. */
+#define TILE       (GM_BLOCK_EDGE_2D + 1)
+#define TILE_NODES (TILE * TILE)
+
+typedef struct scatter_tile {
+  double mass[TILE_NODES];        /* kg */
+  double momentum[2][TILE_NODES]; /* kg m/s */
+  double force[2][TILE_NODES];    /* N */
+} scatter_tile;
+
+/* Adds tile node (tx, ty) of field values to the grid through the links. */
+static void flush_tile(const scatter_view *v, const uint32_t *links,
+                       const scatter_tile *tile, const bool do_mass,
+                       const bool do_momentum, const bool do_forces) {
+  for (int ty = 0; ty < TILE; ty++) {
+    for (int tx = 0; tx < TILE; tx++) {
+      int t = tx + TILE * ty;
+      int over_x = tx / GM_BLOCK_EDGE_2D, over_y = ty / GM_BLOCK_EDGE_2D;
+      uint32_t block = links[over_x + 2 * over_y];
+      if (block == GM_NO_BLOCK)
+        continue; /* past the grid's last node: never reached by points */
+      size_t node = (size_t)block * GM_BLOCK_NODES +
+                    (size_t)(tx % GM_BLOCK_EDGE_2D) +
+                    GM_BLOCK_EDGE_2D * (size_t)(ty % GM_BLOCK_EDGE_2D);
+      if (do_mass)
+        v->grid_mass[node] += tile->mass[t];
+      for (int k = 0; k < 2; k++) {
+        if (do_momentum)
+          v->grid_momentum[k][node] += tile->momentum[k][t];
+        if (do_forces)
+          v->grid_force[k][node] += tile->force[k][t];
+      }
+    }
+  }
+}
+
+/* do_* and apic are compile-time constants in each specialisation below,
+ * so each pass kind gets its own tight loop.
+ *
+ * APIC with multilinear weights. Per axis a point at fraction f of its
+ * cell has N = (1 - f, f) at offsets x_i - x_p = (-f h, (1 - f) h), so
+ * D_p = diag(f (1 - f) h^2) and N_ip D_p^-1 (x_i - x_p) = grad N_ip
+ * (-1/h, 1/h): the paper's affine momentum m_p N_ip B_p D_p^-1 (x_i - x_p)
+ * (Jiang et al. 2015) hands a node m_p B_p / h however small the point's
+ * weight on it. B_p was gathered where D_p was larger (the step before),
+ * so a point that has just moved close to a node line puts finite
+ * momentum on a node of vanishing mass, whose velocity then blows up
+ * (measured: the rotating disc of test_apic.c inverts a point within 15
+ * steps; flooring D_p at h^2/16 or h^2/64 keeps it stable but loses 5.5
+ * or 1.3 % of the angular momentum over its 100 steps). Linear MPM
+ * therefore keeps C_p = B_p D_p^-1 itself, gathered as C_p = sum v_i (x)
+ * grad N_ip (the same matrix at the positions of the gather), and hands
+ * node i m_p N_ip (v_p + C_p (x_i - x_p)): bounded, exact for affine
+ * velocity fields at every step, and momentum-conserving
+ * (sum_i N_ip (x_i - x_p) = 0). Angular momentum is then exact across the
+ * transfers except for the change of D_p as points move (the moment
+ * m_p C_p D_p is gathered with one D_p and scattered with the next): a
+ * bounded error, 0.5 % for the disc, that does not accumulate. The wide
+ * shapes (p2g_wide.c) have D_p bounded below and keep the exact form. */
+static GM_ALWAYS_INLINE void
+scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
+                      const bool do_mass, const bool do_momentum,
+                      const bool do_forces, const bool apic) {
+  const double *restrict px = v->position[0], *restrict py = v->position[1];
+  const double *restrict vx = v->velocity[0], *restrict vy = v->velocity[1];
+  const double *restrict point_mass = v->mass, *restrict volume = v->volume;
+  const double *restrict sxx = v->stress[0], *restrict syy = v->stress[1];
+  const double *restrict szz = v->stress[2], *restrict sxy = v->stress[3];
+  const double *restrict fx_ext = v->external_force[0];
+  const double *restrict fy_ext = v->external_force[1];
+  /* APIC's C_p (1/s) in linear MPM: see above. */
+  const double *restrict c_xx = v->affine[0], *restrict c_xy = v->affine[1];
+  const double *restrict c_yx = v->affine[2], *restrict c_yy = v->affine[3];
+  double *restrict tm = tile->mass;
+  double *restrict tpx = tile->momentum[0], *restrict tpy = tile->momentum[1];
+  double *restrict tfx = tile->force[0], *restrict tfy = tile->force[1];
+  const uint32_t *restrict order = v->order;
+  int64_t mask = GM_BLOCK_EDGE_2D - 1;
+  double origin_x = v->origin[0], origin_y = v->origin[1];
+  double inv_cell = v->inv_cell;
+  double gravity_x = v->gravity[0], gravity_y = v->gravity[1];
+  double cell = v->cell; /* m */
+  bool axisymmetric = v->axisymmetric, has_external = fx_ext != NULL;
+  for (int t = 0; t < TILE_NODES; t++) {
+    if (do_mass)
+      tm[t] = 0.0;
+    if (do_momentum)
+      tpx[t] = tpy[t] = 0.0;
+    if (do_forces)
+      tfx[t] = tfy[t] = 0.0;
+  }
+  for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
+    size_t p = order[k];
+    if (v->skip_rigid && v->rigid[v->material[p]])
+      continue; /* rigid points take no part (rigid.c) */
+    double wx[2], dx[2], wy[2], dy[2];
+    int64_t cx = gm_shape_linear_axis(px[p], origin_x, inv_cell, wx, dx);
+    int64_t cy = gm_shape_linear_axis(py[p], origin_y, inv_cell, wy, dy);
+    size_t t = (size_t)((cx & mask) + TILE * (cy & mask));
+    double m = point_mass[p];
+    for (int b = 0; b < 2; b++) {
+      size_t row = t + (size_t)(TILE * b);
+      if (do_mass) {
+        tm[row] += wx[0] * wy[b] * m;
+        tm[row + 1] += wx[1] * wy[b] * m;
+      }
+      if (do_momentum && !apic) {
+        double mvx = m * vx[p] * wy[b], mvy = m * vy[p] * wy[b];
+        tpx[row] += wx[0] * mvx;
+        tpx[row + 1] += wx[1] * mvx;
+        tpy[row] += wx[0] * mvy;
+        tpy[row + 1] += wx[1] * mvy;
+      }
+      if (do_momentum && apic) { /* m_p N (v_p + C_p (x_i - x_p)) */
+        double ox[2], oy[2];     /* m, x_i - x_p per axis */
+        gm_linear_offsets(wx, cell, ox);
+        gm_linear_offsets(wy, cell, oy);
+        double node_vx = vx[p] + c_xy[p] * oy[b]; /* m/s, before x */
+        double node_vy = vy[p] + c_yy[p] * oy[b];
+        for (int a = 0; a < 2; a++) {
+          double weight = wx[a] * wy[b] * m; /* kg */
+          tpx[row + a] += weight * (node_vx + c_xx[p] * ox[a]);
+          tpy[row + a] += weight * (node_vy + c_yx[p] * ox[a]);
+        }
+      }
+    }
+    if (!do_forces)
+      continue;
+    double V = volume[p]; /* stress times volume: N m */
+    double txx = sxx[p] * V, tyy = syy[p] * V, txy = sxy[p] * V;
+    double body_x = m * gravity_x, body_y = m * gravity_y;
+    if (has_external) {
+      body_x += fx_ext[p];
+      body_y += fy_ext[p];
+    }
+    /* Hoop row of B (002 sec 3): sigma_tt V N_i / x acts radially. */
+    if (axisymmetric)
+      body_x -= szz[p] * V / px[p];
+    for (int b = 0; b < 2; b++) {
+      size_t row = t + (size_t)(TILE * b);
+      for (int a = 0; a < 2; a++) {
+        double weight = wx[a] * wy[b];
+        double grad_x = dx[a] * wy[b], grad_y = wx[a] * dy[b];
+        tfx[row + a] += weight * body_x - (txx * grad_x + txy * grad_y);
+        tfy[row + a] += weight * body_y - (txy * grad_x + tyy * grad_y);
+      }
+    }
+  }
+  const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  flush_tile(v, links, tile, do_mass, do_momentum, do_forces);
+}
+
+static GM_ALWAYS_INLINE void
+scatter_block_2d_pass(const scatter_view *v, const gm_p2g_pass *pass,
+                      uint32_t block, scatter_tile *tile, const bool apic) {
+  if (pass->mass && pass->momentum && pass->forces)
+    scatter_block_2d_kind(v, block, tile, true, true, true, apic);
+  else if (pass->mass && pass->momentum)
+    scatter_block_2d_kind(v, block, tile, true, true, false, apic);
+  else if (pass->momentum && pass->forces)
+    scatter_block_2d_kind(v, block, tile, false, true, true, apic);
+  else if (pass->momentum)
+    scatter_block_2d_kind(v, block, tile, false, true, false, apic);
+  else /* no momentum: the transfer choice does not matter */
+    scatter_block_2d_kind(v, block, tile, pass->mass, false, pass->forces,
+                          false);
+}
+
+static void scatter_block_2d(const scatter_view *v, const gm_p2g_pass *pass,
+                             uint32_t block) {
+  scatter_tile tile;
+  if (v->apic)
+    scatter_block_2d_pass(v, pass, block, &tile, true);
+  else
+    scatter_block_2d_pass(v, pass, block, &tile, false);
+}
+
+static void scatter_block_1d(const scatter_view *v, const gm_p2g_pass *pass,
+                             uint32_t block) {
+  const double *restrict px = v->position[0], *restrict vx = v->velocity[0];
+  const double *restrict point_mass = v->mass, *restrict volume = v->volume;
+  const double *restrict sxx = v->stress[0];
+  const double *restrict fx_ext = v->external_force[0];
+  double *restrict gm = v->grid_mass, *restrict gpx = v->grid_momentum[0];
+  double *restrict gfx = v->grid_force[0];
+  const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  int64_t edge = (int64_t)1 << v->shift, mask = edge - 1;
+  for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
+    size_t p = v->order[k];
+    if (v->skip_rigid && v->rigid[v->material[p]])
+      continue; /* rigid points take no part (rigid.c) */
+    double w[2], d[2];
+    int64_t local =
+        gm_shape_linear_axis(px[p], v->origin[0], v->inv_cell, w, d) & mask;
+    int64_t next = local + 1;
+    size_t node[2] = {(size_t)links[0] * GM_BLOCK_NODES + (size_t)local,
+                      (size_t)links[next >> v->shift] * GM_BLOCK_NODES +
+                          (size_t)(next & mask)};
+    double m = point_mass[p];
+    double body = m * v->gravity[0] + (fx_ext ? fx_ext[p] : 0.0);
+    double txx = sxx[p] * volume[p];
+    /* APIC: m_p N (v_p + C_p (x_i - x_p)), as in 2D. */
+    double offset[2] = {0.0, 0.0}; /* m */
+    if (v->apic)
+      gm_linear_offsets(w, v->cell, offset);
+    for (int n = 0; n < 2; n++) {
+      if (pass->mass)
+        gm[node[n]] += w[n] * m;
+      if (pass->momentum && v->apic)
+        gpx[node[n]] += w[n] * m * (vx[p] + v->affine[0][p] * offset[n]);
+      else if (pass->momentum)
+        gpx[node[n]] += w[n] * m * vx[p];
+      if (pass->forces)
+        gfx[node[n]] += w[n] * body - txx * d[n];
+    }
+  }
+}
+
+static void scatter_blocks(void *context, size_t begin, size_t end,
+                           int worker) {
+  p2g_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  const scatter_view *view = &ctx->view;
+  for (size_t item = begin; item < end; item++) {
+    uint32_t block = ctx->blocks[item];
+    if (ctx->pass->check_inputs)
+      check_inputs(domain, &domain->scratch[worker], view,
+                   view->point_start[block], view->point_start[block + 1]);
+    if (view->shape_grid->shape != GM_SHAPE_LINEAR)
+      gm_scatter_block_wide(view, ctx->pass, block, domain,
+                            &domain->scratch[worker]);
+    else if (domain->dim == 1)
+      scatter_block_1d(view, ctx->pass, block);
+    else
+      scatter_block_2d(view, ctx->pass, block);
+  }
+}
+
+static void clear_blocks(void *context, size_t begin, size_t end, int worker) {
+  (void)worker;
+  p2g_context *ctx = context;
+  gm_grid *grid = &ctx->domain->grid;
+  int dim = grid->dim;
+  size_t first = begin * GM_BLOCK_NODES, last = end * GM_BLOCK_NODES;
+  for (size_t node = first; node < last; node++) {
+    if (ctx->pass->mass)
+      grid->mass[node] = 0.0;
+    for (int k = 0; k < dim; k++) {
+      if (ctx->pass->momentum)
+        grid->momentum[k][node] = 0.0;
+      if (ctx->pass->forces)
+        grid->force[k][node] = 0.0;
+    }
+  }
+}
+
+static void make_view(gm_domain *domain, const gm_p2g_pass *pass,
+                      scatter_view *view) {
+  gm_points *points = &domain->points;
+  gm_grid *grid = &domain->grid;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  const gm_point_buffers *moving = &points->buffer[pass->velocity_buffer];
+  const gm_point_buffers *stressed = &points->buffer[pass->stress_buffer];
+  for (int k = 0; k < 2; k++) {
+    int c = k < domain->dim ? k : 0;
+    view->position[k] = current->position[c];
+    view->velocity[k] = moving->velocity[c];
+    view->external_force[k] = points->external_force[c];
+    view->grid_momentum[k] = grid->momentum[c];
+    view->grid_force[k] = grid->force[c];
+    view->origin[k] = domain->shape_grid.origin[c]; /* node 0 */
+    view->domain_size[k] = points->domain_size[c];
+    view->gravity[k] = domain->def.gravity[k];
+  }
+  view->mass = points->mass;
+  view->volume = stressed->volume;
+  for (int k = 0; k < 4; k++)
+    view->stress[k] = stressed->stress[k];
+  view->grid_mass = grid->mass;
+  view->order = points->order;
+  view->point_start = grid->point_start;
+  view->neighbour = grid->neighbour;
+  view->inv_cell = domain->inv_cell;
+  view->shift = grid->shift;
+  view->axisymmetric = domain->axisymmetric;
+  view->skip_rigid = domain->rigid_count > 0;
+  view->material = points->material;
+  view->shape_grid = &domain->shape_grid;
+  view->grid = grid;
+  gm_support_tensor(domain, current, view->deformation);
+  /* B_p travels with the velocity it belongs to (MUSL's remap reads the
+   * velocities and affine matrices just gathered). 1D: only B_xx. */
+  view->apic = domain->def.transfer == GM_TRANSFER_APIC;
+  view->cell = domain->def.cell_size;
+  for (int k = 0; k < 4; k++)
+    view->affine[k] = view->apic
+                          ? moving->affine[k < gm_affine_stored(domain) ? k : 0]
+                          : NULL;
+  for (int m = 0; m < domain->material_count; m++)
+    view->rigid[m] = domain->materials[m].rigid;
+}
+
+void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass) {
+  gm_grid *grid = &domain->grid;
+  p2g_context ctx;
+  ctx.domain = domain;
+  ctx.pass = pass;
+  make_view(domain, pass, &ctx.view);
+  gm_parallel_for(&domain->pool, grid->block_count, clear_blocks, &ctx);
+  for (int colour = 0; colour < 4; colour++) {
+    size_t first = grid->color_start[colour];
+    size_t count = grid->color_start[colour + 1] - first;
+    ctx.blocks = grid->color_block + first;
+    gm_parallel_for(&domain->pool, count, scatter_blocks, &ctx);
+  }
+  gm_bspline_fold_ghosts(domain, pass); /* images in the box faces */
+}

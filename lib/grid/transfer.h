@@ -1,0 +1,131 @@
+/*
+ * transfer.h - the arrays the particle/grid transfers read and write, shared
+ * by the linear kernels (p2g.c, g2p.c) and the wide-support kernels of GIMP
+ * and CPDI (p2g_wide.c, g2p_wide.c). Pointers are copied into
+ * restrict-qualified locals by the kernels so the compiler keeps them in
+ * registers instead of reloading them after each store to the grid.
+ */
+#ifndef GM_TRANSFER_H
+#define GM_TRANSFER_H
+
+#include "grid/grid.h"
+
+/* The arrays of a P2G pass. */
+typedef struct scatter_view {
+  const double *position[2];       /* m */
+  const double *velocity[2];       /* m/s, source of the momentum */
+  const double *mass;              /* kg */
+  const double *volume;            /* of the stress buffer */
+  const double *stress[4];         /* Pa, xx yy zz xy */
+  const double *external_force[2]; /* N, NULL = none */
+  double *grid_mass;
+  double *grid_momentum[2];
+  double *grid_force[2];
+  const uint32_t *order;
+  const uint32_t *point_start;
+  const uint32_t *neighbour;
+  double origin[2];  /* m, node 0 (support.h) */
+  double inv_cell;   /* 1/m */
+  double gravity[2]; /* m/s^2 */
+  int shift;
+  bool axisymmetric;
+  /* Rigid points (rigid.c) take no part in the transfers. */
+  bool skip_rigid;
+  const int32_t *material;
+  bool rigid[GM_MAX_MATERIALS];
+  /* Wide supports (p2g_wide.c): the domains' shape and size. */
+  const gm_shape_grid *shape_grid;
+  const gm_grid *grid;
+  /* Committed F_xx, F_xy, F_yx, F_yy, or for CPDI the domain map D
+   * (gm_support_tensor): what deforms the domains. */
+  const double *deformation[4];
+  const double *domain_size[2]; /* m, initial domain edges */
+  /* GM_TRANSFER_APIC: the affine matrix of the velocity buffer (xx xy yx
+   * yy; 1D: xx only). The momentum a point gives node i is
+   *   m_p N_ip (v_p + B_p D_p^-1 (x_i - x_p))
+   * (Jiang et al. 2015, the APIC P2G), D_p = sum_i N_ip (x_i - x_p)
+   * (x_i - x_p)^T from the support: the wide shapes store B_p (m^2/s);
+   * linear MPM stores C_p = B_p D_p^-1 (1/s) itself (p2g.c says why). */
+  bool apic;
+  const double *affine[4];
+  double cell; /* m, h: node n of an axis lies at origin + n h */
+} scatter_view;
+
+/* Every array a G2P pass touches (copied into restrict-qualified locals by
+ * the kernels, see p2g.c). */
+typedef struct gather_view {
+  const double *position[2]; /* m, committed */
+  const double *velocity[2]; /* m/s, committed */
+  const double *deformation[GM_F_STORED];
+  const double *grid_velocity[2];     /* m/s */
+  const double *grid_mass;            /* kg */
+  const double *grid_acceleration[2]; /* m/s^2 */
+  const uint32_t *point_block;
+  const uint32_t *neighbour;
+  const gm_grid *grid;
+  int64_t *block_key;      /* written by the move pass */
+  const double *origin_xy; /* m, node 0 (not aliased in 1D) */
+  const double *mass;      /* kg */
+  const double *initial_volume;
+  const int32_t *material;
+  double *next_position[2];
+  double *next_velocity[2];
+  double *next_deformation[GM_F_STORED];
+  double *next_volume;
+  double origin[2];
+  double inv_cell;
+  double cells[2];     /* cells per axis, as doubles */
+  double pic_fraction; /* -, gm_domain_def.pic_fraction */
+  int shift;
+  int dim;
+  bool axisymmetric;
+  /* Wide supports (g2p_wide.c). */
+  const gm_shape_grid *shape_grid;
+  const double *domain_size[2]; /* m, initial domain edges */
+  /* What deforms the domains (gm_support_tensor), committed and next:
+   * F, or for CPDI the domain map D, whose update and reset the deform
+   * pass writes to next_domain_map (NULL unless CPDI). */
+  const double *support_tensor[4];
+  const double *next_support_tensor[4];
+  const double *domain_map[4];
+  double *next_domain_map[4];
+  /* GM_TRANSFER_APIC: the velocity pass sets v_p = sum N_ip v_i (PIC) and
+   * B_p = sum N_ip v_i (x_i - x_p)^T (Jiang et al. 2015, the APIC G2P),
+   * or C_p = L in linear MPM; affine: the wide gather computes B_p (the
+   * pass writes velocities). */
+  bool apic;
+  bool affine;
+  double *next_affine[4]; /* m^2/s */
+  double cell;            /* m, h */
+} gather_view;
+
+/* What the grid tells the points of one chunk, SoA: interpolated nodal
+ * acceleration and velocity, and the velocity gradient components
+ * (L_xx, L_xy, L_yx, L_yy, L_zz). */
+struct chunk_gather {
+  double acceleration[2][GM_BATCH_SIZE]; /* m/s^2 */
+  double velocity[2][GM_BATCH_SIZE];     /* m/s */
+  double gradient[5][GM_BATCH_SIZE];     /* 1/s */
+  double affine[4][GM_BATCH_SIZE];       /* m^2/s, B_p xx xy yx yy (APIC,
+                                            wide shapes) */
+};
+typedef struct chunk_gather chunk_gather;
+
+/* Scatters one block of points with a GIMP or CPDI support (p2g_wide.c). */
+/* A support that does not fit the block's tile fails the step
+ * (GM_ERR_OUT_OF_GRID on scratch) instead of writing outside it. */
+void gm_scatter_block_wide(const scatter_view *view, const gm_p2g_pass *pass,
+                           uint32_t block, const gm_domain *domain,
+                           gm_worker_scratch *scratch);
+/* Gathers one chunk of points with a GIMP or CPDI support (g2p_wide.c). */
+/* The same check as the scatter: a support outside the block's
+ * neighbours fails the step instead of reading outside them. */
+void gm_gather_chunk_wide(const gather_view *view, size_t first, size_t count,
+                          chunk_gather *out, const gm_domain *domain,
+                          gm_worker_scratch *scratch);
+/* Block keys of the chunk's moved and deformed points (next buffer) from
+ * their supports; a support leaving the grid fails the step. */
+void gm_wide_keys_chunk(gm_domain *domain, const gather_view *view,
+                        gm_worker_scratch *scratch, size_t first, size_t count);
+
+#endif

@@ -1,0 +1,18 @@
+/*
+ * shapes.h - the shapes folder: the shape functions and a point's support
+ * on the grid, pure functions of positions, domains and the grid spacing
+ * (they never see the domain): linear (shape_linear.h), GIMP
+ * (shape_gimp.h), B-splines (shape_bspline.h), and the support of a point
+ * for every shape variant with the corners of its current domain
+ * (support.h, support.c). The bottom layer: core/core.h includes it for
+ * gm_shape_grid. Private to the library.
+ */
+#ifndef GM_SHAPES_H
+#define GM_SHAPES_H
+
+#include "shapes/shape_bspline.h"
+#include "shapes/shape_gimp.h"
+#include "shapes/shape_linear.h"
+#include "shapes/support.h"
+
+#endif
