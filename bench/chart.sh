@@ -31,10 +31,7 @@ scene=${SCENE:-collapse}
 case $scene in
 collapse)
   reference=1.2 # Lube et al. 2005: 1.2 a at a = 1
-  # The material and floor the published chart was drawn with (phi 35 on
-  # a Coulomb floor of friction tan phi), not the example's newer defaults
-  # (docs/convergence.md sec 11); redrawing it is issue 13 item 5.
-  scene_args="--aspect 1 --length 0.15 --friction 35 --floor wall"
+  scene_args="--aspect 1 --length 0.15"
   metric=runout
   cells="0.015 0.01 0.0075"
   ppcs="1 2 3"

@@ -13,30 +13,22 @@
  * collapses to the right under gravity when released at t = 0 (the lifted
  * gate of the experiments). The frictionless back wall is the symmetry
  * plane of a column 2 L0 wide, which is how Lube's channel experiments are
- * reported; it is a planar wall (gm_walls(3)), so its force is in the CSV.
- * The floor is the no-slip box face y = 0 (--floor face): the grains shear
- * in themselves, not on the floor. On a Coulomb floor wall (--floor wall,
- * mu = --floor-mu, default tan(phi)) the run-out keeps growing under
- * refinement (the base slips: docs/convergence.md secs 2 and 11).
+ * reported. Both walls are planar walls (gm_walls(3)), so their forces are
+ * in the CSV; the floor has Coulomb friction mu = tan(phi): a rough floor
+ * holds the grains as strongly as they hold each other.
  *
- * Material: Mohr-Coulomb (000 eqs 16-17), psi = 0, no Bagnold term (the law
- * is rate-free and the columns are decimetres tall, where eta gammadot^2 of
- * 000 Table 3 would act as a cohesion comparable with rho g H0), phi = 37
- * degrees. With psi = 0 the material flows at tau/sigma_n = sin(phi) on its
- * shear planes, not tan(phi) (Davis 1968; docs/convergence.md sec 10), so
- * phi = 37 is grains of flowing friction tan(31.0 deg), inside Lube's sands,
- * rices and sugars (30-35 degrees); --grain-friction sets phi from that
- * angle. The value was picked from 31, 32.5 and 35 degrees by the study of
- * docs/convergence.md sec 11 (a choice within the grains' range, one for
- * every aspect ratio, not a per-case fit). The old setting (phi = 35,
- * flowing like 29.8 degree grains, on a Coulomb floor of friction tan(phi),
- * with uGIMP: 15-35 % long and growing with refinement) is --friction 35
- * --floor wall --method ugimp. E = 0.5 MPa: soft for a large stable time
+ * Material: Mohr-Coulomb (000 eqs 16-17) with phi = 35 degrees, the upper
+ * end of Lube's sands, rices and sugars (30-35 degrees; at 30 degrees the
+ * run-out is 11-20 % longer than the law, see examples/README.md), psi = 0
+ * and no Bagnold term (the law is rate-free and the columns are decimetres
+ * tall, where eta gammadot^2 of 000 Table 3 would act as a cohesion
+ * comparable with rho g H0). E = 0.5 MPa: soft for a large stable time
  * step, stiff enough that the elastic settlement rho g H0 / E stays ~1 %.
- * Critical density ratio of 000 Table 1 (2235 / 2250). Defaults: a = 1,
- * L0 = 0.15 m, Granular quadratic B-splines with 2 x 2 points per cell (the
- * numerics that converged best, docs/convergence.md secs 10-11), 7.5 mm
- * cells (L0/20): 1600 points, a few seconds on one core.
+ * Critical density ratio of 000 Table 1 (2235 / 2250). One material for
+ * every aspect ratio: nothing is tuned per case. Defaults: a = 1, L0 =
+ * 0.15 m, Granular uGIMP (Granular CPDI fails tall columns, see
+ * examples/README.md), 7.5 mm cells, 2 x 2 points per cell: 1600 points,
+ * about 20 s on one core.
  *
  * Measured: the front is the right edge of the deposit, grains that flew
  * ahead of it excluded (see measure_deposit); the height is the top of the
@@ -49,7 +41,7 @@
  * the kinetic energy the grid cannot see (ENERGY line, measure_energy), and
  * takes the options --transfer flip|apic, --pic (FLIP-PIC blend), --floor
  * wall|face|rigid (Coulomb wall, no-slip box face, no-slip rigid points),
- * --floor-mu, --dilation (psi), --material mu_i (mu_s = sin phi), --grain,
+ * --floor-mu, --dilation (psi), --material mu_i (mu_s = sin phi), --grain
  * --scheme usl|musl|usf and --cfl.
  *
  * Output in --out (default out/column_collapse): collapse.pvd + VTU frames
@@ -90,19 +82,17 @@ typedef struct collapse_scene {
   double spacing;  /* initial point spacing, cell / ppc */
   double extent_x; /* grid box */
   double extent_y;
-  const char *material;      /* mohr_coulomb | drucker_prager | mu_i */
-  double grain_friction_deg; /* phi_g, degrees: the grains flow at
-                              * tau/sigma_n = tan(phi_g); <= 0: unset */
-  double friction_deg;       /* phi of Mohr-Coulomb, degrees */
-  double youngs_modulus;     /* E, Pa */
-  double dilation_deg;       /* psi of Mohr-Coulomb, degrees */
-  double floor_friction;     /* mu of the floor wall; < 0: tan(phi) */
-  const char *floor;         /* wall | face | rigid */
-  const char *transfer;      /* flip | apic */
-  double pic_fraction;       /* FLIP-PIC blend, 0 = FLIP */
-  double grain_diameter;     /* mu(I): d, m */
-  const char *scheme;        /* usl | musl | usf */
-  double cfl;                /* Courant number, 0 = the library's default */
+  const char *material;  /* mohr_coulomb | drucker_prager | mu_i */
+  double friction_deg;   /* phi of the material and of the floor, degrees */
+  double youngs_modulus; /* E, Pa */
+  double dilation_deg;   /* psi of Mohr-Coulomb, degrees */
+  double floor_friction; /* mu of the floor; < 0: tan(phi) */
+  const char *floor;     /* wall | face | rigid */
+  const char *transfer;  /* flip | apic */
+  double pic_fraction;   /* FLIP-PIC blend, 0 = FLIP */
+  double grain_diameter; /* mu(I): d, m */
+  const char *scheme;    /* usl | musl | usf */
+  double cfl;            /* Courant number, 0 = the library's default */
 } collapse_scene;
 
 /* Thickness thresholds of the front measures, in L0 (front_thick). */
@@ -663,18 +653,6 @@ static int size_scene(collapse_scene *scene, collapse_run *run) {
     fprintf(stderr, "--aspect and --length must be > 0\n");
     return 2;
   }
-  if (scene->grain_friction_deg > 0.0) {
-    /* With psi = 0 Mohr-Coulomb flows at tau/sigma_n = sin(phi) on its
-     * shear planes (Davis 1968; docs/convergence.md sec 10, measured in
-     * bench/convergence/simple_shear.c), so grains that flow at
-     * tan(phi_g) take sin(phi) = tan(phi_g). */
-    if (!(scene->grain_friction_deg < 45.0)) {
-      fprintf(stderr, "--grain-friction must lie in (0, 45) degrees\n");
-      return 2;
-    }
-    scene->friction_deg =
-        asin(tan(scene->grain_friction_deg * PI / 180.0)) * 180.0 / PI;
-  }
   scene->height = scene->aspect * scene->length;
   scene->tau_c = sqrt(scene->height / GRAVITY);
   scene->spacing = options->cell / options->ppc;
@@ -721,7 +699,7 @@ static void release(collapse_run *run) {
 }
 
 int main(int argc, char **argv) {
-  example_options options = {GM_SHAPE_BSPLINE2,
+  example_options options = {GM_SHAPE_UGIMP,
                              GM_FAMILY_GRANULAR,
                              2,
                              0.0075,
@@ -733,25 +711,19 @@ int main(int argc, char **argv) {
   scene.length = 0.15;
   scene.aspect = 1.0;
   scene.material = "mohr_coulomb";
-  scene.grain_friction_deg = 0.0;
-  scene.friction_deg = 37.0;
+  scene.friction_deg = 35.0;
   scene.youngs_modulus = 5e5;
   scene.floor_friction = -1.0;
-  scene.floor = "face";
+  scene.floor = "wall";
   scene.transfer = "flip";
   scene.grain_diameter = 0.5e-3;
   scene.scheme = "usl";
   const example_extra extras[] = {
       {"aspect", "aspect ratio a = H0/L0", &scene.aspect, NULL},
       {"length", "column width L0, m", &scene.length, NULL},
-      {"material", "mohr_coulomb|drucker_prager|mu_i", NULL, &scene.material},
-      {"friction",
-       "Mohr-Coulomb phi, deg (37: flows at tau/sigma_n = sin 37 = tan 31)",
+      {"material", "mohr_coulomb|drucker_prager", NULL, &scene.material},
+      {"friction", "friction angle of material and floor, deg",
        &scene.friction_deg, NULL},
-      {"grain-friction",
-       "> 0: phi from the grains' flowing friction angle phi_g, sin(phi) = "
-       "tan(phi_g), deg",
-       &scene.grain_friction_deg, NULL},
       {"youngs", "Young's modulus E, Pa", &scene.youngs_modulus, NULL},
       {"dilation", "dilation angle psi of mohr_coulomb, deg",
        &scene.dilation_deg, NULL},
@@ -771,7 +743,7 @@ int main(int argc, char **argv) {
       argc, argv,
       "Planar granular column collapse against Lube et al. (2005).\n"
       "--t-end 0 (the default) runs 6 tau_c, tau_c = sqrt(H0/g).",
-      &options, extras, 14);
+      &options, extras, 13);
   if (parsed != 0)
     return parsed == 1 ? 0 : parsed;
   collapse_run run = {0};
@@ -788,16 +760,12 @@ int main(int argc, char **argv) {
     status = open_outputs(&run);
   if (status == 0) {
     printf("column collapse: a = %g, L0 = %g m, H0 = %g m, tau_c = %.4g s, "
-           "t_end = %.4g s; %s %s %s, phi %.4g deg, floor mu %.4g, cell %g m, "
-           "%dx%d points per cell, %zu points\n",
+           "t_end = %.4g s; %s %s %s, cell %g m, %dx%d points per cell, %zu "
+           "points\n",
            scene.aspect, scene.length, scene.height, scene.tau_c, options.t_end,
            example_family_name(options.family),
-           example_shape_name(options.shape), scene.material,
-           scene.friction_deg,
-           scene.floor_friction >= 0.0 ? scene.floor_friction
-                                       : tan(scene.friction_deg * PI / 180.0),
-           options.cell, options.ppc, options.ppc,
-           gm_domain_point_count(run.domain));
+           example_shape_name(options.shape), scene.material, options.cell,
+           options.ppc, options.ppc, gm_domain_point_count(run.domain));
     double start = seconds_now();
     status = run_collapse(&run);
     if (status == 0)
