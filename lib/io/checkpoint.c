@@ -63,30 +63,6 @@ static void describe_def(const gm_domain *domain, gm_byte_writer *out) {
    * not depend on them, so a run may restart with other threads. */
 }
 
-/* Bytes of a built-in material's parameter copy that hold parameters:
- * after struct_size and the (cleared) name pointer, up to the last field,
- * so trailing padding, whose contents C leaves unspecified, is skipped. */
-#define FIELD_END(type, field)                                                 \
-  (offsetof(type, field) + sizeof(((type *)0)->field))
-#define PARAMETERS(type, last)                                                 \
-  offsetof(type, name) + sizeof(const char *), FIELD_END(type, last)
-static const struct {
-  gm_material_update_fn *update;
-  size_t begin, end; /* bytes of gm_material.parameters */
-} builtin_parameters[] = {
-    {gm_elastic_update, PARAMETERS(gm_elastic_def, density)},
-    {gm_mohr_coulomb_update,
-     PARAMETERS(gm_mohr_coulomb_def, bagnold_viscosity)},
-    {gm_perzyna_update, PARAMETERS(gm_perzyna_def, always_iterate)},
-    {gm_filling_update, PARAMETERS(gm_filling_def, max_iterations)},
-    {gm_drucker_prager_update,
-     PARAMETERS(gm_drucker_prager_def, friction_angle)},
-    {gm_von_mises_update, PARAMETERS(gm_von_mises_def, yield_stress)},
-    {gm_stress_free_update, PARAMETERS(gm_stress_free_def, p_wave_modulus)},
-    /* The doubles up to critical_density; regularise (an int followed by
-     * padding) and the exponent are recorded by describe_mu_i_switches. */
-    {gm_mu_i_update, PARAMETERS(gm_mu_i_def, critical_density)}};
-
 /* mu(I)'s regularisation switch and exponent, as numbers rather than
  * bytes: the padding after the int is unspecified. */
 static void describe_mu_i_switches(const gm_material *material,
@@ -97,20 +73,18 @@ static void describe_mu_i_switches(const gm_material *material,
   gm_record_reals(out, name, switches, 2);
 }
 
+/* A built-in material's parameters as bytes, the span its model names
+ * (materials/builtin_models.c); a user material's live behind its
+ * callback's `user` pointer: only the host knows them. */
 static void describe_parameters(const gm_material *material, const char *name,
                                 gm_byte_writer *out) {
-  size_t count = sizeof builtin_parameters / sizeof builtin_parameters[0];
-  for (size_t k = 0; k < count; k++) {
-    if (builtin_parameters[k].update != material->update)
-      continue;
-    size_t begin = builtin_parameters[k].begin;
-    gm_record_bytes(out, name, material->parameters + begin,
-                    builtin_parameters[k].end - begin);
+  const gm_builtin_model *model = gm_builtin_model_of(material->update);
+  if (!model) {
+    gm_record_bytes(out, name, NULL, 0);
     return;
   }
-  /* A user material's parameters live behind its callback's `user`
-   * pointer: only the host knows them. */
-  gm_record_bytes(out, name, NULL, 0);
+  gm_record_bytes(out, name, material->parameters + GM_BUILTIN_RECORD_BEGIN,
+                  model->record_end - GM_BUILTIN_RECORD_BEGIN);
 }
 
 /* "material 2 (sand) density": names a record of material m. */

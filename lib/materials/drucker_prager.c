@@ -81,19 +81,11 @@ int gm_drucker_prager_update(const gm_material_batch *batch, void *user,
   return 0;
 }
 
-gm_status gm_domain_add_drucker_prager(gm_domain *domain,
-                                       const gm_drucker_prager_def *def,
-                                       int *material_id) {
-  gm_drucker_prager_def full;
-  gm_status status = gm_api_take_def(domain, "gm_domain_add_drucker_prager",
-                                     GM_LAYOUT_DRUCKER_PRAGER_DEF, def, &full,
-                                     material_id, "material_id");
-  if (status != GM_OK)
-    return status;
-  def = &full;
-  if (status == GM_OK)
-    status = gm_check_elastic_constants(domain, DEF_NAME, def->youngs_modulus,
-                                        def->poisson_ratio);
+static gm_status drucker_prager_check(gm_domain *domain,
+                                      const void *parameters) {
+  const gm_drucker_prager_def *def = parameters;
+  gm_status status = gm_check_elastic_constants(
+      domain, DEF_NAME, def->youngs_modulus, def->poisson_ratio);
   if (status == GM_OK)
     status = gm_check_positive(domain, DEF_NAME, "density", def->density,
                                "kg/m^3", false);
@@ -105,21 +97,30 @@ gm_status gm_domain_add_drucker_prager(gm_domain *domain,
                         "%s.friction_angle is %g rad, must be in (0, pi/2) "
                         "radians, i.e. strictly between 0 and 90 degrees",
                         DEF_NAME, phi);
-  gm_drucker_prager_def parameters = *def;
-  parameters.struct_size = sizeof parameters;
-  parameters.name = NULL; /* the domain keeps its own copy of the name */
-  gm_builtin_material spec;
-  memset(&spec, 0, sizeof spec);
-  spec.def_name = DEF_NAME;
-  spec.name = def->name ? def->name : "drucker_prager";
-  spec.update = gm_drucker_prager_update;
-  spec.parameters = &parameters;
-  spec.parameter_size = sizeof parameters;
-  spec.state_count = GM_DRUCKER_PRAGER_STATE_COUNT;
-  spec.initial_state = NULL; /* no plastic strain yet */
-  /* Plasticity only softens: the elastic K + 4G/3 bounds the wave speed. */
-  spec.p_wave_modulus =
-      gm_p_wave_modulus(def->youngs_modulus, def->poisson_ratio);
-  spec.density = def->density;
-  return gm_add_builtin_material(domain, &spec, material_id);
+  return GM_OK;
+}
+
+/* Plasticity only softens: the elastic K + 4G/3 bounds the wave speed. */
+static double drucker_prager_p_wave_modulus(const void *parameters) {
+  const gm_drucker_prager_def *def = parameters;
+  return gm_p_wave_modulus(def->youngs_modulus, def->poisson_ratio);
+}
+
+const gm_builtin_model gm_drucker_prager_model = {
+    .caller = "gm_domain_add_drucker_prager",
+    .layout = GM_LAYOUT_DRUCKER_PRAGER_DEF,
+    .default_name = "drucker_prager",
+    .update = gm_drucker_prager_update,
+    .state_count = GM_DRUCKER_PRAGER_STATE_COUNT, /* no plastic strain yet */
+    .check = drucker_prager_check,
+    .p_wave_modulus = drucker_prager_p_wave_modulus,
+    .density_offset = offsetof(gm_drucker_prager_def, density),
+    .record_end = GM_FIELD_END(gm_drucker_prager_def, friction_angle),
+};
+
+gm_status gm_domain_add_drucker_prager(gm_domain *domain,
+                                       const gm_drucker_prager_def *def,
+                                       int *material_id) {
+  return gm_register_builtin(domain, &gm_drucker_prager_model, def,
+                             material_id);
 }

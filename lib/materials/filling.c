@@ -147,7 +147,8 @@ int gm_filling_update(const gm_material_batch *batch, void *user, char *message,
 }
 
 /* Checks every field; sets the error naming the first bad one. */
-static gm_status filling_check(gm_domain *domain, const gm_filling_def *def) {
+static gm_status filling_check(gm_domain *domain, const void *parameters) {
+  const gm_filling_def *def = parameters;
   const char *name = "gm_filling_def";
   gm_status status =
       gm_check_positive(domain, name, "density", def->density, "kg/m^3", false);
@@ -196,35 +197,30 @@ static gm_status filling_check(gm_domain *domain, const gm_filling_def *def) {
   return status;
 }
 
-gm_status gm_domain_add_filling(gm_domain *domain, const gm_filling_def *def,
-                                int *material_id) {
-  gm_filling_def full;
-  gm_status status =
-      gm_api_take_def(domain, "gm_domain_add_filling", GM_LAYOUT_FILLING_DEF,
-                      def, &full, material_id, "material_id");
-  if (status != GM_OK)
-    return status;
-  def = &full;
-  status = filling_check(domain, def);
-  if (status != GM_OK)
-    return status;
-  gm_filling_def parameters = *def;
-  parameters.name = NULL; /* the domain keeps its own copy of the name */
-  /* K + 4G/3 = K 3(1 - nu)/(1 + nu) (Pa) with K bounded by
-   * max_pressure (1 + e0)/kappa: along eq 24, K = (1 + e) p_el / kappa
-   * grows with p_el unless V/V0 = exp(eps_vol) < kappa/(1 + e0) (a
-   * compaction to ~1% of the volume for the default data). */
+/* K + 4G/3 = K 3(1 - nu)/(1 + nu) (Pa) with K bounded by
+ * max_pressure (1 + e0)/kappa: along eq 24, K = (1 + e) p_el / kappa
+ * grows with p_el unless V/V0 = exp(eps_vol) < kappa/(1 + e0) (a
+ * compaction to ~1% of the volume for the default data). */
+static double filling_p_wave_modulus(const void *parameters) {
+  const gm_filling_def *def = parameters;
   double nu = def->poisson_ratio;
   double bulk = def->max_pressure * (1.0 + def->void_ratio) / def->kappa;
-  gm_builtin_material spec;
-  memset(&spec, 0, sizeof spec);
-  spec.def_name = "gm_filling_def";
-  spec.name = def->name ? def->name : "filling";
-  spec.update = gm_filling_update;
-  spec.parameters = &parameters;
-  spec.parameter_size = sizeof parameters;
-  spec.state_count = GM_FILLING_STATE_COUNT; /* eps_vol = 0: pressure p0 */
-  spec.p_wave_modulus = bulk * 3.0 * (1.0 - nu) / (1.0 + nu);
-  spec.density = def->density;
-  return gm_add_builtin_material(domain, &spec, material_id);
+  return bulk * 3.0 * (1.0 - nu) / (1.0 + nu);
+}
+
+const gm_builtin_model gm_filling_model = {
+    .caller = "gm_domain_add_filling",
+    .layout = GM_LAYOUT_FILLING_DEF,
+    .default_name = "filling",
+    .update = gm_filling_update,
+    .state_count = GM_FILLING_STATE_COUNT, /* eps_vol = 0: pressure p0 */
+    .check = filling_check,
+    .p_wave_modulus = filling_p_wave_modulus,
+    .density_offset = offsetof(gm_filling_def, density),
+    .record_end = GM_FIELD_END(gm_filling_def, max_iterations),
+};
+
+gm_status gm_domain_add_filling(gm_domain *domain, const gm_filling_def *def,
+                                int *material_id) {
+  return gm_register_builtin(domain, &gm_filling_model, def, material_id);
 }

@@ -146,31 +146,32 @@ gm_status gm_add_builtin_material(gm_domain *domain,
   return status;
 }
 
+static gm_status elastic_check(gm_domain *domain, const void *parameters) {
+  const gm_elastic_def *def = parameters;
+  return gm_check_elastic_constants(domain, "gm_elastic_def",
+                                    def->youngs_modulus, def->poisson_ratio);
+}
+
+/* Constrained (P-wave) modulus M = K + 4G/3 = E(1-nu)/((1+nu)(1-2nu)). */
+static double elastic_p_wave_modulus(const void *parameters) {
+  const gm_elastic_def *def = parameters;
+  double young = def->youngs_modulus, nu = def->poisson_ratio;
+  return young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+}
+
+const gm_builtin_model gm_elastic_model = {
+    .caller = "gm_domain_add_elastic",
+    .layout = GM_LAYOUT_ELASTIC_DEF,
+    .default_name = "elastic",
+    .update = gm_elastic_update,
+    .state_count = 0,
+    .check = elastic_check,
+    .p_wave_modulus = elastic_p_wave_modulus,
+    .density_offset = offsetof(gm_elastic_def, density),
+    .record_end = GM_FIELD_END(gm_elastic_def, density),
+};
+
 gm_status gm_domain_add_elastic(gm_domain *domain, const gm_elastic_def *def,
                                 int *material_id) {
-  gm_elastic_def full;
-  gm_status status =
-      gm_api_take_def(domain, "gm_domain_add_elastic", GM_LAYOUT_ELASTIC_DEF,
-                      def, &full, material_id, "material_id");
-  if (status != GM_OK)
-    return status;
-  def = &full;
-  status = gm_check_elastic_constants(domain, "gm_elastic_def",
-                                      def->youngs_modulus, def->poisson_ratio);
-  if (status != GM_OK)
-    return status;
-  double young = def->youngs_modulus, nu = def->poisson_ratio;
-  /* Constrained (P-wave) modulus M = K + 4G/3 = E(1-nu)/((1+nu)(1-2nu)). */
-  gm_elastic_def parameters = *def;
-  parameters.name = NULL; /* the domain keeps its own copy of the name */
-  gm_builtin_material spec;
-  memset(&spec, 0, sizeof spec);
-  spec.def_name = "gm_elastic_def";
-  spec.name = def->name ? def->name : "elastic";
-  spec.update = gm_elastic_update;
-  spec.parameters = &parameters;
-  spec.parameter_size = sizeof parameters;
-  spec.p_wave_modulus = young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
-  spec.density = def->density;
-  return gm_add_builtin_material(domain, &spec, material_id);
+  return gm_register_builtin(domain, &gm_elastic_model, def, material_id);
 }

@@ -27,6 +27,43 @@ typedef struct gm_builtin_material {
 gm_status gm_add_builtin_material(gm_domain *domain,
                                   const gm_builtin_material *spec,
                                   int *material_id);
+/* One built-in material model: what its registration and its checkpoint
+ * record need. Each model defines its own next to its update function;
+ * builtin_models.c registers through it and lists them all. */
+typedef struct gm_builtin_model {
+  const char *caller;       /* "gm_domain_add_X", for the preamble */
+  gm_layout layout;         /* its def struct (gm_X_def), see api_check.h */
+  const char *default_name; /* material name when def->name is NULL */
+  gm_material_update_fn *update;
+  size_t state_count; /* per-point state, zeros at insertion */
+  /* Checks the completed def's parameters, setting a message naming
+   * gm_X_def.field; GM_OK or GM_ERR_INVALID_ARGUMENT. */
+  gm_status (*check)(gm_domain *domain, const void *def);
+  /* Pa, the modulus K + 4G/3 that bounds the wave speed of the def. */
+  double (*p_wave_modulus)(const void *def);
+  size_t density_offset; /* offsetof(gm_X_def, density) */
+  /* Bytes of the parameter copy a checkpoint compares: from after the name
+   * pointer to the end of this last compared field (trailing padding,
+   * whose contents C leaves unspecified, is skipped). */
+  size_t record_end;
+} gm_builtin_model;
+
+/* The preamble (gm_api_take_def), model->check, then the copy of the def
+ * (name cleared: the domain keeps its own) as the material's parameters. */
+gm_status gm_register_builtin(gm_domain *domain, const gm_builtin_model *model,
+                              const void *def, int *material_id);
+/* The model whose update function this is, or NULL (a user material). */
+const gm_builtin_model *gm_builtin_model_of(gm_material_update_fn *update);
+/* Offset of the first compared parameter byte: every gm_X_def starts with
+ * struct_size and the name pointer. */
+#define GM_BUILTIN_RECORD_BEGIN (sizeof(size_t) + sizeof(const char *))
+#define GM_FIELD_END(type, field)                                              \
+  (offsetof(type, field) + sizeof(((type *)0)->field))
+
+extern const gm_builtin_model gm_elastic_model, gm_mohr_coulomb_model,
+    gm_drucker_prager_model, gm_perzyna_model, gm_filling_model,
+    gm_von_mises_model, gm_stress_free_model, gm_mu_i_model;
+
 /* Young's modulus finite > 0 and Poisson ratio in (-1, 0.5); sets the
  * message naming def_name's fields. */
 gm_status gm_check_elastic_constants(gm_domain *domain, const char *def_name,

@@ -259,8 +259,8 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
 }
 
 /* Validates the Mohr-Coulomb specific fields (angles in rad). */
-static gm_status check_parameters(gm_domain *domain,
-                                  const gm_mohr_coulomb_def *def) {
+static gm_status check_parameters(gm_domain *domain, const void *parameters) {
+  const gm_mohr_coulomb_def *def = parameters;
   static const char *def_name = "gm_mohr_coulomb_def";
   gm_status status = gm_check_elastic_constants(
       domain, def_name, def->youngs_modulus, def->poisson_ratio);
@@ -284,34 +284,28 @@ static gm_status check_parameters(gm_domain *domain,
                            def->bagnold_viscosity, "Pa s^2", true);
 }
 
+/* The rate term raises strength, not stiffness: the P-wave modulus
+ * M = K + 4G/3 = E(1-nu)/((1+nu)(1-2nu)) bounds the wave speed. */
+static double mohr_coulomb_p_wave_modulus(const void *parameters) {
+  const gm_mohr_coulomb_def *def = parameters;
+  double young = def->youngs_modulus, nu = def->poisson_ratio;
+  return young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+}
+
+const gm_builtin_model gm_mohr_coulomb_model = {
+    .caller = "gm_domain_add_mohr_coulomb",
+    .layout = GM_LAYOUT_MOHR_COULOMB_DEF,
+    .default_name = "mohr_coulomb",
+    .update = gm_mohr_coulomb_update,
+    .state_count = GM_MOHR_COULOMB_STATE_COUNT, /* no plastic shear yet */
+    .check = check_parameters,
+    .p_wave_modulus = mohr_coulomb_p_wave_modulus,
+    .density_offset = offsetof(gm_mohr_coulomb_def, density),
+    .record_end = GM_FIELD_END(gm_mohr_coulomb_def, bagnold_viscosity),
+};
+
 gm_status gm_domain_add_mohr_coulomb(gm_domain *domain,
                                      const gm_mohr_coulomb_def *def,
                                      int *material_id) {
-  gm_mohr_coulomb_def full;
-  gm_status status = gm_api_take_def(domain, "gm_domain_add_mohr_coulomb",
-                                     GM_LAYOUT_MOHR_COULOMB_DEF, def, &full,
-                                     material_id, "material_id");
-  if (status != GM_OK)
-    return status;
-  def = &full;
-  status = check_parameters(domain, def);
-  if (status != GM_OK)
-    return status;
-  double young = def->youngs_modulus, nu = def->poisson_ratio;
-  gm_mohr_coulomb_def parameters = *def;
-  parameters.name = NULL; /* the domain keeps its own copy of the name */
-  gm_builtin_material spec;
-  memset(&spec, 0, sizeof spec);
-  spec.def_name = "gm_mohr_coulomb_def";
-  spec.name = def->name ? def->name : "mohr_coulomb";
-  spec.update = gm_mohr_coulomb_update;
-  spec.parameters = &parameters;
-  spec.parameter_size = sizeof parameters;
-  spec.state_count = GM_MOHR_COULOMB_STATE_COUNT;
-  spec.initial_state = NULL; /* no plastic shear strain yet */
-  /* The rate term raises strength, not stiffness: the P-wave modulus
-   * M = K + 4G/3 = E(1-nu)/((1+nu)(1-2nu)) bounds the wave speed. */
-  spec.p_wave_modulus = young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
-  spec.density = def->density;
-  return gm_add_builtin_material(domain, &spec, material_id);
+  return gm_register_builtin(domain, &gm_mohr_coulomb_model, def, material_id);
 }

@@ -252,7 +252,8 @@ int gm_mu_i_update(const gm_material_batch *batch, void *user, char *message,
 }
 
 /* Checks the fields beyond the call itself; sets the error. */
-static gm_status mu_i_check(gm_domain *domain, const gm_mu_i_def *def) {
+static gm_status mu_i_check(gm_domain *domain, const void *parameters) {
+  const gm_mu_i_def *def = parameters;
   gm_status status = gm_check_elastic_constants(
       domain, DEF_NAME, def->youngs_modulus, def->poisson_ratio);
   if (status == GM_OK)
@@ -301,35 +302,29 @@ static gm_status mu_i_check(gm_domain *domain, const gm_mu_i_def *def) {
   return GM_OK;
 }
 
+/* The viscoplastic return only softens: the elastic K + 4G/3 bounds the
+ * wave speed, and backward Euler adds no limit of its own. */
+static double mu_i_p_wave_modulus(const void *parameters) {
+  const gm_mu_i_def *def = parameters;
+  return gm_p_wave_modulus(def->youngs_modulus, def->poisson_ratio);
+}
+
+/* The doubles up to critical_density are compared as bytes; regularise
+ * (an int followed by padding) and the exponent are recorded as numbers by
+ * the checkpoint (io/checkpoint.c). */
+const gm_builtin_model gm_mu_i_model = {
+    .caller = "gm_domain_add_mu_i",
+    .layout = GM_LAYOUT_MU_I_DEF,
+    .default_name = "mu_i",
+    .update = gm_mu_i_update,
+    .state_count = GM_MU_I_STATE_COUNT, /* no plastic strain, I = 0 */
+    .check = mu_i_check,
+    .p_wave_modulus = mu_i_p_wave_modulus,
+    .density_offset = offsetof(gm_mu_i_def, density),
+    .record_end = GM_FIELD_END(gm_mu_i_def, critical_density),
+};
+
 gm_status gm_domain_add_mu_i(gm_domain *domain, const gm_mu_i_def *def,
                              int *material_id) {
-  gm_mu_i_def full;
-  gm_status status =
-      gm_api_take_def(domain, "gm_domain_add_mu_i", GM_LAYOUT_MU_I_DEF, def,
-                      &full, material_id, "material_id");
-  if (status != GM_OK)
-    return status;
-  def = &full;
-  if (status == GM_OK)
-    status = mu_i_check(domain, def);
-  if (status != GM_OK)
-    return status;
-  gm_mu_i_def parameters = *def;
-  parameters.struct_size = sizeof parameters;
-  parameters.name = NULL; /* the domain keeps its own copy of the name */
-  gm_builtin_material spec;
-  memset(&spec, 0, sizeof spec);
-  spec.def_name = DEF_NAME;
-  spec.name = def->name ? def->name : "mu_i";
-  spec.update = gm_mu_i_update;
-  spec.parameters = &parameters;
-  spec.parameter_size = sizeof parameters;
-  spec.state_count = GM_MU_I_STATE_COUNT;
-  spec.initial_state = NULL; /* no plastic strain, I = 0 */
-  /* The viscoplastic return only softens: the elastic K + 4G/3 bounds the
-   * wave speed, and backward Euler adds no limit of its own. */
-  spec.p_wave_modulus =
-      gm_p_wave_modulus(def->youngs_modulus, def->poisson_ratio);
-  spec.density = def->density;
-  return gm_add_builtin_material(domain, &spec, material_id);
+  return gm_register_builtin(domain, &gm_mu_i_model, def, material_id);
 }

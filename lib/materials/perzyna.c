@@ -213,7 +213,8 @@ int gm_perzyna_update(const gm_material_batch *batch, void *user, char *message,
 }
 
 /* Checks the fields beyond the elastic constants; sets the error. */
-static gm_status perzyna_check(gm_domain *domain, const gm_perzyna_def *def) {
+static gm_status perzyna_check(gm_domain *domain, const void *parameters) {
+  const gm_perzyna_def *def = parameters;
   const char *name = "gm_perzyna_def";
   gm_status status = gm_check_elastic_constants(
       domain, name, def->youngs_modulus, def->poisson_ratio);
@@ -243,32 +244,27 @@ static gm_status perzyna_check(gm_domain *domain, const gm_perzyna_def *def) {
   return status;
 }
 
+/* M = K + 4G/3 = E (1 - nu) / ((1 + nu)(1 - 2 nu)), Pa: the viscoplastic
+ * flow only softens the response, so the elastic value bounds it. */
+static double perzyna_p_wave_modulus(const void *parameters) {
+  const gm_perzyna_def *def = parameters;
+  double young = def->youngs_modulus, nu = def->poisson_ratio;
+  return young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+}
+
+const gm_builtin_model gm_perzyna_model = {
+    .caller = "gm_domain_add_perzyna",
+    .layout = GM_LAYOUT_PERZYNA_DEF,
+    .default_name = "perzyna",
+    .update = gm_perzyna_update,
+    .state_count = GM_PERZYNA_STATE_COUNT, /* zeros initially */
+    .check = perzyna_check,
+    .p_wave_modulus = perzyna_p_wave_modulus,
+    .density_offset = offsetof(gm_perzyna_def, density),
+    .record_end = GM_FIELD_END(gm_perzyna_def, always_iterate),
+};
+
 gm_status gm_domain_add_perzyna(gm_domain *domain, const gm_perzyna_def *def,
                                 int *material_id) {
-  gm_perzyna_def full;
-  gm_status status =
-      gm_api_take_def(domain, "gm_domain_add_perzyna", GM_LAYOUT_PERZYNA_DEF,
-                      def, &full, material_id, "material_id");
-  if (status != GM_OK)
-    return status;
-  def = &full;
-  status = perzyna_check(domain, def);
-  if (status != GM_OK)
-    return status;
-  double young = def->youngs_modulus, nu = def->poisson_ratio;
-  gm_perzyna_def parameters = *def;
-  parameters.name = NULL; /* the domain keeps its own copy of the name */
-  gm_builtin_material spec;
-  memset(&spec, 0, sizeof spec);
-  spec.def_name = "gm_perzyna_def";
-  spec.name = def->name ? def->name : "perzyna";
-  spec.update = gm_perzyna_update;
-  spec.parameters = &parameters;
-  spec.parameter_size = sizeof parameters;
-  spec.state_count = GM_PERZYNA_STATE_COUNT; /* zeros initially */
-  /* M = K + 4G/3 = E (1 - nu) / ((1 + nu)(1 - 2 nu)), Pa: the viscoplastic
-   * flow only softens the response, so the elastic value bounds it. */
-  spec.p_wave_modulus = young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
-  spec.density = def->density;
-  return gm_add_builtin_material(domain, &spec, material_id);
+  return gm_register_builtin(domain, &gm_perzyna_model, def, material_id);
 }

@@ -24,36 +24,35 @@ int gm_stress_free_update(const gm_material_batch *batch, void *user,
   return 0;
 }
 
-gm_status gm_domain_add_stress_free(gm_domain *domain,
-                                    const gm_stress_free_def *def,
-                                    int *material_id) {
-  gm_stress_free_def full;
-  gm_status status = gm_api_take_def(domain, "gm_domain_add_stress_free",
-                                     GM_LAYOUT_STRESS_FREE_DEF, def, &full,
-                                     material_id, "material_id");
-  if (status != GM_OK)
-    return status;
-  def = &full;
-  if (status == GM_OK)
-    status = gm_check_positive(domain, DEF_NAME, "density", def->density,
-                               "kg/m^3", false);
+static gm_status stress_free_check(gm_domain *domain, const void *parameters) {
+  const gm_stress_free_def *def = parameters;
+  gm_status status = gm_check_positive(domain, DEF_NAME, "density",
+                                       def->density, "kg/m^3", false);
   if (status == GM_OK)
     status = gm_check_positive(domain, DEF_NAME, "p_wave_modulus",
                                def->p_wave_modulus, "Pa", false);
-  if (status != GM_OK)
-    return status;
-  gm_stress_free_def parameters = *def;
-  parameters.struct_size = sizeof parameters;
-  parameters.name = NULL; /* the domain keeps its own copy of the name */
-  gm_builtin_material spec;
-  memset(&spec, 0, sizeof spec);
-  spec.def_name = DEF_NAME;
-  spec.name = def->name ? def->name : "stress_free";
-  spec.update = gm_stress_free_update;
-  spec.parameters = &parameters;
-  spec.parameter_size = sizeof parameters;
-  spec.state_count = 0;
-  spec.p_wave_modulus = def->p_wave_modulus;
-  spec.density = def->density;
-  return gm_add_builtin_material(domain, &spec, material_id);
+  return status;
+}
+
+/* The modulus the caller chose for the stable time step (see the header). */
+static double stress_free_p_wave_modulus(const void *parameters) {
+  return ((const gm_stress_free_def *)parameters)->p_wave_modulus;
+}
+
+const gm_builtin_model gm_stress_free_model = {
+    .caller = "gm_domain_add_stress_free",
+    .layout = GM_LAYOUT_STRESS_FREE_DEF,
+    .default_name = "stress_free",
+    .update = gm_stress_free_update,
+    .state_count = 0,
+    .check = stress_free_check,
+    .p_wave_modulus = stress_free_p_wave_modulus,
+    .density_offset = offsetof(gm_stress_free_def, density),
+    .record_end = GM_FIELD_END(gm_stress_free_def, p_wave_modulus),
+};
+
+gm_status gm_domain_add_stress_free(gm_domain *domain,
+                                    const gm_stress_free_def *def,
+                                    int *material_id) {
+  return gm_register_builtin(domain, &gm_stress_free_model, def, material_id);
 }

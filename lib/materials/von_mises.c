@@ -58,42 +58,39 @@ int gm_von_mises_update(const gm_material_batch *batch, void *user,
   return 0;
 }
 
-gm_status gm_domain_add_von_mises(gm_domain *domain,
-                                  const gm_von_mises_def *def,
-                                  int *material_id) {
-  gm_von_mises_def full;
-  gm_status status = gm_api_take_def(domain, "gm_domain_add_von_mises",
-                                     GM_LAYOUT_VON_MISES_DEF, def, &full,
-                                     material_id, "material_id");
-  if (status != GM_OK)
-    return status;
-  def = &full;
-  if (status == GM_OK)
-    status = gm_check_elastic_constants(domain, DEF_NAME, def->youngs_modulus,
-                                        def->poisson_ratio);
+static gm_status von_mises_check(gm_domain *domain, const void *parameters) {
+  const gm_von_mises_def *def = parameters;
+  gm_status status = gm_check_elastic_constants(
+      domain, DEF_NAME, def->youngs_modulus, def->poisson_ratio);
   if (status == GM_OK)
     status = gm_check_positive(domain, DEF_NAME, "density", def->density,
                                "kg/m^3", false);
   if (status == GM_OK)
     status = gm_check_positive(domain, DEF_NAME, "yield_stress",
                                def->yield_stress, "Pa", false);
-  if (status != GM_OK)
-    return status;
-  gm_von_mises_def parameters = *def;
-  parameters.struct_size = sizeof parameters;
-  parameters.name = NULL; /* the domain keeps its own copy of the name */
-  gm_builtin_material spec;
-  memset(&spec, 0, sizeof spec);
-  spec.def_name = DEF_NAME;
-  spec.name = def->name ? def->name : "von_mises";
-  spec.update = gm_von_mises_update;
-  spec.parameters = &parameters;
-  spec.parameter_size = sizeof parameters;
-  spec.state_count = GM_VON_MISES_STATE_COUNT;
-  spec.initial_state = NULL; /* no plastic strain yet */
-  /* Plasticity only softens: the elastic K + 4G/3 bounds the wave speed. */
-  spec.p_wave_modulus =
-      gm_p_wave_modulus(def->youngs_modulus, def->poisson_ratio);
-  spec.density = def->density;
-  return gm_add_builtin_material(domain, &spec, material_id);
+  return status;
+}
+
+/* Plasticity only softens: the elastic K + 4G/3 bounds the wave speed. */
+static double von_mises_p_wave_modulus(const void *parameters) {
+  const gm_von_mises_def *def = parameters;
+  return gm_p_wave_modulus(def->youngs_modulus, def->poisson_ratio);
+}
+
+const gm_builtin_model gm_von_mises_model = {
+    .caller = "gm_domain_add_von_mises",
+    .layout = GM_LAYOUT_VON_MISES_DEF,
+    .default_name = "von_mises",
+    .update = gm_von_mises_update,
+    .state_count = GM_VON_MISES_STATE_COUNT, /* no plastic strain yet */
+    .check = von_mises_check,
+    .p_wave_modulus = von_mises_p_wave_modulus,
+    .density_offset = offsetof(gm_von_mises_def, density),
+    .record_end = GM_FIELD_END(gm_von_mises_def, yield_stress),
+};
+
+gm_status gm_domain_add_von_mises(gm_domain *domain,
+                                  const gm_von_mises_def *def,
+                                  int *material_id) {
+  return gm_register_builtin(domain, &gm_von_mises_model, def, material_id);
 }
