@@ -661,6 +661,46 @@ START_TEST(test_bagnold_strength) {
 }
 END_TEST
 
+/* ------------------------------------------------------- flowing friction */
+
+/* What phi means in a flow (docs/convergence.md section 10; Davis 1968,
+ * derived there): with psi = 0 the plastic flow is isochoric, so in steady
+ * constant-volume simple shear the stress is coaxial with the strain rate,
+ * its principal axes at 45 degrees to the shear plane. On that plane tau is
+ * the radius of Mohr's circle and sigma_n its centre, so a flowing layer
+ * resists at
+ *   tau / sigma_n = sin(phi)   (not tan(phi), the friction at failure).
+ * One point in plane strain from an isotropic 1 kPa, sheared by gamma =
+ * 1e-4 per step (no rate term, no spin: the material update alone) for 20
+ * 000 steps (gamma = 2): the ratio settles at sin(phi) (measured equal to
+ * six digits at 25, 35 and 44.4 degrees). Asserted within 1e-3 of
+ * sin(phi): the steady state is reached by gamma ~ 0.1, and tan(phi) is
+ * 0.03-0.2 away, so the check separates the two readings of phi by far. */
+START_TEST(test_simple_shear_flows_at_sin_phi) {
+  static const double angles[] = {25.0, 35.0, 44.4}; /* degrees */
+  double phi = angles[_i] * DEG;
+  gm_mohr_coulomb_def def = make_def(phi, 0.0, 0.0);
+  test_points p = points_create(1);
+  for (int c = GM_XX; c <= GM_ZZ; c++)
+    p.stress[c][0] = -1000.0;     /* Pa, isotropic */
+  p.increment[GM_XY][0] = 0.5e-4; /* tensor shear strain: gamma = 1e-4 */
+  gm_material_batch batch = points_batch(&p, 1e-4);
+  batch.geometry = GM_GEOMETRY_PLANE_STRAIN;
+  char message[256] = "";
+  for (int step = 0; step < 20000; step++)
+    ck_assert_msg(
+        gm_mohr_coulomb_update(&batch, &def, message, sizeof message) == 0,
+        "step %d: %s", step, message);
+  double ratio = p.stress[GM_XY][0] / -p.stress[GM_YY][0];
+  fprintf(stderr, "phi %.1f: tau/sigma_n %.6f, sin phi %.6f, tan phi %.6f\n",
+          angles[_i], ratio, sin(phi), tan(phi));
+  ck_assert_msg(fabs(ratio - sin(phi)) < 1e-3,
+                "phi %.1f deg: flowing tau/sigma_n %.6f, sin phi %.6f",
+                angles[_i], ratio, sin(phi));
+  points_free(&p);
+}
+END_TEST
+
 /* ------------------------------------------------------ invalid parameters */
 
 /* A non-finite stress or a batch without the state slot is a fatal (< 0)
@@ -691,6 +731,7 @@ static Suite *mohr_coulomb_suite(void) {
                       (int)(sizeof SWEEP_CASES / sizeof SWEEP_CASES[0]));
   tcase_add_test(tc, test_triaxial_ratio);
   tcase_add_test(tc, test_bagnold_strength);
+  tcase_add_loop_test(tc, test_simple_shear_flows_at_sin_phi, 0, 3);
   tcase_add_test(tc, test_update_failures);
   suite_add_tcase(suite, tc);
   return suite;
