@@ -15,7 +15,7 @@
  * kg/m^3 (domain of interaction 10.71 mm, as in the paper) starts at
  * 45.5 mm with --speed (default 0.5 m/s); the body's points rest at 80 and
  * 90 mm. The grid origin is offset by --shift (m) so no point starts on a
- * node. tests/test_disconnected_1d.c asserts the same on three grids.
+ * node. tests/physics/test_disconnected_1d.c asserts the same on three grids.
  *
  * Prints, for the chosen method and both families, the time of the first
  * velocity change of the moving point, and for the granular family the

@@ -26,7 +26,7 @@ examples_impact_slope_SOURCES = examples/impact_slope.c $(EXAMPLE_COMMON)
 examples_impact_slope_LDADD = $(SCENE_LDADD)
 examples_impact_slope_CPPFLAGS = $(SCENE_CPPFLAGS)
 
-check_PROGRAMS += tests/test_stability
-tests_test_stability_SOURCES = tests/test_stability.c
-tests_test_stability_CFLAGS = $(TEST_CFLAGS)
-tests_test_stability_LDADD = $(TEST_LDADD)
+check_PROGRAMS += tests/physics/test_stability
+tests_physics_test_stability_SOURCES = tests/physics/test_stability.c
+tests_physics_test_stability_CFLAGS = $(TEST_CFLAGS)
+tests_physics_test_stability_LDADD = $(TEST_LDADD)

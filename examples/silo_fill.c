@@ -11,8 +11,8 @@
  * surface (no drop, so no impact), then a little local damping lets the
  * fill settle. K is the elastic at-rest ratio nu / (1 - nu): confined
  * between rigid walls the fill stays inside the yield surface, and nu = 1/3
- * makes it equal Jaky's 1 - sin(phi) = 0.5. tests/test_janssen.c asserts
- * the same comparison.
+ * makes it equal Jaky's 1 - sin(phi) = 0.5. tests/physics/test_janssen.c
+ * asserts the same comparison.
  *
  * How it is measured, and why:
  *  - the vertical stress of a cell row is the force it transmits,

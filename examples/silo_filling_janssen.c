@@ -37,7 +37,8 @@
  * tan 20 deg; A/U = B; the bulk density is the settled fill's own, its
  * mass over B times its mean height):
  *  - the vertical stress of each cell row, the force the row transmits,
- *    -sum(V_p sigma_yy) / (h B) (tests/test_janssen.c explains why rows);
+ *    -sum(V_p sigma_yy) / (h B) (tests/physics/test_janssen.c explains why
+ * rows);
  *  - the side-wall pressure in 0.25 m bands (single node rows alternate:
  *    the poured packing touches the wall at some nodes and not others);
  *  - RESULT: the total normal force on the side wall (N per metre of
@@ -388,8 +389,8 @@ int main(int argc, char **argv) {
    * fill in confined compression, nu / (1 - nu) = 0.43 for 001's nu = 0.3.
    * The fill stays elastic on that path: q/p = 3 (1 - K)/(1 + 2 K) = 0.92,
    * 1.02 with the fully mobilised wall shear added, below the cone's m =
-   * 1.03 (granmpm/perzyna.h, phi = 30 deg); tests/test_janssen.c makes the
-   * same argument. Jaky's 1 - sin(phi) = 0.5 is printed for the record. */
+   * 1.03 (granmpm/perzyna.h, phi = 30 deg); tests/physics/test_janssen.c makes
+   * the same argument. Jaky's 1 - sin(phi) = 0.5 is printed for the record. */
   f.janssen_k = model.poisson_ratio / (1.0 - model.poisson_ratio);
   int material = -1;
   EXAMPLE_CHECK(domain, gm_domain_add_filling(domain, &model, &material));

@@ -7,14 +7,14 @@ examples_silo_filling_janssen_SOURCES = examples/silo_filling_janssen.c $(EXAMPL
 examples_silo_filling_janssen_LDADD = lib/libgranmpm.la -lm
 examples_silo_filling_janssen_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
 
-check_PROGRAMS += tests/test_beverloo
-tests_test_beverloo_SOURCES = tests/test_beverloo.c
-tests_test_beverloo_CFLAGS = $(TEST_CFLAGS)
-tests_test_beverloo_LDADD = $(TEST_LDADD)
+check_PROGRAMS += tests/physics/test_beverloo
+tests_physics_test_beverloo_SOURCES = tests/physics/test_beverloo.c
+tests_physics_test_beverloo_CFLAGS = $(TEST_CFLAGS)
+tests_physics_test_beverloo_LDADD = $(TEST_LDADD)
 
 # A silo filled by pouring (Wieckowski's filling model), at rest, against
 # Janssen: the scene of silo_filling_janssen at a third of its size.
-check_PROGRAMS += tests/test_silo_filling
-tests_test_silo_filling_SOURCES = tests/test_silo_filling.c
-tests_test_silo_filling_CFLAGS = $(TEST_CFLAGS)
-tests_test_silo_filling_LDADD = $(TEST_LDADD)
+check_PROGRAMS += tests/physics/test_silo_filling
+tests_physics_test_silo_filling_SOURCES = tests/physics/test_silo_filling.c
+tests_physics_test_silo_filling_CFLAGS = $(TEST_CFLAGS)
+tests_physics_test_silo_filling_LDADD = $(TEST_LDADD)

@@ -11,7 +11,7 @@
  * cells (0.1 m x 0.03 m) on the floor, 0.02 m from the upper end of a 0.4
  * m long grid, fixed on all sides ("fixed on all the sides"), gravity
  * rotated by the slope; no rate term (sec 2.3 has none); USL as in the
- * paper (the flow never leaves the floor). tests/test_slope_density.c
+ * paper (the flow never leaves the floor). tests/physics/test_slope_density.c
  * asserts the comparison between families.
  *
  * Prints the average density (total mass / total volume) at the end, a

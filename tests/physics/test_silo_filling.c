@@ -29,7 +29,7 @@
  *  - the vertical stress of every cell row deeper than B/2 between
  *    Janssen's with Jaky's K and with K0, 10 % on either side (near the
  *    surface the wall friction has not yet spread across the section, as
- *    tests/test_janssen.c explains);
+ *    tests/physics/test_janssen.c explains);
  *  - floor reaction plus wall friction equal the weight within 2 % (the
  *    averaged loads of a fill at rest; the residual is the wall-force
  *    noise of the last 0.2 s).
