@@ -26,11 +26,11 @@ demo-collapse: examples/column_collapse
 # moderate flow down a slope, accuracy_vs_cost_slope.{csv,png} (~3 min);
 # CHART_JOBS runs at a time.
 CHART_JOBS ?= 2
-bench-chart: examples/column_collapse examples/slope_density
+bench-chart: examples/column_collapse examples/papers/seyedan2021_slope_density
 	SCENE=collapse $(SHELL) $(top_srcdir)/bench/chart.sh \
 	  ./examples/column_collapse $(top_srcdir)/bench/results $(CHART_JOBS)
 	SCENE=slope $(SHELL) $(top_srcdir)/bench/chart.sh \
-	  ./examples/slope_density $(top_srcdir)/bench/results $(CHART_JOBS)
+	  ./examples/papers/seyedan2021_slope_density $(top_srcdir)/bench/results $(CHART_JOBS)
 
 EXTRA_DIST += bench/chart.sh examples/README.md bench/convergence
 .PHONY: demo-collapse bench-chart

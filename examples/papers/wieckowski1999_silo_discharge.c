@@ -1,7 +1,7 @@
 /*
- * silo_discharge.c - discharge of a silo through a bottom orifice, compared
- * with Beverloo's law (Wieckowski, Youn & Yeon 1999 = 002, sec 5, eqs 19-20;
- * Wieckowski 2004 = 001, sec 5.1.1).
+ * wieckowski1999_silo_discharge.c - discharge of a silo through a bottom
+ * orifice, compared with Beverloo's law (Wieckowski, Youn & Yeon 1999 = 002,
+ * sec 5, eqs 19-20; Wieckowski 2004 = 001, sec 5.1.1).
  *
  * Scenes: plane-strain flat-bottom silo (funnel flow, 002 sec 5.1) or
  * trapezoidal hopper (--hopper DEG, mass flow), and the axisymmetric pair

@@ -1,9 +1,9 @@
 /*
- * avalanche.c - the granular avalanche of Seyedan & Solowski 2021 (000 sec
- * 4.2, Table 3, Figs 9-13): a granular block slides down an upper plane with
- * an initial velocity of 1 m/s, runs onto a lower plane and stops against a
- * wall at its end. The paper compares plain, stress-free and Granular MPM
- * with original MPM and CPDI; plain and stress-free CPDI stop when a
+ * seyedan2021_avalanche.c - the granular avalanche of Seyedan & Solowski 2021
+ * (000 sec 4.2, Table 3, Figs 9-13): a granular block slides down an upper
+ * plane with an initial velocity of 1 m/s, runs onto a lower plane and stops
+ * against a wall at its end. The paper compares plain, stress-free and Granular
+ * MPM with original MPM and CPDI; plain and stress-free CPDI stop when a
  * swollen point's corner leaves the grid, Granular CPDI keeps every volume
  * bounded and finishes.
  *

@@ -1,7 +1,7 @@
 /*
- * impact_force.c - the impact force of a granular flow on a rigid wall, 000
- * sec 4.4 (Table 5, Figs 17-20), after the flume tests of Moriguchi et al.
- * (2009): 50 kg of Toyoura sand released at the top of a 45 degree flume
+ * seyedan2021_impact_force.c - the impact force of a granular flow on a rigid
+ * wall, 000 sec 4.4 (Table 5, Figs 17-20), after the flume tests of Moriguchi
+ * et al. (2009): 50 kg of Toyoura sand released at the top of a 45 degree flume
  * flows down it onto a load-cell plate at its foot. Granular uGIMP, plane
  * strain, the flume inclination by rotating gravity, the plate a rigid
  * material (gm_domain_add_rigid) whose force history is written out.

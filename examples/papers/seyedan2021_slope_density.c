@@ -1,7 +1,7 @@
 /*
- * slope_density.c - moderate flow down a slope (000 sec 2.3, Table 1, Figs
- * 1-2): a Mohr-Coulomb block (psi = 0) flows down a 30 degree slope. In a
- * moderate flow the packing stays at the critical state, so the average
+ * seyedan2021_slope_density.c - moderate flow down a slope (000 sec 2.3, Table
+ * 1, Figs 1-2): a Mohr-Coulomb block (psi = 0) flows down a 30 degree slope. In
+ * a moderate flow the packing stays at the critical state, so the average
  * density should stay at rho_cr; the paper shows plain and stress-free MPM
  * losing density while Granular MPM's density control (eqs 13-15) holds it.
  *

@@ -1,7 +1,7 @@
 /*
- * disconnected_1d.c - the disconnected state in 1D (000 sec 4.1, Table 2,
- * Figs 6-8): a point just below the critical density (disconnected) moves
- * at constant speed towards two resting points of a denser body. Granular
+ * seyedan2021_disconnected_1d.c - the disconnected state in 1D (000 sec 4.1,
+ * Table 2, Figs 6-8): a point just below the critical density (disconnected)
+ * moves at constant speed towards two resting points of a denser body. Granular
  * MPM puts it on its own parallel grid, so its velocity stays exactly
  * what it was until its domain of interaction (length m / rho_cr) meets
  * the body's; that happens at the closed-form time gap / speed, on any

@@ -1,7 +1,7 @@
 /*
- * impact_slope.c - run-out of a granular slope set in motion by a gradient
- * impact velocity (Kumar's thesis, 004 sec 3.3.5, Figs 3.5-3.9): a slope
- * 0.8 m long and 0.2 m high at rest on a rough floor receives the
+ * kumar2015_impact_slope.c - run-out of a granular slope set in motion by a
+ * gradient impact velocity (Kumar's thesis, 004 sec 3.3.5, Figs 3.5-3.9): a
+ * slope 0.8 m long and 0.2 m high at rest on a rough floor receives the
  * horizontal velocity v0x(y) = k (ymax - y) with k chosen for an input
  * energy of 50 J or 500 J, and spreads. Kumar studies the run-out against
  * points per cell (4 to 100, i.e. --ppc 2 to 10) on a 0.0125 m mesh: it

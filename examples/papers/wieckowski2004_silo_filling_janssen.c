@@ -1,10 +1,10 @@
 /*
- * silo_filling_janssen.c - filling a planar silo with the pressure-volume
- * model (Wieckowski 2004 = 001, sec 5.1.2, eq 24), then the wall pressure
- * at rest against Janssen (docs/references.md, "Silo discharge and silo
- * pressure"):
- *   sigma_v(z) = rho g (A/U) / (mu_w K) (1 - exp(-mu_w K z / (A/U))),
- *   sigma_h = K sigma_v,  A/U = B (half the silo width) for a planar silo.
+ * wieckowski2004_silo_filling_janssen.c - filling a planar silo with the
+ * pressure-volume model (Wieckowski 2004 = 001, sec 5.1.2, eq 24), then the
+ * wall pressure at rest against Janssen (docs/references.md, "Silo discharge
+ * and silo pressure"): sigma_v(z) = rho g (A/U) / (mu_w K) (1 - exp(-mu_w K z /
+ * (A/U))), sigma_h = K sigma_v,  A/U = B (half the silo width) for a planar
+ * silo.
  *
  * Scene (001 text; its Fig 6 with the silo dimensions is lost in the text
  * extraction): half of a planar silo (the axis is a slip face), B = 0.6 m,
