@@ -91,7 +91,9 @@ static gm_domain *create_slope(const example_options *options) {
   return domain;
 }
 
-static void write_row(FILE *csv, const gm_domain *domain) {
+/* example_sample_fn: one CSV row; user is the FILE (NULL: none). */
+static void write_row(const gm_domain *domain, void *user) {
+  FILE *csv = user;
   if (!csv)
     return;
   double time = 0.0, average = 0.0, lowest = 0.0, front = 0.0;
@@ -135,21 +137,13 @@ int main(int argc, char **argv) {
   gm_series *series = NULL;
   EXAMPLE_CHECK(
       domain, example_open_series(&options, "slope_density", domain, &series));
-  double time = 0.0, next_frame = FRAME_PERIOD; /* s */
+  double time = 0.0; /* s */
   struct timespec wall_start, wall_end;
   clock_gettime(CLOCK_MONOTONIC, &wall_start);
-  gm_status status = GM_OK;
-  while (status == GM_OK && time < options.t_end - 1e-12) {
-    double target = fmin(time + SAMPLE_PERIOD, options.t_end);
-    status = gm_domain_advance(domain, target, TIME_STEP, example_progress,
-                               &options);
-    gm_domain_get_time(domain, &time, NULL);
-    write_row(csv, domain);
-    if (series && time >= next_frame - 1e-9) {
-      gm_series_write(series, domain);
-      next_frame += FRAME_PERIOD;
-    }
-  }
+  const example_run_schedule schedule = {
+      options.t_end, SAMPLE_PERIOD, FRAME_PERIOD, TIME_STEP, example_progress,
+      &options,      write_row,     csv,          series,    0};
+  gm_status status = example_run_loop(domain, &schedule, &time);
   if (status != GM_OK)
     printf("FAILED at t = %.4f s: %s (%s)\n", time, gm_strerror(status),
            gm_domain_last_error(domain));
