@@ -78,7 +78,7 @@ $(FUZZ_BUILD)/Makefile: configure
 
 CLANG_FORMAT ?= clang-format
 FORMAT_FILES = $(wildcard include/*.h include/granmpm/*.h lib/*/*.c lib/*/*.h \
-	tests/*.c tests/*.h examples/*.c bench/*.c .ci/*.c .ci/*.cpp \
+	tests/*/*.c tests/*/*.h examples/*.c examples/*/*.c bench/*.c .ci/*.c .ci/*.cpp \
 	fuzz/*.c fuzz/*.h)
 format:
 	$(CLANG_FORMAT) -i $(FORMAT_FILES)

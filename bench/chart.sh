@@ -12,7 +12,7 @@
 # and seconds up to the failure), and draws RESULTS/accuracy_vs_cost.png:
 # relative error against wall-clock seconds, log axes, the Pareto front
 # (no run both faster and more accurate) joined by a line.
-# SCENE=slope: the same for examples/slope_density (000 sec 2.3, moderate
+# SCENE=slope: the same for examples/papers/seyedan2021_slope_density (000 sec 2.3, moderate
 # flow down a 30 degree slope, 0.25 s): metric the final average density,
 # reference rho_cr = 2235 kg/m^3 (a moderate flow keeps the critical
 # density), to RESULTS/accuracy_vs_cost_slope.{csv,png}.

@@ -7,10 +7,10 @@ examples_column_collapse_LDADD = lib/libgranmpm.la -lm
 examples_column_collapse_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
 
 # Validation against Lube et al. (2005): two aspect ratios, +-15 %.
-check_PROGRAMS += tests/test_column_collapse
-tests_test_column_collapse_SOURCES = tests/test_column_collapse.c
-tests_test_column_collapse_CFLAGS = $(TEST_CFLAGS)
-tests_test_column_collapse_LDADD = $(TEST_LDADD)
+check_PROGRAMS += tests/physics/test_column_collapse
+tests_physics_test_column_collapse_SOURCES = tests/physics/test_column_collapse.c
+tests_physics_test_column_collapse_CFLAGS = $(TEST_CFLAGS)
+tests_physics_test_column_collapse_LDADD = $(TEST_LDADD)
 
 # The demo: a tall column (a = 3, L0 = 10 cm, 5 mm cells, 4800 points,
 # Granular uGIMP; about 20 s on one core), progress on stderr, VTU + CSV +
@@ -26,11 +26,11 @@ demo-collapse: examples/column_collapse
 # moderate flow down a slope, accuracy_vs_cost_slope.{csv,png} (~3 min);
 # CHART_JOBS runs at a time.
 CHART_JOBS ?= 2
-bench-chart: examples/column_collapse examples/slope_density
+bench-chart: examples/column_collapse examples/papers/seyedan2021_slope_density
 	SCENE=collapse $(SHELL) $(top_srcdir)/bench/chart.sh \
 	  ./examples/column_collapse $(top_srcdir)/bench/results $(CHART_JOBS)
 	SCENE=slope $(SHELL) $(top_srcdir)/bench/chart.sh \
-	  ./examples/slope_density $(top_srcdir)/bench/results $(CHART_JOBS)
+	  ./examples/papers/seyedan2021_slope_density $(top_srcdir)/bench/results $(CHART_JOBS)
 
 EXTRA_DIST += bench/chart.sh examples/README.md bench/convergence
 .PHONY: demo-collapse bench-chart

@@ -284,3 +284,26 @@ int example_fail(const gm_domain *domain, const char *call, gm_status status) {
           domain ? gm_domain_last_error(domain) : gm_last_create_error());
   return 2;
 }
+
+gm_status example_run_loop(gm_domain *domain,
+                           const example_run_schedule *schedule, double *time) {
+  double now = 0.0, next_frame = schedule->frame_period; /* s */
+  gm_status status = GM_OK;
+  /* The tolerances keep a sample or frame that round-off puts a hair
+   * before its nominal time from slipping to the next interval. */
+  while (status == GM_OK && now < schedule->t_end - 1e-12) {
+    double target = fmin(now + schedule->sample_period, schedule->t_end);
+    status = gm_domain_advance(domain, target, schedule->dt, schedule->progress,
+                               schedule->progress_user);
+    gm_domain_get_time(domain, &now, NULL);
+    if (schedule->sample)
+      schedule->sample(domain, schedule->sample_user);
+    if (schedule->series && (now >= next_frame - 1e-9 ||
+                             (schedule->frame_on_failure && status != GM_OK))) {
+      gm_series_write(schedule->series, domain);
+      next_frame += schedule->frame_period;
+    }
+  }
+  *time = now;
+  return status;
+}

@@ -2,7 +2,8 @@
  * common.h - what every example driver shares: the command-line options
  * (--method, --family, --ppc, --cell, --workers, --out, --t-end and the
  * example's own), the output directory, a CSV time series, a progress
- * display for gm_domain_advance, and the final RESULT line.
+ * display for gm_domain_advance, the run loop (advance, sample, frame) and
+ * the final RESULT line.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -79,6 +80,34 @@ gm_status example_open_series(const example_options *options, const char *name,
  * the run; user: the example_options (quiet silences it). */
 int example_progress(const gm_domain *domain, double time, double end_time,
                      void *user);
+
+/* Called after every sample interval of example_run_loop with the domain
+ * at the time reached; user is example_run_schedule.sample_user. */
+typedef void (*example_sample_fn)(const gm_domain *domain, void *user);
+
+/* What the shared run loop does: advance to t_end in intervals of
+ * sample_period, each with gm_domain_advance (step dt, <= 0 for the stable
+ * step; progress called after every step), then sample, and write a frame
+ * to series (if not NULL) every frame_period. */
+typedef struct example_run_schedule {
+  double t_end;           /* s */
+  double sample_period;   /* s between samples (CSV rows) */
+  double frame_period;    /* s between VTU frames */
+  double dt;              /* s; <= 0: the stable step */
+  gm_progress_fn *progress; /* NULL: none */
+  void *progress_user;
+  example_sample_fn sample; /* NULL: none */
+  void *sample_user;
+  gm_series *series;      /* NULL: no frames */
+  int frame_on_failure;   /* also write a frame of the failed state */
+} example_run_schedule;
+
+/* Runs the schedule from t = 0; returns the status of the first failed
+ * advance (GM_OK if none) and the time reached in *time (s). Does not
+ * print anything itself. */
+gm_status example_run_loop(gm_domain *domain,
+                           const example_run_schedule *schedule,
+                           double *time);
 
 /* The last line of every example:
  * RESULT name=value reference=value rel_error=x */

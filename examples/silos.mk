@@ -1,20 +1,20 @@
 # examples/silos.mk - silo discharge and filling against Beverloo and Janssen (included by Makefile.am).
-noinst_PROGRAMS += examples/silo_discharge examples/silo_filling_janssen
-examples_silo_discharge_SOURCES = examples/silo_discharge.c $(EXAMPLE_COMMON)
-examples_silo_discharge_LDADD = lib/libgranmpm.la -lm
-examples_silo_discharge_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
-examples_silo_filling_janssen_SOURCES = examples/silo_filling_janssen.c $(EXAMPLE_COMMON)
-examples_silo_filling_janssen_LDADD = lib/libgranmpm.la -lm
-examples_silo_filling_janssen_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
+noinst_PROGRAMS += examples/papers/wieckowski1999_silo_discharge examples/papers/wieckowski2004_silo_filling_janssen
+examples_papers_wieckowski1999_silo_discharge_SOURCES = examples/papers/wieckowski1999_silo_discharge.c $(EXAMPLE_COMMON)
+examples_papers_wieckowski1999_silo_discharge_LDADD = lib/libgranmpm.la -lm
+examples_papers_wieckowski1999_silo_discharge_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
+examples_papers_wieckowski2004_silo_filling_janssen_SOURCES = examples/papers/wieckowski2004_silo_filling_janssen.c $(EXAMPLE_COMMON)
+examples_papers_wieckowski2004_silo_filling_janssen_LDADD = lib/libgranmpm.la -lm
+examples_papers_wieckowski2004_silo_filling_janssen_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
 
-check_PROGRAMS += tests/test_beverloo
-tests_test_beverloo_SOURCES = tests/test_beverloo.c
-tests_test_beverloo_CFLAGS = $(TEST_CFLAGS)
-tests_test_beverloo_LDADD = $(TEST_LDADD)
+check_PROGRAMS += tests/physics/test_beverloo
+tests_physics_test_beverloo_SOURCES = tests/physics/test_beverloo.c
+tests_physics_test_beverloo_CFLAGS = $(TEST_CFLAGS)
+tests_physics_test_beverloo_LDADD = $(TEST_LDADD)
 
 # A silo filled by pouring (Wieckowski's filling model), at rest, against
-# Janssen: the scene of silo_filling_janssen at a third of its size.
-check_PROGRAMS += tests/test_silo_filling
-tests_test_silo_filling_SOURCES = tests/test_silo_filling.c
-tests_test_silo_filling_CFLAGS = $(TEST_CFLAGS)
-tests_test_silo_filling_LDADD = $(TEST_LDADD)
+# Janssen: the scene of examples/papers/wieckowski2004_silo_filling_janssen at a third of its size.
+check_PROGRAMS += tests/physics/test_silo_filling
+tests_physics_test_silo_filling_SOURCES = tests/physics/test_silo_filling.c
+tests_physics_test_silo_filling_CFLAGS = $(TEST_CFLAGS)
+tests_physics_test_silo_filling_LDADD = $(TEST_LDADD)

@@ -5,7 +5,7 @@
 # stub, so `man gm_domain_add_wall` opens gm_walls(3), as libpng and libcurl
 # do; and OUTDIR/links.mk, the list Makefile.am installs. Run it from the
 # source tree after adding a function to a page's NAME section;
-# tests/man_links.sh checks that the stubs are current and that every
+# tests/scripts/man_links.sh checks that the stubs are current and that every
 # exported gm_* symbol has a page.
 # SPDX-License-Identifier: BSD-2-Clause
 set -eu

@@ -22,8 +22,8 @@
 /* Distance (cells) in front of a wall within which a node shares the wall
  * (see gm_walls_contact): one cell less GM_ON_ROW, so that the next node
  * row in front of a wall on a node row stays out. A wall placed a rounding
- * error in front of a row (the silo of tests/test_silo_filling.c puts its
- * side wall 1e-9 cells in front of one, to keep that row behind it) counts
+ * error in front of a row (the silo of tests/physics/test_silo_filling.c puts
+ * its side wall 1e-9 cells in front of one, to keep that row behind it) counts
  * as on the row: with a margin of 1e-9 cells, as first written, the row in
  * front of that wall lay exactly on the reach and the rounding of its
  * distance let it act, as a second wall one cell inside the fill (the
@@ -242,7 +242,7 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
      * not get it: there it bound only at nearly empty nodes with the
      * spurious velocities of USL's cell crossing (tens to thousands of
      * m/s), and changed the mean normal force of a sliding block in
-     * tests/test_friction.c by 2.7 %. */
+     * tests/physics/test_friction.c by 2.7 %. */
     bool shares = distance < reach; /* this node shares the wall */
     if (!shares && (!wide || !centre_gap || !(centre_gap[w] < INFINITY)))
       continue; /* and carries no point near it */
@@ -465,7 +465,7 @@ gm_status gm_walls_reserve(gm_domain *domain) {
  * loses mu_k N). Measured: 13.9 / 12.5 / 10.1 % (USL / MUSL / USF) too
  * far become 6.5 / 6.2 / 5.1 %, and the tilted plane 2.3 / 4.3 / 3.2 %.
  * Pooling over a whole contact patch (adjacent strips in contact) gave
- * 0.7-2.8 % but failed tests/test_janssen.c (wall pressure 0.84 of
+ * 0.7-2.8 % but failed tests/physics/test_janssen.c (wall pressure 0.84 of
  * Janssen's): a silo wall is one patch, partly stuck and partly sliding,
  * and one Coulomb state for all of it is wrong for a deforming material;
  * strips two and three cells wide gave 7.6 % and 3.9 % (MUSL). This is

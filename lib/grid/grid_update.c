@@ -51,8 +51,8 @@ typedef struct update_context {
  * walls' tolerance because the gap of material pressed against a face
  * creeps open as its points are compressed, their domains shrinking
  * toward their centres: with the walls' 3e-3 cells the fill of
- * tests/test_silo_filling.c came off its symmetry face and was pushed back
- * (a ratchet, each compression closing a new gap), and the jitter let
+ * tests/physics/test_silo_filling.c came off its symmetry face and was pushed
+ * back (a ratchet, each compression closing a new gap), and the jitter let
  * Cundall's damping carry 3.9 % of the fill's weight (2.8 % with a release
  * at 0.05 cells that let closing nodes in). The price is that material
  * stops up to 0.01 cells short of a face it falls onto (measured 0.008

@@ -6,7 +6,7 @@
  * edge (the "grid crossing error"). Only the paper's abstract could be
  * read here, not its equations; the functions below are the standard
  * cardinal B-splines (de Boor, A Practical Guide to Splines),
- * checked against the Cox-de Boor recursion in tests/test_bspline.c.
+ * checked against the Cox-de Boor recursion in tests/unit/test_bspline.c.
  * Node i carries the B-spline centred on it; with u = x/h - i the
  * distance in cells,
  *   quadratic: N(u) = 3/4 - u^2              for |u| <= 1/2,

@@ -2,9 +2,10 @@
  * test_stability.c - stability where methods fail (issue 6), in the two
  * scenes of Seyedan & Solowski 2021 (000) where the paper shows plain and
  * stress-free CPDI breaking down: the granular avalanche (sec 4.2) and the
- * silo filling (sec 4.3). The scenes are those of examples/avalanche.c and
- * examples/silo_filling.c (see their header comments for the geometry),
- * rebuilt here, with two changes to fit a test's budget: the Young's
+ * silo filling (sec 4.3). The scenes are those of
+ * examples/papers/seyedan2021_avalanche.c and
+ * examples/papers/seyedan2021_silo_filling.c (see their header comments for the
+ * geometry), rebuilt here, with two changes to fit a test's budget: the Young's
  * modulus of every material is 1e7 Pa instead of 1 GPa (the stable time
  * step grows with 1/sqrt(E), so the runs take ~9 times fewer steps), and
  * the runs are shorter (avalanche 2 s, silo 4 s): about 14 s of CPU at
@@ -55,7 +56,8 @@ static const double CRITICAL = 2235.0;  /* kg/m^3, rho_cr */
 static const double TOLERANCE = 1e-6;   /* kg/m^3, TOL */
 static const double VOLUME_BLOW_UP = 2; /* V/V0: the flow is lost */
 
-/* Avalanche (000 sec 4.2 as rebuilt in examples/avalanche.c). */
+/* Avalanche (000 sec 4.2 as rebuilt in
+ * examples/papers/seyedan2021_avalanche.c). */
 static const double AVALANCHE_CELL = 0.1;          /* m */
 static const double AVALANCHE_BOX[2] = {5.0, 2.5}; /* m */
 static const double SLOPE = 15.0;                  /* deg, lower plane */
@@ -66,7 +68,8 @@ static const double END_WALL_X = 4.8;     /* m */
 static const double WALL_FRICTION = 0.3;  /* mu */
 static const double AVALANCHE_TIME = 2.0; /* s: the front is at the wall */
 
-/* Silo filling (000 sec 4.3 as in examples/silo_filling.c). */
+/* Silo filling (000 sec 4.3 as in examples/papers/seyedan2021_silo_filling.c).
+ */
 static const double SILO_CELL = 0.3;       /* m */
 static const double SILO_WIDTH = 2.7;      /* m, inside */
 static const double SILO_HEIGHT = 7.5;     /* m, inside */

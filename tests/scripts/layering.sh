@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/layering.sh - the folders of lib/ stay layered (docs/architecture.md,
+# tests/scripts/layering.sh - the folders of lib/ stay layered (docs/architecture.md,
 # "Folders and layers"). Fails when
 #  - a source or header sits outside the known folders (or directly in lib/);
 #  - a file includes a header of a folder above its own layer, or a header

@@ -149,15 +149,15 @@ START_TEST(test_rotated_gravity_incline) {
      * excess goes with the block's vibration that pure FLIP keeps: at
      * half the cfl USL slides 1.0 % too far, with pic_fraction 0.01 0.75
      * % (USF 0.8 % both ways). USL asserted at 3 %, open (issue 12).
-     * Measured cause (0.02 m cells, tests/test_wall_offsets.c): the wall's
-     * friction is 0.396 of its normal impulse instead of 0.4, because the
-     * friction strip (the row on the plane: nothing else is within a cell
+     * Measured cause (0.02 m cells, tests/physics/test_wall_offsets.c): the
+     * wall's friction is 0.396 of its normal impulse instead of 0.4, because
+     * the friction strip (the row on the plane: nothing else is within a cell
      * in front) carries the normal load of the whole column but a tenth of
      * its tangential momentum and sticks in some steps: 11 % of the normal
      * impulse in the first 250 steps, 1.1 % over the run. Letting the row
      * a cell in front join the strips gives 1.0-1.2 % but raises the
      * Janssen silo's wall pressure 2-3 % (to 1.11-1.13 of the formula's,
-     * beyond tests/test_janssen.c's 10 %). */
+     * beyond tests/physics/test_janssen.c's 10 %). */
     double tolerance = scheme == GM_SCHEME_USL ? 0.03 : 0.02;
     ck_assert_msg(fabs(slide - expected) < tolerance * expected,
                   "%s, %.0f deg: slid %.6f m, expected %.6f m",

@@ -1,7 +1,7 @@
 /*
- * impact_slope.c - run-out of a granular slope set in motion by a gradient
- * impact velocity (Kumar's thesis, 004 sec 3.3.5, Figs 3.5-3.9): a slope
- * 0.8 m long and 0.2 m high at rest on a rough floor receives the
+ * kumar2015_impact_slope.c - run-out of a granular slope set in motion by a
+ * gradient impact velocity (Kumar's thesis, 004 sec 3.3.5, Figs 3.5-3.9): a
+ * slope 0.8 m long and 0.2 m high at rest on a rough floor receives the
  * horizontal velocity v0x(y) = k (ymax - y) with k chosen for an input
  * energy of 50 J or 500 J, and spreads. Kumar studies the run-out against
  * points per cell (4 to 100, i.e. --ppc 2 to 10) on a 0.0125 m mesh: it
@@ -150,7 +150,9 @@ static gm_domain *create_domain(const example_options *options) {
   return example_create_domain(&def);
 }
 
-static void write_row(FILE *csv, const gm_domain *domain) {
+/* example_sample_fn: one CSV row; user is the FILE (NULL: none). */
+static void write_row(const gm_domain *domain, void *user) {
+  FILE *csv = user;
   if (!csv)
     return;
   double time = 0.0, front = 0.0, centre = 0.0, energy[2];
@@ -208,18 +210,11 @@ int main(int argc, char **argv) {
   gm_summary start = gm_summary_default();
   EXAMPLE_CHECK(domain, gm_domain_get_summary(domain, &start));
   double centre_speed = start.momentum[0] / start.mass; /* m/s */
-  double time = 0.0, next_frame = FRAME_PERIOD;         /* s */
-  gm_status status = GM_OK;
-  while (status == GM_OK && time < options.t_end - 1e-12) {
-    double target = fmin(time + SAMPLE_PERIOD, options.t_end);
-    status = gm_domain_advance(domain, target, 0.0, example_progress, &options);
-    gm_domain_get_time(domain, &time, NULL);
-    write_row(csv, domain);
-    if (series && time >= next_frame - 1e-9) {
-      gm_series_write(series, domain);
-      next_frame += FRAME_PERIOD;
-    }
-  }
+  double time = 0.0;                                    /* s */
+  const example_run_schedule schedule = {
+      options.t_end, SAMPLE_PERIOD, FRAME_PERIOD, 0.0,    example_progress,
+      &options,      write_row,     csv,          series, 0};
+  gm_status status = example_run_loop(domain, &schedule, &time);
   if (status != GM_OK)
     printf("FAILED at t = %.4f s: %s (%s)\n", time, gm_strerror(status),
            gm_domain_last_error(domain));

@@ -201,13 +201,13 @@ static run_result run(gm_update_scheme scheme, double theta, double mu,
  *    it vibrates, with the light row behind the plane carrying the load;
  *    0.1-0.5 % at the other offsets), and friction follows it;
  *  - the floor on a node row at 30 deg in USL, 2.15 % too far: issue 12
- *    item 2, asserted at 3 % in tests/test_friction.c too. Its cause is
+ *    item 2, asserted at 3 % in tests/physics/test_friction.c too. Its cause is
  *    the start of the slide: the
  * row on the plane carries the block's normal load but a small part of
  * its tangential momentum, and sticks in some steps while the block
  * slides (1.1 % of the normal impulse on sticking strips, friction 0.396
  * of the normal impulse instead of 0.4). Letting the row in front join
- * the strip brings it to 1.2 % but breaks tests/test_janssen.c (wall
+ * the strip brings it to 1.2 % but breaks tests/physics/test_janssen.c (wall
  * pressure 1.11 of Janssen's at 2 m). */
 static const double SLIDE_TOLERANCE = 0.02;
 static const double OPEN_CASE_TOLERANCE = 0.03;

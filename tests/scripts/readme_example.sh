@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/readme_example.sh - the README's minimal program and the EXAMPLE of
+# tests/scripts/readme_example.sh - the README's minimal program and the EXAMPLE of
 # granmpm(3) are examples/minimal.c, which make check builds and runs: the
 # program a user copies is one that compiles and works. Fails when the
 # three copies differ.

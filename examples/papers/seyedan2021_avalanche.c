@@ -1,9 +1,9 @@
 /*
- * avalanche.c - the granular avalanche of Seyedan & Solowski 2021 (000 sec
- * 4.2, Table 3, Figs 9-13): a granular block slides down an upper plane with
- * an initial velocity of 1 m/s, runs onto a lower plane and stops against a
- * wall at its end. The paper compares plain, stress-free and Granular MPM
- * with original MPM and CPDI; plain and stress-free CPDI stop when a
+ * seyedan2021_avalanche.c - the granular avalanche of Seyedan & Solowski 2021
+ * (000 sec 4.2, Table 3, Figs 9-13): a granular block slides down an upper
+ * plane with an initial velocity of 1 m/s, runs onto a lower plane and stops
+ * against a wall at its end. The paper compares plain, stress-free and Granular
+ * MPM with original MPM and CPDI; plain and stress-free CPDI stop when a
  * swollen point's corner leaves the grid, Granular CPDI keeps every volume
  * bounded and finishes.
  *
@@ -189,7 +189,9 @@ static void measure(const gm_domain *domain, double *average, double *front) {
   *average = total_mass / total_volume;
 }
 
-static void write_row(FILE *csv, const gm_domain *domain) {
+/* example_sample_fn: one CSV row; user is the FILE (NULL: none). */
+static void write_row(const gm_domain *domain, void *user) {
+  FILE *csv = user;
   if (!csv)
     return;
   double time = 0.0, average = 0.0, front = 0.0;
@@ -233,19 +235,11 @@ static gm_domain *create_domain(const example_options *options,
 static gm_status run(gm_domain *domain, const example_options *options,
                      double dt, FILE *csv, gm_series *series,
                      avalanche_record *record) {
-  double time = 0.0, next_frame = FRAME_PERIOD; /* s */
-  gm_status status = GM_OK;
-  while (status == GM_OK && time < options->t_end - 1e-12) {
-    double target = fmin(time + SAMPLE_PERIOD, options->t_end);
-    status = gm_domain_advance(domain, target, dt, track_step, record);
-    gm_domain_get_time(domain, &time, NULL);
-    write_row(csv, domain);
-    if (series && (time >= next_frame - 1e-9 || status != GM_OK)) {
-      gm_series_write(series, domain);
-      next_frame += FRAME_PERIOD;
-    }
-  }
-  return status;
+  double time = 0.0; /* s */
+  const example_run_schedule schedule = {
+      options->t_end, SAMPLE_PERIOD, FRAME_PERIOD, dt,     track_step,
+      record,         write_row,     csv,          series, 1};
+  return example_run_loop(domain, &schedule, &time);
 }
 
 int main(int argc, char **argv) {

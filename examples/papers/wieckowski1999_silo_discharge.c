@@ -1,7 +1,7 @@
 /*
- * silo_discharge.c - discharge of a silo through a bottom orifice, compared
- * with Beverloo's law (Wieckowski, Youn & Yeon 1999 = 002, sec 5, eqs 19-20;
- * Wieckowski 2004 = 001, sec 5.1.1).
+ * wieckowski1999_silo_discharge.c - discharge of a silo through a bottom
+ * orifice, compared with Beverloo's law (Wieckowski, Youn & Yeon 1999 = 002,
+ * sec 5, eqs 19-20; Wieckowski 2004 = 001, sec 5.1.1).
  *
  * Scenes: plane-strain flat-bottom silo (funnel flow, 002 sec 5.1) or
  * trapezoidal hopper (--hopper DEG, mass flow), and the axisymmetric pair
@@ -35,7 +35,7 @@
  * law of a vanishing grain size. The grid does shorten the orifice (the edge
  * node is held by the floor): measured, W' ~ (D - 2.7 h)^1.5 for h = 0.025
  * m, so the flow is also compared, on a separate line, with the mesh as the
- * grain, k d = 2.7 h (tests/test_beverloo.c asserts that scaling).
+ * grain, k d = 2.7 h (tests/physics/test_beverloo.c asserts that scaling).
  *
  * Runs for at least --t-end s and until 45 % of the fill has left (use a
  * larger --t-end to watch the silo empty). The default (D = 0.3 m, 0.025 m
@@ -75,7 +75,8 @@ static const double AVERAGING_TIME = 0.1;     /* s, rest tractions */
 static const double WINDOW_START = 0.1;       /* fraction discharged */
 static const double WINDOW_END = 0.4;         /* fraction discharged */
 static const double BEVERLOO_SI = 45.0 / 60.; /* 002 eq 19 in SI units */
-static const double MESH_GRAIN = 2.7; /* k d / h, tests/test_beverloo.c */
+static const double MESH_GRAIN =
+    2.7; /* k d / h, tests/physics/test_beverloo.c */
 
 enum { MAX_SAMPLES = 100000, MAX_TRACTIONS = 4096 };
 
@@ -636,7 +637,7 @@ int main(int argc, char **argv) {
     return failed;
   double k = 1.0 - sin(FRICTION_ANGLE * PI / 180.0);
   printf("Beverloo with d = 0: %g; with the mesh as grain (k d = %g h, see "
-         "tests/test_beverloo.c): %g\n",
+         "tests/physics/test_beverloo.c): %g\n",
          beverloo(&s, 0.0), MESH_GRAIN,
          beverloo(&s, MESH_GRAIN * s.options.cell));
   if (s.hopper_angle <= 0.0)

@@ -1,9 +1,8 @@
 /*
- * silo_fill.c - filling a planar silo layer by layer and comparing the
- * settled stresses with Janssen's formula (docs/references.md, "Silo discharge
- * and silo pressure"):
- *   sigma_v(z) = rho g W / (2 mu_w K) (1 - exp(-2 mu_w K z / W)),
- *   sigma_h(z) = K sigma_v(z).
+ * silo_layers_janssen.c - filling a planar silo layer by layer and comparing
+ * the settled stresses with Janssen's formula (docs/references.md, "Silo
+ * discharge and silo pressure"): sigma_v(z) = rho g W / (2 mu_w K) (1 - exp(-2
+ * mu_w K z / W)), sigma_h(z) = K sigma_v(z).
  *
  * A 1 m wide silo with Coulomb walls (mu_w = 0.3) and a rough floor is
  * filled to 3 m with a Drucker-Prager material (phi = 30 degrees): every
@@ -11,8 +10,8 @@
  * surface (no drop, so no impact), then a little local damping lets the
  * fill settle. K is the elastic at-rest ratio nu / (1 - nu): confined
  * between rigid walls the fill stays inside the yield surface, and nu = 1/3
- * makes it equal Jaky's 1 - sin(phi) = 0.5. tests/test_janssen.c asserts
- * the same comparison.
+ * makes it equal Jaky's 1 - sin(phi) = 0.5. tests/physics/test_janssen.c
+ * asserts the same comparison.
  *
  * How it is measured, and why:
  *  - the vertical stress of a cell row is the force it transmits,
@@ -30,7 +29,7 @@
  * ratcheted the fill's lateral stress up (wall pressure 1.16-1.26 x
  * K sigma_v before the fix; within 10 % now).
  *
- * Usage: silo_fill [OUTDIR]   (writes OUTDIR/silo.pvd if given)
+ * Usage: silo_layers_janssen [OUTDIR]   (writes OUTDIR/silo.pvd if given)
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -60,7 +59,7 @@ enum { COLUMNS = 40, ROWS_PER_LAYER = 2, MAX_ROWS = 256 };
   do {                                                                         \
     gm_status check_status_ = (call);                                          \
     if (check_status_ != GM_OK) {                                              \
-      fprintf(stderr, "silo_fill: %s failed: %s\n", #call,                     \
+      fprintf(stderr, "silo_layers_janssen: %s failed: %s\n", #call,           \
               (domain) ? gm_domain_last_error(domain)                          \
                        : gm_last_create_error());                              \
       exit(1);                                                                 \

@@ -27,8 +27,8 @@
  * dN/dy, so only the sum over a row is constrained; the split between
  * points is a zero-energy mode that cell crossing excites: the dip to 0.71
  * of Janssen at 2.25 m depth that per-point depth averages showed in the
- * first version of examples/silo_fill.c). Wall loads are averaged over the
- * last 0.2 s of settling.
+ * first version of examples/silo_layers_janssen.c). Wall loads are averaged
+ * over the last 0.2 s of settling.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */

@@ -1,7 +1,7 @@
 /*
- * impact_force.c - the impact force of a granular flow on a rigid wall, 000
- * sec 4.4 (Table 5, Figs 17-20), after the flume tests of Moriguchi et al.
- * (2009): 50 kg of Toyoura sand released at the top of a 45 degree flume
+ * seyedan2021_impact_force.c - the impact force of a granular flow on a rigid
+ * wall, 000 sec 4.4 (Table 5, Figs 17-20), after the flume tests of Moriguchi
+ * et al. (2009): 50 kg of Toyoura sand released at the top of a 45 degree flume
  * flows down it onto a load-cell plate at its foot. Granular uGIMP, plane
  * strain, the flume inclination by rotating gravity, the plate a rigid
  * material (gm_domain_add_rigid) whose force history is written out.
@@ -67,6 +67,7 @@ typedef struct impact_record {
   double bed_impulse[2]; /* N s per metre, bed total at the last row */
   double duration;       /* s, time the totals covered at the last row */
   double peak_force;     /* N per metre, row averages */
+  FILE *csv;             /* where the rows go (NULL: none) */
 } impact_record;
 
 static gm_status add_sand(gm_domain *domain, const example_options *options,
@@ -125,8 +126,9 @@ static gm_status add_bed(gm_domain *domain) {
  * (gm_walls(3)), and the last step to a row's time may be a sliver whose
  * force (impulse / dt) spikes; the row's impulse over its duration is the
  * load-cell signal, however the row was split into steps. */
-static void write_row(FILE *csv, const gm_domain *domain,
-                      impact_record *record) {
+static void write_row(const gm_domain *domain, void *user) {
+  impact_record *record = user; /* example_sample_fn */
+  FILE *csv = record->csv;
   gm_rigid_load load = gm_rigid_load_default();
   gm_domain_get_rigid_load(domain, record->plate, &load);
   gm_wall_force bed = gm_wall_force_default();
@@ -194,7 +196,7 @@ int main(int argc, char **argv) {
   gm_domain *domain = create_domain(&options);
   if (!domain)
     return 2;
-  impact_record record = {-1, 0.0, {0.0, 0.0}, 0.0, 0.0};
+  impact_record record = {-1, 0.0, {0.0, 0.0}, 0.0, 0.0, NULL};
   EXAMPLE_CHECK(domain, add_sand(domain, &options, youngs));
   EXAMPLE_CHECK(domain, add_plate(domain, &options, &record.plate));
   EXAMPLE_CHECK(domain, add_bed(domain));
@@ -206,18 +208,12 @@ int main(int argc, char **argv) {
   gm_series *series = NULL;
   EXAMPLE_CHECK(domain,
                 example_open_series(&options, "impact_force", domain, &series));
-  double time = 0.0, next_frame = FRAME_PERIOD; /* s */
-  gm_status status = GM_OK;
-  while (status == GM_OK && time < options.t_end - 1e-12) {
-    double target = fmin(time + SAMPLE_PERIOD, options.t_end);
-    status = gm_domain_advance(domain, target, 0.0, example_progress, &options);
-    gm_domain_get_time(domain, &time, NULL);
-    write_row(csv, domain, &record);
-    if (series && time >= next_frame - 1e-9) {
-      gm_series_write(series, domain);
-      next_frame += FRAME_PERIOD;
-    }
-  }
+  record.csv = csv;
+  double time = 0.0; /* s */
+  const example_run_schedule schedule = {
+      options.t_end, SAMPLE_PERIOD, FRAME_PERIOD, 0.0,    example_progress,
+      &options,      write_row,     &record,      series, 0};
+  gm_status status = example_run_loop(domain, &schedule, &time);
   if (status != GM_OK)
     printf("FAILED at t = %.4f s: %s (%s)\n", time, gm_strerror(status),
            gm_domain_last_error(domain));

@@ -1,7 +1,7 @@
 /*
- * disconnected_1d.c - the disconnected state in 1D (000 sec 4.1, Table 2,
- * Figs 6-8): a point just below the critical density (disconnected) moves
- * at constant speed towards two resting points of a denser body. Granular
+ * seyedan2021_disconnected_1d.c - the disconnected state in 1D (000 sec 4.1,
+ * Table 2, Figs 6-8): a point just below the critical density (disconnected)
+ * moves at constant speed towards two resting points of a denser body. Granular
  * MPM puts it on its own parallel grid, so its velocity stays exactly
  * what it was until its domain of interaction (length m / rho_cr) meets
  * the body's; that happens at the closed-form time gap / speed, on any
@@ -15,7 +15,7 @@
  * kg/m^3 (domain of interaction 10.71 mm, as in the paper) starts at
  * 45.5 mm with --speed (default 0.5 m/s); the body's points rest at 80 and
  * 90 mm. The grid origin is offset by --shift (m) so no point starts on a
- * node. tests/test_disconnected_1d.c asserts the same on three grids.
+ * node. tests/physics/test_disconnected_1d.c asserts the same on three grids.
  *
  * Prints, for the chosen method and both families, the time of the first
  * velocity change of the moving point, and for the granular family the

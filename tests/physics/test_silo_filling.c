@@ -1,13 +1,13 @@
 /*
  * test_silo_filling.c - a silo filled by pouring, at rest, against
- * Janssen (docs/references.md): the scene of examples/silo_filling_janssen.c
- * (Wieckowski 2004, sec 5.1.2) at a third of its size. Half of a planar
- * silo, B = 0.6 m, Coulomb side wall and floor with phi_w = 20 deg; a
- * source releases a 12 x 12 block of points just above the free surface
- * every 0.2 s (8 blocks); the filling model of eq 24 with the paper's
- * data; the granular family with rho_cr where eq 24's pressure has fallen
- * to p0/100; 2 % PIC; then 1.5 s of settling and wall loads averaged over
- * the last 0.2 s.
+ * Janssen (docs/references.md): the scene of
+ * examples/papers/wieckowski2004_silo_filling_janssen.c (Wieckowski 2004,
+ * sec 5.1.2) at a third of its size. Half of a planar silo, B = 0.6 m, Coulomb
+ * side wall and floor with phi_w = 20 deg; a source releases a 12 x 12 block of
+ * points just above the free surface every 0.2 s (8 blocks); the filling model
+ * of eq 24 with the paper's data; the granular family with rho_cr where eq 24's
+ * pressure has fallen to p0/100; 2 % PIC; then 1.5 s of settling and wall loads
+ * averaged over the last 0.2 s.
  *
  *   sigma_v(z) = rho g B / (mu_w K) (1 - exp(-mu_w K z / B)),
  *   wall load  = integral of K sigma_v over the fill height,
@@ -29,7 +29,7 @@
  *  - the vertical stress of every cell row deeper than B/2 between
  *    Janssen's with Jaky's K and with K0, 10 % on either side (near the
  *    surface the wall friction has not yet spread across the section, as
- *    tests/test_janssen.c explains);
+ *    tests/physics/test_janssen.c explains);
  *  - floor reaction plus wall friction equal the weight within 2 % (the
  *    averaged loads of a fill at rest; the residual is the wall-force
  *    noise of the last 0.2 s).

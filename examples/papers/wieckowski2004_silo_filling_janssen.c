@@ -1,10 +1,10 @@
 /*
- * silo_filling_janssen.c - filling a planar silo with the pressure-volume
- * model (Wieckowski 2004 = 001, sec 5.1.2, eq 24), then the wall pressure
- * at rest against Janssen (docs/references.md, "Silo discharge and silo
- * pressure"):
- *   sigma_v(z) = rho g (A/U) / (mu_w K) (1 - exp(-mu_w K z / (A/U))),
- *   sigma_h = K sigma_v,  A/U = B (half the silo width) for a planar silo.
+ * wieckowski2004_silo_filling_janssen.c - filling a planar silo with the
+ * pressure-volume model (Wieckowski 2004 = 001, sec 5.1.2, eq 24), then the
+ * wall pressure at rest against Janssen (docs/references.md, "Silo discharge
+ * and silo pressure"): sigma_v(z) = rho g (A/U) / (mu_w K) (1 - exp(-mu_w K z /
+ * (A/U))), sigma_h = K sigma_v,  A/U = B (half the silo width) for a planar
+ * silo.
  *
  * Scene (001 text; its Fig 6 with the silo dimensions is lost in the text
  * extraction): half of a planar silo (the axis is a slip face), B = 0.6 m,
@@ -37,7 +37,8 @@
  * tan 20 deg; A/U = B; the bulk density is the settled fill's own, its
  * mass over B times its mean height):
  *  - the vertical stress of each cell row, the force the row transmits,
- *    -sum(V_p sigma_yy) / (h B) (tests/test_janssen.c explains why rows);
+ *    -sum(V_p sigma_yy) / (h B) (tests/physics/test_janssen.c explains why
+ * rows);
  *  - the side-wall pressure in 0.25 m bands (single node rows alternate:
  *    the poured packing touches the wall at some nodes and not others);
  *  - RESULT: the total normal force on the side wall (N per metre of
@@ -388,8 +389,8 @@ int main(int argc, char **argv) {
    * fill in confined compression, nu / (1 - nu) = 0.43 for 001's nu = 0.3.
    * The fill stays elastic on that path: q/p = 3 (1 - K)/(1 + 2 K) = 0.92,
    * 1.02 with the fully mobilised wall shear added, below the cone's m =
-   * 1.03 (granmpm/perzyna.h, phi = 30 deg); tests/test_janssen.c makes the
-   * same argument. Jaky's 1 - sin(phi) = 0.5 is printed for the record. */
+   * 1.03 (granmpm/perzyna.h, phi = 30 deg); tests/physics/test_janssen.c makes
+   * the same argument. Jaky's 1 - sin(phi) = 0.5 is printed for the record. */
   f.janssen_k = model.poisson_ratio / (1.0 - model.poisson_ratio);
   int material = -1;
   EXAMPLE_CHECK(domain, gm_domain_add_filling(domain, &model, &material));

@@ -18,10 +18,10 @@
  * it (an "empty band" made by the mesh, like Beverloo's empty annulus of
  * about one grain). We take d = h, the cell size, and k = 2.7: the offset
  * that gives the exponent 3/2 on the finer 0.025 m grid, measured with
- * examples/silo_discharge (flat, D = 0.2, 0.3, 0.4, 0.5 m: W' = 320, 727,
- * 1252, 1900 kg/(m s); offset 0.068 m = 2.7 cells). This test runs on a
- * 0.05 m grid, so the k it uses was not fitted to the data it checks; it
- * passes for k between about 1.7 and 3.3 (measured exponent 1.62 at k = 2,
+ * examples/papers/wieckowski1999_silo_discharge (flat, D = 0.2, 0.3, 0.4, 0.5
+ * m: W' = 320, 727, 1252, 1900 kg/(m s); offset 0.068 m = 2.7 cells). This test
+ * runs on a 0.05 m grid, so the k it uses was not fitted to the data it checks;
+ * it passes for k between about 1.7 and 3.3 (measured exponent 1.62 at k = 2,
  * 1.46 at k = 2.6). With d = 0 the exponent is 1.94 on the fine grid and
  * 2.15 on this one, printed below: it falls towards 1.5 as D/h grows,
  * which costs more than a unit test can spend.

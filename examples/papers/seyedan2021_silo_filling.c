@@ -1,14 +1,14 @@
 /*
- * silo_filling.c - the silo filling of Seyedan & Solowski 2021 (000 sec 4.3,
- * Table 4, Figs 14-16): a flat-bottomed planar silo 2.7 m wide and 7.5 m
- * high, with elastic walls, filled by releasing 3 granular points every
- * 0.17 s at its top, 504 points in 28.56 s. The points fall disconnected,
- * meet the material already in the silo, slow down and settle.
- * The paper reports that plain MPM fills the silo with too few points
- * (the falling points interact over grid nodes) and fails near 9.9 s,
- * stress-free CPDI fails shortly after 6.31 s (points breach the boundary),
- * plain CPDI has breached it by 14.32 s, while the granular family runs to
- * the end with undistorted, tightly packed points.
+ * seyedan2021_silo_filling.c - the silo filling of Seyedan & Solowski 2021 (000
+ * sec 4.3, Table 4, Figs 14-16): a flat-bottomed planar silo 2.7 m wide and 7.5
+ * m high, with elastic walls, filled by releasing 3 granular points every 0.17
+ * s at its top, 504 points in 28.56 s. The points fall disconnected, meet the
+ * material already in the silo, slow down and settle. The paper reports that
+ * plain MPM fills the silo with too few points (the falling points interact
+ * over grid nodes) and fails near 9.9 s, stress-free CPDI fails shortly
+ * after 6.31 s (points breach the boundary), plain CPDI has breached it
+ * by 14.32 s, while the granular family runs to the end with undistorted,
+ * tightly packed points.
  *
  * Setup (Table 4; where the text is silent, our choice):
  *  - 0.3 m grid; fill points of 0.15 m (2 x 2 per cell), released at rest

@@ -1,7 +1,7 @@
 /*
- * slope_density.c - moderate flow down a slope (000 sec 2.3, Table 1, Figs
- * 1-2): a Mohr-Coulomb block (psi = 0) flows down a 30 degree slope. In a
- * moderate flow the packing stays at the critical state, so the average
+ * seyedan2021_slope_density.c - moderate flow down a slope (000 sec 2.3, Table
+ * 1, Figs 1-2): a Mohr-Coulomb block (psi = 0) flows down a 30 degree slope. In
+ * a moderate flow the packing stays at the critical state, so the average
  * density should stay at rho_cr; the paper shows plain and stress-free MPM
  * losing density while Granular MPM's density control (eqs 13-15) holds it.
  *
@@ -11,7 +11,7 @@
  * cells (0.1 m x 0.03 m) on the floor, 0.02 m from the upper end of a 0.4
  * m long grid, fixed on all sides ("fixed on all the sides"), gravity
  * rotated by the slope; no rate term (sec 2.3 has none); USL as in the
- * paper (the flow never leaves the floor). tests/test_slope_density.c
+ * paper (the flow never leaves the floor). tests/physics/test_slope_density.c
  * asserts the comparison between families.
  *
  * Prints the average density (total mass / total volume) at the end, a
@@ -91,7 +91,9 @@ static gm_domain *create_slope(const example_options *options) {
   return domain;
 }
 
-static void write_row(FILE *csv, const gm_domain *domain) {
+/* example_sample_fn: one CSV row; user is the FILE (NULL: none). */
+static void write_row(const gm_domain *domain, void *user) {
+  FILE *csv = user;
   if (!csv)
     return;
   double time = 0.0, average = 0.0, lowest = 0.0, front = 0.0;
@@ -135,21 +137,13 @@ int main(int argc, char **argv) {
   gm_series *series = NULL;
   EXAMPLE_CHECK(
       domain, example_open_series(&options, "slope_density", domain, &series));
-  double time = 0.0, next_frame = FRAME_PERIOD; /* s */
+  double time = 0.0; /* s */
   struct timespec wall_start, wall_end;
   clock_gettime(CLOCK_MONOTONIC, &wall_start);
-  gm_status status = GM_OK;
-  while (status == GM_OK && time < options.t_end - 1e-12) {
-    double target = fmin(time + SAMPLE_PERIOD, options.t_end);
-    status = gm_domain_advance(domain, target, TIME_STEP, example_progress,
-                               &options);
-    gm_domain_get_time(domain, &time, NULL);
-    write_row(csv, domain);
-    if (series && time >= next_frame - 1e-9) {
-      gm_series_write(series, domain);
-      next_frame += FRAME_PERIOD;
-    }
-  }
+  const example_run_schedule schedule = {
+      options.t_end, SAMPLE_PERIOD, FRAME_PERIOD, TIME_STEP, example_progress,
+      &options,      write_row,     csv,          series,    0};
+  gm_status status = example_run_loop(domain, &schedule, &time);
   if (status != GM_OK)
     printf("FAILED at t = %.4f s: %s (%s)\n", time, gm_strerror(status),
            gm_domain_last_error(domain));

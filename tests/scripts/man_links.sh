@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/man_links.sh - every exported gm_* function has a manual page
+# tests/scripts/man_links.sh - every exported gm_* function has a manual page
 # (`man gm_X` works: its own page or a .so stub to its group page), and the
 # stubs in man/links are what man/make-links.sh writes from the group pages'
 # NAME sections (a function added to a page without re-running the script

@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/stable_api.sh - the stable/provisional split of granmpm.h holds:
+# tests/scripts/stable_api.sh - the stable/provisional split of granmpm.h holds:
 #  1. the README's minimal program compiles with GM_STABLE_ONLY (it uses the
 #     stable API only, the one a user is told to start from);
 #  2. with GM_STABLE_ONLY a call to a provisional function does not compile
