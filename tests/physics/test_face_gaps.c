@@ -33,6 +33,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "test_block.h"
 #include "test_util.h"
 
 static const double GRAVITY = 9.81;   /* m/s^2 */
@@ -46,32 +47,6 @@ static const gm_update_scheme SCHEMES[3] = {GM_SCHEME_USL, GM_SCHEME_MUSL,
                                             GM_SCHEME_USF};
 static const gm_wall_type FLOORS[2] = {GM_WALL_SLIP, GM_WALL_FIXED};
 static const double GAPS[3] = {0.3, 0.7, 1.5}; /* cells */
-
-static void add_block(gm_domain *domain, int material, double bottom) {
-  enum { PER_AXIS = 2 };
-  int columns = (int)lround(BLOCK_W / CELL) * PER_AXIS;
-  int rows = (int)lround(BLOCK_H / CELL) * PER_AXIS;
-  size_t count = (size_t)(columns * rows);
-  double spacing = CELL / PER_AXIS; /* m */
-  double *position = malloc(count * 2 * sizeof(double));
-  double *volume = malloc(count * sizeof(double));
-  ck_assert(position && volume);
-  for (int j = 0; j < rows; j++)
-    for (int i = 0; i < columns; i++) {
-      size_t p = (size_t)(j * columns + i);
-      position[2 * p] = 0.1 + (i + 0.5) * spacing;
-      position[2 * p + 1] = bottom + (j + 0.5) * spacing;
-      volume[p] = spacing * spacing;
-    }
-  gm_points_def points = gm_points_def_default();
-  points.count = count;
-  points.material = material;
-  points.position = position;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
-  free(position);
-  free(volume);
-}
 
 /* _i: scheme (3) x floor (2) x gap (3). */
 START_TEST(test_block_falls_onto_face) {
@@ -91,7 +66,8 @@ START_TEST(test_block_falls_onto_face) {
   /* Stiff enough to fall as a rigid block (wave speed ~100 m/s). */
   int material = test_add_elastic(domain, 2e7, 0.3, DENSITY);
   double gap = gap_cells * CELL; /* m */
-  add_block(domain, material, gap);
+  test_block block = test_block_on_floor(0.1, gap, BLOCK_W, BLOCK_H, CELL);
+  test_add_block(domain, material, &block);
   double impact_speed = sqrt(2.0 * GRAVITY * gap);                 /* m/s */
   double fastest = 0.0, time = 0.0, mass = 0.0, lowest = INFINITY; /* m */
   while (time < SETTLED) {

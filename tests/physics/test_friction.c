@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "test_block.h"
 #include "test_util.h"
 
 static const double PI = 3.14159265358979323846;
@@ -39,46 +40,17 @@ static const double angles_degrees[4] = {10.0, 15.0, 30.0, 35.0};
  * its centre of mass follows the rigid-block law. */
 static const double DENSITY = 2000.0; /* kg/m^3 */
 static const double POISSON = 0.3;
-static int add_block_material(gm_domain *domain) {
-  return test_add_elastic(domain, 2e7, POISSON, DENSITY);
+/* The block on the floor, carrying the stress of its own weight (see
+ * test_block.h). */
+static void add_geostatic_block(gm_domain *domain, int material, double theta) {
+  test_block block = test_block_on_floor(0.1, FLOOR_Y, BLOCK_W, BLOCK_H, CELL);
+  block.weight_stress = DENSITY * GRAVITY * cos(theta); /* Pa/m */
+  block.poisson = POISSON;
+  test_add_block(domain, material, &block);
 }
 
-/* The block as explicit points, 2 x 2 per cell, already carrying the
- * stress of its own weight on the wall: sigma_yy = -rho g cos(theta) times
- * the depth below the top, sigma_zz = nu sigma_yy (plane strain), free
- * sides (sigma_xx = 0). Starting unstressed would make it bounce on the
- * wall, and friction follows the normal force, bounces included. */
-static void add_geostatic_block(gm_domain *domain, int material, double theta) {
-  enum { PER_AXIS = 2 };
-  int columns = (int)lround(BLOCK_W / CELL) * PER_AXIS;
-  int rows = (int)lround(BLOCK_H / CELL) * PER_AXIS;
-  size_t count = (size_t)(columns * rows);
-  double spacing = CELL / PER_AXIS; /* m */
-  double *position = malloc(count * 2 * sizeof(double));
-  double *volume = malloc(count * sizeof(double));
-  double *stress = calloc(count * 6, sizeof(double));
-  ck_assert(position && volume && stress);
-  for (int j = 0; j < rows; j++) {
-    for (int i = 0; i < columns; i++) {
-      size_t p = (size_t)(j * columns + i);
-      position[2 * p] = 0.1 + (i + 0.5) * spacing;
-      position[2 * p + 1] = FLOOR_Y + (j + 0.5) * spacing;
-      volume[p] = spacing * spacing;
-      double depth = FLOOR_Y + BLOCK_H - position[2 * p + 1]; /* m */
-      stress[6 * p + GM_YY] = -DENSITY * GRAVITY * cos(theta) * depth;
-      stress[6 * p + GM_ZZ] = POISSON * stress[6 * p + GM_YY];
-    }
-  }
-  gm_points_def points = gm_points_def_default();
-  points.count = count;
-  points.material = material;
-  points.position = position;
-  points.volume = volume;
-  points.stress = stress;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
-  free(position);
-  free(volume);
-  free(stress);
+static int add_block_material(gm_domain *domain) {
+  return test_add_elastic(domain, 2e7, POISSON, DENSITY);
 }
 
 static double centre_along(const gm_domain *domain, const double direction[2]) {
@@ -214,32 +186,17 @@ START_TEST(test_tilted_wall_holds_block) {
   int wall_id = -1;
   TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &wall_id));
   int material = add_block_material(domain);
-  enum { COLUMNS = 16, ROWS = 8 };
-  const double spacing = CELL / 2; /* m */
-  double position[2 * COLUMNS * ROWS], volume[COLUMNS * ROWS];
-  double stress[6 * COLUMNS * ROWS] = {0};
-  for (int j = 0; j < ROWS; j++) {
-    for (int i = 0; i < COLUMNS; i++) {
-      int p = j * COLUMNS + i;
-      double along = 0.1 + (i + 0.5) * spacing, up = (j + 0.5) * spacing;
-      position[2 * p] = origin[0] + along * tangent[0] + up * normal[0];
-      position[2 * p + 1] = origin[1] + along * tangent[1] + up * normal[1];
-      volume[p] = spacing * spacing;
-      /* Weight carried normal to the plane: sigma = s_nn n n^T. */
-      double s_nn = -DENSITY * GRAVITY * cos(theta) * (ROWS * spacing - up);
-      stress[6 * p + GM_XX] = s_nn * normal[0] * normal[0];
-      stress[6 * p + GM_YY] = s_nn * normal[1] * normal[1];
-      stress[6 * p + GM_XY] = s_nn * normal[0] * normal[1];
-      stress[6 * p + GM_ZZ] = POISSON * s_nn;
-    }
-  }
-  gm_points_def points = gm_points_def_default();
-  points.count = COLUMNS * ROWS;
-  points.material = material;
-  points.position = position;
-  points.volume = volume;
-  points.stress = stress;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  /* 16 x 8 points: 0.08 m x 0.04 m, 0.1 m down the plane from origin. */
+  test_block block = {{origin[0], origin[1]},
+                      {tangent[0], tangent[1]},
+                      {normal[0], normal[1]},
+                      0.1,
+                      8 * CELL,
+                      4 * CELL,
+                      CELL,
+                      DENSITY * GRAVITY * cos(theta),
+                      POISSON};
+  test_add_block(domain, material, &block);
   double start = centre_along(domain, tangent);
   run(domain, wall_id, DURATION);
   double slide = centre_along(domain, tangent) - start;

@@ -34,6 +34,7 @@
 #include <stdbool.h>
 #include <stdlib.h>
 
+#include "test_block.h"
 #include "test_util.h"
 
 static const double PI = 3.14159265358979323846;
@@ -60,49 +61,6 @@ static const gm_update_scheme SCHEMES[3] = {GM_SCHEME_USL, GM_SCHEME_MUSL,
 enum { OFFSET_COUNT = 9, TILTED_OFFSETS = 2 };
 static const double OFFSETS[OFFSET_COUNT] = {0.0,   0.125, 0.25,  0.375, 0.5,
                                              0.625, 0.75,  0.875, 0.7};
-
-/* The block's points in the plane's frame: s along the downslope tangent,
- * n along the normal (into the block), with the geostatic stress of its
- * weight's normal component: sigma_nn = -rho g cos(th) depth, sigma_zz =
- * nu sigma_nn, sigma_ss = 0 (free ends). Starting unstressed makes the
- * block bounce, and friction follows the normal force, bounces too. */
-static void add_block(gm_domain *domain, int material, const double origin[2],
-                      const double tangent[2], const double normal[2],
-                      double theta) {
-  enum { PER_AXIS = 2 };
-  int columns = (int)lround(BLOCK_W / CELL) * PER_AXIS;
-  int rows = (int)lround(BLOCK_H / CELL) * PER_AXIS;
-  size_t count = (size_t)(columns * rows);
-  double spacing = CELL / PER_AXIS; /* m */
-  double *position = malloc(count * 2 * sizeof(double));
-  double *volume = malloc(count * sizeof(double));
-  double *stress = calloc(count * 6, sizeof(double));
-  ck_assert(position && volume && stress);
-  for (int j = 0; j < rows; j++) {
-    for (int i = 0; i < columns; i++) {
-      size_t p = (size_t)(j * columns + i);
-      double s = (i + 0.5) * spacing, n = (j + 0.5) * spacing; /* m */
-      for (int k = 0; k < 2; k++)
-        position[2 * p + k] = origin[k] + s * tangent[k] + n * normal[k];
-      volume[p] = spacing * spacing;
-      double sigma_nn = -DENSITY * GRAVITY * cos(theta) * (BLOCK_H - n);
-      stress[6 * p + GM_XX] = sigma_nn * normal[0] * normal[0];
-      stress[6 * p + GM_YY] = sigma_nn * normal[1] * normal[1];
-      stress[6 * p + GM_XY] = sigma_nn * normal[0] * normal[1];
-      stress[6 * p + GM_ZZ] = POISSON * sigma_nn;
-    }
-  }
-  gm_points_def points = gm_points_def_default();
-  points.count = count;
-  points.material = material;
-  points.position = position;
-  points.volume = volume;
-  points.stress = stress;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
-  free(position);
-  free(volume);
-  free(stress);
-}
 
 static double centre_along(const gm_domain *domain, const double direction[2],
                            double *mass) {
@@ -158,7 +116,16 @@ static run_result run(gm_update_scheme scheme, double theta, double mu,
   int wall_id = -1;
   TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &wall_id));
   int material = test_add_elastic(domain, YOUNGS, POISSON, DENSITY);
-  add_block(domain, material, origin, tangent, normal, theta);
+  test_block block = {{origin[0], origin[1]},
+                      {tangent[0], tangent[1]},
+                      {normal[0], normal[1]},
+                      0.0,
+                      BLOCK_W,
+                      BLOCK_H,
+                      CELL,
+                      DENSITY * GRAVITY * cos(theta),
+                      POISSON};
+  test_add_block(domain, material, &block);
   run_result result;
   double start = centre_along(domain, tangent, &result.mass);
   double time = 0.0;
