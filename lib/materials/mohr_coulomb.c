@@ -40,12 +40,13 @@
 
 /* Constants of one update call. */
 typedef struct mc_constants {
-  double shear;        /* G, Pa */
-  double lame;         /* lambda, Pa */
-  double sin_friction; /* sin(phi) */
-  double cos_friction; /* cos(phi) */
-  double sin_dilation; /* sin(psi) */
-  double yield_offset; /* 2 c cos(phi), Pa, this point's rate term */
+  double shear;                /* G, Pa */
+  double inverse_double_shear; /* 1 / (2 G), 1/Pa */
+  double lame;                 /* lambda, Pa */
+  double sin_friction;         /* sin(phi) */
+  double cos_friction;         /* cos(phi) */
+  double sin_dilation;         /* sin(psi) */
+  double yield_offset;         /* 2 c cos(phi), Pa, this point's rate term */
 } mc_constants;
 
 /* One yield plane over the sorted principal stresses: f = normal . sigma -
@@ -55,11 +56,22 @@ typedef struct mc_plane {
   double elastic_flow[3]; /* Pa per unit plastic multiplier */
 } mc_plane;
 
+/* An edge where the main plane a meets a second plane b, with the 2x2
+ * system of the two-plane return: coupling[i][j] = normal_i . D flow_j
+ * (Pa; i, j: 0 = a, 1 = b) and its determinant (Pa^2). */
+typedef struct mc_edge {
+  mc_plane plane; /* b */
+  double coupling[2][2];
+  double determinant;
+} mc_edge;
+
 /* The planes of one update call, built once per batch: the main plane
- * (0, 2), the compression-edge plane (1, 2) and the extension-edge plane
- * (0, 1), see return_to_edge. */
+ * (0, 2) and the edges with the plane (1, 2) (compression) and (0, 1)
+ * (extension), see return_to_edge. */
 typedef struct mc_planes {
-  mc_plane main, compression, extension;
+  mc_plane main;
+  double main_compliance; /* 1 / (normal . D flow) of the main plane, 1/Pa */
+  mc_edge compression, extension;
 } mc_planes;
 
 /* The plane on which principal stress `major` plays sigma_1 and `minor`
@@ -83,16 +95,28 @@ static double dot3(const double a[3], const double b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+static mc_edge make_edge(const mc_plane *a, mc_plane b) {
+  mc_edge edge;
+  edge.plane = b;
+  edge.coupling[0][0] = dot3(a->normal, a->elastic_flow);
+  edge.coupling[0][1] = dot3(a->normal, b.elastic_flow);
+  edge.coupling[1][0] = dot3(b.normal, a->elastic_flow);
+  edge.coupling[1][1] = dot3(b.normal, b.elastic_flow);
+  edge.determinant = edge.coupling[0][0] * edge.coupling[1][1] -
+                     edge.coupling[0][1] * edge.coupling[1][0];
+  return edge;
+}
+
 static double plane_value(const mc_plane *plane, const mc_constants *k,
                           const double sigma[3]) {
   return dot3(plane->normal, sigma) - k->yield_offset;
 }
 
 /* Return to the main plane; false if the result breaks the ordering. */
-static bool return_to_main_plane(const mc_constants *k, const mc_plane *main,
+static bool return_to_main_plane(const mc_constants *k, const mc_planes *planes,
                                  const double trial[3], double out[3]) {
-  double multiplier =
-      plane_value(main, k, trial) / dot3(main->normal, main->elastic_flow);
+  const mc_plane *main = &planes->main;
+  double multiplier = plane_value(main, k, trial) * planes->main_compliance;
   for (int i = 0; i < 3; i++)
     out[i] = trial[i] - multiplier * main->elastic_flow[i];
   return out[0] >= out[1] && out[1] >= out[2];
@@ -101,21 +125,19 @@ static bool return_to_main_plane(const mc_constants *k, const mc_plane *main,
 /* Return to the edge where the main plane meets a second plane: with
  * `compression` the plane (1, 2), the triaxial compression edge sigma_1 =
  * sigma_2, otherwise the plane (0, 1), the triaxial extension edge sigma_2 =
- * sigma_3. False unless both plastic
- * multipliers are >= 0 and the edge point is ordered (not past the apex). */
+ * sigma_3. False
+ * unless both plastic multipliers are >= 0 and the edge point is ordered
+ * (not past the apex). */
 static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
                            const double trial[3], bool compression,
                            double out[3]) {
-  const mc_plane *a_plane = &planes->main;
-  const mc_plane *b_plane =
+  const mc_edge *edge_system =
       compression ? &planes->compression : &planes->extension;
-  const mc_plane a = *a_plane, b = *b_plane;
-  double aa = dot3(a.normal, a.elastic_flow),
-         ab = dot3(a.normal, b.elastic_flow);
-  double ba = dot3(b.normal, a.elastic_flow),
-         bb = dot3(b.normal, b.elastic_flow);
-  double fa = plane_value(&a, k, trial), fb = plane_value(&b, k, trial);
-  double determinant = aa * bb - ab * ba;
+  const mc_plane *a = &planes->main, *b = &edge_system->plane;
+  double aa = edge_system->coupling[0][0], ab = edge_system->coupling[0][1];
+  double ba = edge_system->coupling[1][0], bb = edge_system->coupling[1][1];
+  double fa = plane_value(a, k, trial), fb = plane_value(b, k, trial);
+  double determinant = edge_system->determinant;
   if (!(determinant > 0.0))
     return false;
   double multiplier_a = (fa * bb - ab * fb) / determinant;
@@ -123,8 +145,8 @@ static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
   if (multiplier_a < 0.0 || multiplier_b < 0.0)
     return false;
   for (int i = 0; i < 3; i++)
-    out[i] = trial[i] - multiplier_a * a.elastic_flow[i] -
-             multiplier_b * b.elastic_flow[i];
+    out[i] = trial[i] - multiplier_a * a->elastic_flow[i] -
+             multiplier_b * b->elastic_flow[i];
   /* Both planes hold, so the edge pair is equal up to round-off: make it
    * exact so the ordering test below sees the edge itself. */
   int pair_low = compression ? 0 : 1; /* first index of the equal pair */
@@ -136,7 +158,7 @@ static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
 /* Principal stresses after the return (sorted trial in, result out). */
 static void return_principal(const mc_constants *k, const mc_planes *planes,
                              const double trial[3], double out[3]) {
-  if (return_to_main_plane(k, &planes->main, trial, out))
+  if (return_to_main_plane(k, planes, trial, out))
     return;
   /* The main-plane result tells which ordering it broke: sigma_2 > sigma_1
    * points to the compression edge, otherwise the extension edge. */
@@ -167,17 +189,16 @@ static double shear_rate(const double increment[6], double dt) {
 
 /* Plastic shear strain of a return: the deviatoric plastic strain is
  * dev(sigma_tr - sigma)/(2G) (same principal axes); measure sqrt(2 e:e). */
-static double plastic_shear_strain(const double trial[3], const double out[3],
-                                   double shear) {
-  double drop[3], mean = 0.0;
-  for (int i = 0; i < 3; i++) {
+static double plastic_shear_strain(const mc_constants *k, const double trial[3],
+                                   const double out[3]) {
+  double drop[3];
+  for (int i = 0; i < 3; i++)
     drop[i] = trial[i] - out[i];
-    mean += drop[i] / 3.0;
-  }
+  double mean = (drop[0] + drop[1] + drop[2]) * (1.0 / 3.0);
   double contraction = 0.0;
   for (int i = 0; i < 3; i++)
     contraction += (drop[i] - mean) * (drop[i] - mean);
-  return sqrt(2.0 * contraction) / (2.0 * shear);
+  return sqrt(2.0 * contraction) * k->inverse_double_shear;
 }
 
 /* Points per chunk: the predictor runs over a chunk, then the corrector
@@ -222,7 +243,7 @@ static void plastic_correction(const mc_constants *k, const mc_planes *planes,
                                double *plastic_shear) {
   double returned[3], drop[3], correction[6];
   return_principal(k, planes, trial->value, returned);
-  *plastic_shear += plastic_shear_strain(trial->value, returned, k->shear);
+  *plastic_shear += plastic_shear_strain(k, trial->value, returned);
   if (returned[0] == returned[2]) { /* apex: purely hydrostatic */
     for (int c = 0; c < 6; c++)
       stress[c] = c <= GM_ZZ ? returned[0] : 0.0;
@@ -281,7 +302,7 @@ static mc_outcome return_planar(const mc_constants *k, const mc_planes *planes,
   trial[minor_slot] = minor;
   trial[z_slot] = zz;
   return_principal(k, planes, trial, returned);
-  *plastic_shear += plastic_shear_strain(trial, returned, k->shear);
+  *plastic_shear += plastic_shear_strain(k, trial, returned);
   if (returned[0] == returned[2]) { /* apex: purely hydrostatic */
     for (int c = 0; c < 6; c++)
       stress[c] = c <= GM_ZZ ? returned[0] : 0.0;
@@ -329,6 +350,7 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
   double nu = def->poisson_ratio;     /* - */
   mc_constants k;
   k.shear = young / (2.0 * (1.0 + nu));
+  k.inverse_double_shear = 1.0 / (2.0 * k.shear);
   k.lame = young * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
   k.sin_friction = sin(def->friction_angle);
   k.cos_friction = cos(def->friction_angle);
@@ -343,8 +365,12 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
   }
   double *plastic_shear = batch->state[GM_MOHR_COULOMB_PLASTIC_SHEAR_STRAIN];
   double eta = def->bagnold_viscosity; /* Pa s^2 */
-  mc_planes planes = {make_plane(&k, 0, 2), make_plane(&k, 1, 2),
-                      make_plane(&k, 0, 1)};
+  mc_planes planes;
+  planes.main = make_plane(&k, 0, 2);
+  planes.main_compliance =
+      1.0 / dot3(planes.main.normal, planes.main.elastic_flow);
+  planes.compression = make_edge(&planes.main, make_plane(&k, 1, 2));
+  planes.extension = make_edge(&planes.main, make_plane(&k, 0, 1));
   for (size_t i = 0; i < batch->count; i++) {
     if (i % MC_CHUNK == 0) /* predictor of the next chunk */
       elastic_trials(&k, batch, i,
