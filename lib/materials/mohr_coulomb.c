@@ -21,6 +21,12 @@
  * The returned principal values go back along the trial eigenvectors, so
  * the principal directions are those of the trial stress.
  *
+ * Cost: the elastic predictor runs as one vectorised loop per chunk of
+ * points; the corrector then decides each point. 1D, plane-strain and
+ * axisymmetric points (yz = zx = 0) take a closed form (return_planar: a
+ * Mohr circle, no eigen-solver, no eigenvectors); only general 3D stresses
+ * use the Jacobi decomposition of principal.c.
+ *
  * SPDX-License-Identifier: BSD-2-Clause
  */
 #include "materials/materials.h"
@@ -34,12 +40,13 @@
 
 /* Constants of one update call. */
 typedef struct mc_constants {
-  double shear;        /* G, Pa */
-  double lame;         /* lambda, Pa */
-  double sin_friction; /* sin(phi) */
-  double cos_friction; /* cos(phi) */
-  double sin_dilation; /* sin(psi) */
-  double yield_offset; /* 2 c cos(phi), Pa, this point's rate term */
+  double shear;                /* G, Pa */
+  double inverse_double_shear; /* 1 / (2 G), 1/Pa */
+  double lame;                 /* lambda, Pa */
+  double sin_friction;         /* sin(phi) */
+  double cos_friction;         /* cos(phi) */
+  double sin_dilation;         /* sin(psi) */
+  double yield_offset;         /* 2 c cos(phi), Pa, this point's rate term */
 } mc_constants;
 
 /* One yield plane over the sorted principal stresses: f = normal . sigma -
@@ -48,6 +55,24 @@ typedef struct mc_plane {
   double normal[3];       /* - */
   double elastic_flow[3]; /* Pa per unit plastic multiplier */
 } mc_plane;
+
+/* An edge where the main plane a meets a second plane b, with the 2x2
+ * system of the two-plane return: coupling[i][j] = normal_i . D flow_j
+ * (Pa; i, j: 0 = a, 1 = b) and its determinant (Pa^2). */
+typedef struct mc_edge {
+  mc_plane plane; /* b */
+  double coupling[2][2];
+  double determinant;
+} mc_edge;
+
+/* The planes of one update call, built once per batch: the main plane
+ * (0, 2) and the edges with the plane (1, 2) (compression) and (0, 1)
+ * (extension), see return_to_edge. */
+typedef struct mc_planes {
+  mc_plane main;
+  double main_compliance; /* 1 / (normal . D flow) of the main plane, 1/Pa */
+  mc_edge compression, extension;
+} mc_planes;
 
 /* The plane on which principal stress `major` plays sigma_1 and `minor`
  * plays sigma_3 (main plane: 0, 2). */
@@ -70,35 +95,49 @@ static double dot3(const double a[3], const double b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+static mc_edge make_edge(const mc_plane *a, mc_plane b) {
+  mc_edge edge;
+  edge.plane = b;
+  edge.coupling[0][0] = dot3(a->normal, a->elastic_flow);
+  edge.coupling[0][1] = dot3(a->normal, b.elastic_flow);
+  edge.coupling[1][0] = dot3(b.normal, a->elastic_flow);
+  edge.coupling[1][1] = dot3(b.normal, b.elastic_flow);
+  edge.determinant = edge.coupling[0][0] * edge.coupling[1][1] -
+                     edge.coupling[0][1] * edge.coupling[1][0];
+  return edge;
+}
+
 static double plane_value(const mc_plane *plane, const mc_constants *k,
                           const double sigma[3]) {
   return dot3(plane->normal, sigma) - k->yield_offset;
 }
 
 /* Return to the main plane; false if the result breaks the ordering. */
-static bool return_to_main_plane(const mc_constants *k, const double trial[3],
-                                 double out[3]) {
-  mc_plane main = make_plane(k, 0, 2);
-  double multiplier =
-      plane_value(&main, k, trial) / dot3(main.normal, main.elastic_flow);
+static bool return_to_main_plane(const mc_constants *k, const mc_planes *planes,
+                                 const double trial[3], double out[3]) {
+  const mc_plane *main = &planes->main;
+  double multiplier = plane_value(main, k, trial) * planes->main_compliance;
   for (int i = 0; i < 3; i++)
-    out[i] = trial[i] - multiplier * main.elastic_flow[i];
+    out[i] = trial[i] - multiplier * main->elastic_flow[i];
   return out[0] >= out[1] && out[1] >= out[2];
 }
 
-/* Return to the edge where the main plane meets the plane (major, minor):
- * (1, 2) is the triaxial compression edge sigma_1 = sigma_2, (0, 1) the
- * triaxial extension edge sigma_2 = sigma_3. False unless both plastic
- * multipliers are >= 0 and the edge point is ordered (not past the apex). */
-static bool return_to_edge(const mc_constants *k, const double trial[3],
-                           int major, int minor, double out[3]) {
-  mc_plane a = make_plane(k, 0, 2), b = make_plane(k, major, minor);
-  double aa = dot3(a.normal, a.elastic_flow),
-         ab = dot3(a.normal, b.elastic_flow);
-  double ba = dot3(b.normal, a.elastic_flow),
-         bb = dot3(b.normal, b.elastic_flow);
-  double fa = plane_value(&a, k, trial), fb = plane_value(&b, k, trial);
-  double determinant = aa * bb - ab * ba;
+/* Return to the edge where the main plane meets a second plane: with
+ * `compression` the plane (1, 2), the triaxial compression edge sigma_1 =
+ * sigma_2, otherwise the plane (0, 1), the triaxial extension edge sigma_2 =
+ * sigma_3. False
+ * unless both plastic multipliers are >= 0 and the edge point is ordered
+ * (not past the apex). */
+static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
+                           const double trial[3], bool compression,
+                           double out[3]) {
+  const mc_edge *edge_system =
+      compression ? &planes->compression : &planes->extension;
+  const mc_plane *a = &planes->main, *b = &edge_system->plane;
+  double aa = edge_system->coupling[0][0], ab = edge_system->coupling[0][1];
+  double ba = edge_system->coupling[1][0], bb = edge_system->coupling[1][1];
+  double fa = plane_value(a, k, trial), fb = plane_value(b, k, trial);
+  double determinant = edge_system->determinant;
   if (!(determinant > 0.0))
     return false;
   double multiplier_a = (fa * bb - ab * fb) / determinant;
@@ -106,30 +145,27 @@ static bool return_to_edge(const mc_constants *k, const double trial[3],
   if (multiplier_a < 0.0 || multiplier_b < 0.0)
     return false;
   for (int i = 0; i < 3; i++)
-    out[i] = trial[i] - multiplier_a * a.elastic_flow[i] -
-             multiplier_b * b.elastic_flow[i];
+    out[i] = trial[i] - multiplier_a * a->elastic_flow[i] -
+             multiplier_b * b->elastic_flow[i];
   /* Both planes hold, so the edge pair is equal up to round-off: make it
    * exact so the ordering test below sees the edge itself. */
-  int pair_low = major == 1 ? 0 : 1; /* first index of the equal pair */
+  int pair_low = compression ? 0 : 1; /* first index of the equal pair */
   double edge = 0.5 * (out[pair_low] + out[pair_low + 1]);
   out[pair_low] = out[pair_low + 1] = edge;
   return out[0] >= out[2];
 }
 
 /* Principal stresses after the return (sorted trial in, result out). */
-static void return_principal(const mc_constants *k, const double trial[3],
-                             double out[3]) {
-  if (return_to_main_plane(k, trial, out))
+static void return_principal(const mc_constants *k, const mc_planes *planes,
+                             const double trial[3], double out[3]) {
+  if (return_to_main_plane(k, planes, trial, out))
     return;
   /* The main-plane result tells which ordering it broke: sigma_2 > sigma_1
    * points to the compression edge, otherwise the extension edge. */
   bool compression_first = out[1] > out[0];
-  int first_major = compression_first ? 1 : 0;
-  int first_minor = compression_first ? 2 : 1;
-  if (return_to_edge(k, trial, first_major, first_minor, out))
+  if (return_to_edge(k, planes, trial, compression_first, out))
     return;
-  if (return_to_edge(k, trial, compression_first ? 0 : 1,
-                     compression_first ? 1 : 2, out))
+  if (return_to_edge(k, planes, trial, !compression_first, out))
     return;
   /* Apex: f = 2 sigma sin(phi) - 2 c cos(phi) = 0 at sigma_i = sigma. */
   double apex = k->yield_offset / (2.0 * k->sin_friction);
@@ -153,29 +189,43 @@ static double shear_rate(const double increment[6], double dt) {
 
 /* Plastic shear strain of a return: the deviatoric plastic strain is
  * dev(sigma_tr - sigma)/(2G) (same principal axes); measure sqrt(2 e:e). */
-static double plastic_shear_strain(const double trial[3], const double out[3],
-                                   double shear) {
-  double drop[3], mean = 0.0;
-  for (int i = 0; i < 3; i++) {
+static double plastic_shear_strain(const mc_constants *k, const double trial[3],
+                                   const double out[3]) {
+  double drop[3];
+  for (int i = 0; i < 3; i++)
     drop[i] = trial[i] - out[i];
-    mean += drop[i] / 3.0;
-  }
+  double mean = (drop[0] + drop[1] + drop[2]) * (1.0 / 3.0);
   double contraction = 0.0;
   for (int i = 0; i < 3; i++)
     contraction += (drop[i] - mean) * (drop[i] - mean);
-  return sqrt(2.0 * contraction) / (2.0 * shear);
+  return sqrt(2.0 * contraction) * k->inverse_double_shear;
 }
 
-/* Elastic trial stress: the same arithmetic as gm_elastic_update, so a
- * point that stays elastic ends bit-identical to the elastic model. */
-static void elastic_trial(const mc_constants *k, const double increment[6],
-                          double stress[6]) {
-  double volumetric = increment[GM_XX] + increment[GM_YY] + increment[GM_ZZ];
-  double lame_term = k->lame * volumetric;
-  for (int c = GM_XX; c <= GM_ZZ; c++)
-    stress[c] += lame_term + 2.0 * k->shear * increment[c];
-  for (int c = GM_XY; c <= GM_ZX; c++)
-    stress[c] += 2.0 * k->shear * increment[c];
+/* Points per chunk: the predictor runs over a chunk, then the corrector
+ * reads the chunk's trial stresses back while they are still in L1/L2
+ * (6 x 256 x 8 bytes = 12 KiB). */
+enum { MC_CHUNK = 256 };
+
+/* Elastic predictor over points [begin, end) of the batch, sigma += C : d_eps:
+ * the same arithmetic as gm_elastic_update (one SoA loop the compiler
+ * vectorises), so a point that stays elastic ends bit-identical to the elastic
+ * model. */
+static void elastic_trials(const mc_constants *k,
+                           const gm_material_batch *batch, size_t begin,
+                           size_t end) {
+  const double *const *de = batch->strain_increment;
+  double *const *s = batch->stress;
+  double shear = k->shear, lame = k->lame;
+  for (size_t i = begin; i < end; i++) {
+    double volumetric = de[GM_XX][i] + de[GM_YY][i] + de[GM_ZZ][i];
+    double lame_term = lame * volumetric;
+    s[GM_XX][i] += lame_term + 2.0 * shear * de[GM_XX][i];
+    s[GM_YY][i] += lame_term + 2.0 * shear * de[GM_YY][i];
+    s[GM_ZZ][i] += lame_term + 2.0 * shear * de[GM_ZZ][i];
+    s[GM_XY][i] += 2.0 * shear * de[GM_XY][i];
+    s[GM_YZ][i] += 2.0 * shear * de[GM_YZ][i];
+    s[GM_ZX][i] += 2.0 * shear * de[GM_ZX][i];
+  }
 }
 
 static bool all_finite(const double values[6]) {
@@ -185,36 +235,112 @@ static bool all_finite(const double values[6]) {
   return true;
 }
 
-/* Updates one point's stress (Pa, in place) and accumulated plastic shear
- * strain; false if the trial stress is not finite. */
-static bool update_point(mc_constants *k, double eta, double dt,
-                         const double increment[6], double stress[6],
-                         double *plastic_shear) {
-  elastic_trial(k, increment, stress);
-  gm_principal trial;
-  if (!all_finite(stress) || gm_principal_decompose(stress, &trial) != 0)
-    return false;
-  double rate = shear_rate(increment, dt);
-  k->yield_offset = 2.0 * eta * rate * rate * k->cos_friction; /* eq 16 */
-  mc_plane main = make_plane(k, 0, 2);
-  if (plane_value(&main, k, trial.value) <= 0.0)
-    return true; /* elastic: the trial stress is the answer, untouched */
+/* Plastic corrector of one point whose trial stress (Pa, in place) is
+ * outside the surface, decomposed into `trial` (general 3D stress); adds to
+ * the accumulated plastic shear strain. */
+static void plastic_correction(const mc_constants *k, const mc_planes *planes,
+                               const gm_principal *trial, double stress[6],
+                               double *plastic_shear) {
   double returned[3], drop[3], correction[6];
-  return_principal(k, trial.value, returned);
-  *plastic_shear += plastic_shear_strain(trial.value, returned, k->shear);
+  return_principal(k, planes, trial->value, returned);
+  *plastic_shear += plastic_shear_strain(k, trial->value, returned);
   if (returned[0] == returned[2]) { /* apex: purely hydrostatic */
     for (int c = 0; c < 6; c++)
       stress[c] = c <= GM_ZZ ? returned[0] : 0.0;
-    return true;
+    return;
   }
   /* sigma = sigma_tr - sum_k (trial_k - returned_k) v_k v_k: only the
    * principal values change, the eigenvectors stay. */
   for (int i = 0; i < 3; i++)
-    drop[i] = trial.value[i] - returned[i];
-  gm_principal_compose(&trial, drop, correction);
+    drop[i] = trial->value[i] - returned[i];
+  gm_principal_compose(trial, drop, correction);
   for (int c = 0; c < 6; c++)
     stress[c] -= correction[c];
-  return true;
+}
+
+/* What a return did with a point. */
+typedef enum mc_outcome {
+  MC_NOT_FINITE, /* the trial stress is not finite */
+  MC_ELASTIC,    /* inside the surface: stress untouched */
+  MC_PLASTIC     /* returned to the surface: stress changed */
+} mc_outcome;
+
+/* Return mapping of a trial stress with yz = zx = 0 (1D, plane strain,
+ * axisymmetry; Pa, in place). z is principal and the xy block is a Mohr
+ * circle, centre m, radius r, half difference d = (xx - yy)/2: in-plane
+ * values m + r and m - r. The yield test needs only the largest and
+ * smallest principal values, so an elastic point is decided from the circle
+ * alone. A plastic point needs no eigenvectors either: a correction with
+ * in-plane principal drops a (along the major direction) and b (minor) is
+ * (a + b)/2 I + (a - b)/2 P, where P = [[d/r, xy/r], [xy/r, -d/r]] is the
+ * trial's own unit in-plane deviator (P = v1 v1 - v2 v2 = (cos 2 theta,
+ * sin 2 theta) without trigonometry), so the result commutes with the trial
+ * as the general path's composition does. At r = 0 every in-plane direction
+ * is principal and P = diag(1, -1) is as right as any. */
+static mc_outcome return_planar(const mc_constants *k, const mc_planes *planes,
+                                double stress[6], double *plastic_shear) {
+  gm_principal_circle circle = gm_principal_in_plane(stress);
+  double major = circle.centre + circle.radius;
+  double minor = circle.centre - circle.radius;
+  double zz = stress[GM_ZZ];
+  double extremes[3] = {major > zz ? major : zz, 0.0, minor < zz ? minor : zz};
+  if (plane_value(&planes->main, k, extremes) <= 0.0)
+    return MC_ELASTIC; /* the trial stress is the answer, untouched */
+  /* Slots of the in-plane pair and of z in the descending order (ties in
+   * the order major, minor, z, as gm_principal_decompose sorts them). */
+  int major_slot = 0, minor_slot = 1, z_slot = 2;
+  if (zz > major) {
+    z_slot = 0;
+    major_slot = 1;
+    minor_slot = 2;
+  } else if (zz > minor) {
+    z_slot = 1;
+    minor_slot = 2;
+  }
+  double trial[3], returned[3];
+  trial[major_slot] = major;
+  trial[minor_slot] = minor;
+  trial[z_slot] = zz;
+  return_principal(k, planes, trial, returned);
+  *plastic_shear += plastic_shear_strain(k, trial, returned);
+  if (returned[0] == returned[2]) { /* apex: purely hydrostatic */
+    for (int c = 0; c < 6; c++)
+      stress[c] = c <= GM_ZZ ? returned[0] : 0.0;
+    return MC_PLASTIC;
+  }
+  double drop_major = major - returned[major_slot];
+  double drop_minor = minor - returned[minor_slot];
+  double mean_drop = 0.5 * (drop_major + drop_minor);
+  double half_split = 0.5 * (drop_major - drop_minor);
+  double cos_double = 1.0, sin_double = 0.0; /* of twice the major angle */
+  if (circle.radius > 0.0) {
+    double inverse_radius = 1.0 / circle.radius;
+    cos_double = circle.half_difference * inverse_radius;
+    sin_double = stress[GM_XY] * inverse_radius;
+  }
+  stress[GM_XX] -= mean_drop + half_split * cos_double;
+  stress[GM_YY] -= mean_drop - half_split * cos_double;
+  stress[GM_XY] -= half_split * sin_double;
+  stress[GM_ZZ] = returned[z_slot];
+  return MC_PLASTIC;
+}
+
+/* Return mapping of one point with trial stress `stress` (Pa, in place) and
+ * accumulated plastic shear strain; k->yield_offset is this point's rate
+ * term. */
+static mc_outcome return_point(const mc_constants *k, const mc_planes *planes,
+                               double stress[6], double *plastic_shear) {
+  if (!all_finite(stress))
+    return MC_NOT_FINITE;
+  if (stress[GM_YZ] == 0.0 && stress[GM_ZX] == 0.0)
+    return return_planar(k, planes, stress, plastic_shear);
+  gm_principal trial;
+  if (gm_principal_decompose(stress, &trial) != 0)
+    return MC_NOT_FINITE;
+  if (plane_value(&planes->main, k, trial.value) <= 0.0)
+    return MC_ELASTIC;
+  plastic_correction(k, planes, &trial, stress, plastic_shear);
+  return MC_PLASTIC;
 }
 
 int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
@@ -224,11 +350,12 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
   double nu = def->poisson_ratio;     /* - */
   mc_constants k;
   k.shear = young / (2.0 * (1.0 + nu));
+  k.inverse_double_shear = 1.0 / (2.0 * k.shear);
   k.lame = young * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
   k.sin_friction = sin(def->friction_angle);
   k.cos_friction = cos(def->friction_angle);
   k.sin_dilation = sin(def->dilation_angle);
-  k.yield_offset = 0.0;
+  k.yield_offset = 0.0; /* stays 0 without the rate term (eta = 0) */
   if (batch->state_count < GM_MOHR_COULOMB_STATE_COUNT) {
     if (message && message_size > 0)
       snprintf(message, message_size,
@@ -237,14 +364,29 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
     return -1;
   }
   double *plastic_shear = batch->state[GM_MOHR_COULOMB_PLASTIC_SHEAR_STRAIN];
+  double eta = def->bagnold_viscosity; /* Pa s^2 */
+  mc_planes planes;
+  planes.main = make_plane(&k, 0, 2);
+  planes.main_compliance =
+      1.0 / dot3(planes.main.normal, planes.main.elastic_flow);
+  planes.compression = make_edge(&planes.main, make_plane(&k, 1, 2));
+  planes.extension = make_edge(&planes.main, make_plane(&k, 0, 1));
   for (size_t i = 0; i < batch->count; i++) {
-    double increment[6], stress[6];
-    for (int c = 0; c < 6; c++) {
-      increment[c] = batch->strain_increment[c][i];
+    if (i % MC_CHUNK == 0) /* predictor of the next chunk */
+      elastic_trials(&k, batch, i,
+                     batch->count - i < MC_CHUNK ? batch->count : i + MC_CHUNK);
+    double stress[6];
+    for (int c = 0; c < 6; c++)
       stress[c] = batch->stress[c][i];
+    if (eta > 0.0) {
+      double increment[6];
+      for (int c = 0; c < 6; c++)
+        increment[c] = batch->strain_increment[c][i];
+      double rate = shear_rate(increment, batch->dt);
+      k.yield_offset = 2.0 * eta * rate * rate * k.cos_friction; /* eq 16 */
     }
-    if (!update_point(&k, def->bagnold_viscosity, batch->dt, increment, stress,
-                      &plastic_shear[i])) {
+    mc_outcome outcome = return_point(&k, &planes, stress, &plastic_shear[i]);
+    if (outcome == MC_NOT_FINITE) {
       if (message && message_size > 0)
         snprintf(message, message_size,
                  "mohr_coulomb: point %lld: trial stress is not finite",
@@ -252,8 +394,9 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
                                  : (long long)i);
       return -1;
     }
-    for (int c = 0; c < 6; c++)
-      batch->stress[c][i] = stress[c];
+    if (outcome == MC_PLASTIC)
+      for (int c = 0; c < 6; c++)
+        batch->stress[c][i] = stress[c];
   }
   return 0;
 }

@@ -3,7 +3,10 @@
  * Each rotation zeroes one off-diagonal entry; sweeps over the three pairs
  * converge quadratically. Jacobi is chosen over the closed-form cubic because
  * it keeps full relative accuracy when two eigenvalues coincide, which is
- * exactly where the Mohr-Coulomb edge returns put the stress.
+ * exactly where the Mohr-Coulomb edge returns put the stress. Tensors with
+ * yz = zx = 0 (every 1D, plane-strain and axisymmetric state) take a closed
+ * form instead: z is principal and the xy block is a Mohr circle, solved
+ * with one square root for the values and one for the direction.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -65,7 +68,60 @@ static void sort_descending(double value[3], double v[3][3],
   }
 }
 
+/* The eigenvector of centre + radius of [[xx, xy], [xy, yy]] solves
+ * (d - r) x + xy y = 0 and xy x - (d + r) y = 0 (d the half difference, r
+ * the radius), so it is along (r + d, xy) or along (xy, r - d). Taking the
+ * first when d >= 0 and the second otherwise keeps r + |d| >= r in it: no
+ * cancellation, so the direction has full relative accuracy even when the
+ * circle is tiny against its centre (nearly repeated values). At r = 0
+ * (repeated in-plane values) every direction is principal: x and y. */
+void gm_principal_decompose_planar(const double voigt[6],
+                                   const gm_principal_circle *circle,
+                                   gm_principal *out) {
+  double d = circle->half_difference, r = circle->radius, xy = voigt[3];
+  double cosine = 1.0, sine = 0.0; /* of the major in-plane direction */
+  if (r > 0.0) {
+    double x = d >= 0.0 ? r + d : xy, y = d >= 0.0 ? xy : r - d;
+    double inverse_length = 1.0 / sqrt(x * x + y * y);
+    cosine = x * inverse_length;
+    sine = y * inverse_length;
+  }
+  double major = circle->centre + r, minor = circle->centre - r;
+  double zz = voigt[2];
+  /* Slots of the in-plane pair and of z in the descending order; ties keep
+   * the order major, minor, z (as the Jacobi path's sort does). */
+  int major_slot = 0, minor_slot = 1, z_slot = 2;
+  if (zz > major) {
+    z_slot = 0;
+    major_slot = 1;
+    minor_slot = 2;
+  } else if (zz > minor) {
+    z_slot = 1;
+    minor_slot = 2;
+  }
+  out->value[major_slot] = major;
+  out->vector[major_slot][0] = cosine;
+  out->vector[major_slot][1] = sine;
+  out->vector[major_slot][2] = 0.0;
+  out->value[minor_slot] = minor;
+  out->vector[minor_slot][0] = -sine;
+  out->vector[minor_slot][1] = cosine;
+  out->vector[minor_slot][2] = 0.0;
+  out->value[z_slot] = zz;
+  out->vector[z_slot][0] = 0.0;
+  out->vector[z_slot][1] = 0.0;
+  out->vector[z_slot][2] = 1.0;
+}
+
 int gm_principal_decompose(const double voigt[6], gm_principal *out) {
+  if (voigt[4] == 0.0 && voigt[5] == 0.0) {
+    if (!(isfinite(voigt[0]) && isfinite(voigt[1]) && isfinite(voigt[2]) &&
+          isfinite(voigt[3])))
+      return -1;
+    gm_principal_circle circle = gm_principal_in_plane(voigt);
+    gm_principal_decompose_planar(voigt, &circle, out);
+    return 0;
+  }
   double a[3][3] = {{voigt[0], voigt[3], voigt[5]},
                     {voigt[3], voigt[1], voigt[4]},
                     {voigt[5], voigt[4], voigt[2]}};

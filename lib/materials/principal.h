@@ -10,6 +10,8 @@
 #ifndef GM_MATERIALS_PRINCIPAL_H
 #define GM_MATERIALS_PRINCIPAL_H
 
+#include <math.h>
+
 /* Eigenvalues sorted descending, value[0] >= value[1] >= value[2] (units of
  * the tensor); vector[k] is the unit eigenvector of value[k] (Cartesian
  * components x, y, z), so the three vectors form an orthonormal basis. */
@@ -18,11 +20,40 @@ typedef struct gm_principal {
   double vector[3][3];
 } gm_principal;
 
-/* Decomposes the symmetric tensor `voigt` with cyclic Jacobi rotations
- * (accurate to round-off also for repeated eigenvalues). Returns 0, or -1
- * if the rotations did not annihilate the off-diagonal part within the
- * sweep limit (only possible for non-finite input). */
+/* Decomposes the symmetric tensor `voigt`. When yz = zx = 0 exactly (plane
+ * strain, axisymmetry, 1D: the library passes those rows as zeros) it uses
+ * the closed form of gm_principal_in_plane and gm_principal_decompose_planar;
+ * otherwise cyclic Jacobi rotations. Both are accurate to round-off of the
+ * tensor norm, also for repeated eigenvalues. Returns 0, or -1 if the
+ * rotations did not annihilate the off-diagonal part within the sweep limit
+ * (only possible for non-finite input). */
 int gm_principal_decompose(const double voigt[6], gm_principal *out);
+
+/* The xy block of a tensor with yz = zx = 0 (units of the tensor): its
+ * eigenvalues are centre + radius and centre - radius (Mohr's circle),
+ * and the third principal value is voigt[GM_ZZ] with direction z. */
+typedef struct gm_principal_circle {
+  double centre;          /* (xx + yy) / 2 */
+  double half_difference; /* (xx - yy) / 2 */
+  double radius;          /* sqrt(half_difference^2 + xy^2) >= 0 */
+} gm_principal_circle;
+
+static inline gm_principal_circle gm_principal_in_plane(const double voigt[6]) {
+  gm_principal_circle circle;
+  circle.centre = 0.5 * (voigt[0] + voigt[1]);
+  circle.half_difference = 0.5 * (voigt[0] - voigt[1]);
+  circle.radius = sqrt(circle.half_difference * circle.half_difference +
+                       voigt[3] * voigt[3]);
+  return circle;
+}
+
+/* Closed-form decomposition of a tensor with yz = zx = 0, given its circle
+ * from gm_principal_in_plane: the in-plane eigenvectors come from the
+ * circle without trigonometric calls, sorted with z like
+ * gm_principal_decompose. */
+void gm_principal_decompose_planar(const double voigt[6],
+                                   const gm_principal_circle *circle,
+                                   gm_principal *out);
 
 /* Writes sum_k values[k] vector[k] (x) vector[k] into voigt: the tensor with
  * the principal directions of `basis` and the principal values `values`. */

@@ -61,6 +61,18 @@ static void random_rotation(test_lcg *lcg, double r[3][3]) {
   memcpy(r, m, sizeof m);
 }
 
+/* A random rotation about z: R[0][2] = R[1][2] = R[2][0] = R[2][1] = 0 and
+ * R[2][2] = 1 exactly, so R diag(values) R^T has yz = zx = 0 exactly (the
+ * plane-strain and axisymmetric states, which principal.c solves in closed
+ * form) and values[2] is the zz principal value. */
+static void random_z_rotation(test_lcg *lcg, double r[3][3]) {
+  double angle = lcg_range(lcg, 0.0, 2.0 * 3.14159265358979323846);
+  double m[3][3] = {{cos(angle), -sin(angle), 0.0},
+                    {sin(angle), cos(angle), 0.0},
+                    {0.0, 0.0, 1.0}};
+  memcpy(r, m, sizeof m);
+}
+
 /* Voigt (xx, yy, zz, xy, yz, zx) of R diag(values) R^T. */
 static void rotate_diagonal(double r[3][3], const double values[3],
                             double voigt[6]) {
@@ -187,8 +199,15 @@ static gm_mohr_coulomb_def make_def(double phi, double psi, double eta) {
  * and composing them on the computed basis rebuilds the tensor. Jacobi is
  * backward stable: errors are a few eps times the tensor norm, so 1e-13 of
  * the norm (about 450 eps) is a safe bound that still catches any bug. */
+/* The loop runs twice: _i = 0 with general rotations (Jacobi path), _i = 1
+ * with rotations about z (yz = zx = 0: the closed-form Mohr-circle path),
+ * where the repeated pairs are the in-plane pair (n % 3 == 1: the circle
+ * has radius 0) and an in-plane value equal to zz (n % 5 == 3), same
+ * bounds: the closed form is backward stable too (one square root for the
+ * radius, one for the direction, no cancellation; see principal.c). */
 START_TEST(test_principal_decomposition) {
-  test_lcg lcg = {12345};
+  bool planar = _i == 1;
+  test_lcg lcg = {planar ? 54321u : 12345u};
   double worst = 0.0;
   for (int n = 0; n < 2000; n++) {
     double values[3], r[3][3], voigt[6], rebuilt[6];
@@ -196,10 +215,17 @@ START_TEST(test_principal_decomposition) {
       values[k] = lcg_range(&lcg, -1e5, 1e5);
     if (n % 3 == 1)
       values[1] = values[0]; /* repeated pair */
+    if (planar && n % 5 == 3)
+      values[2] = values[n % 2]; /* an in-plane value equal to zz */
     if (n % 7 == 2)
       values[2] = values[1] = values[0]; /* isotropic */
-    random_rotation(&lcg, r);
+    if (planar)
+      random_z_rotation(&lcg, r);
+    else
+      random_rotation(&lcg, r);
     rotate_diagonal(r, values, voigt);
+    if (planar)
+      ck_assert(voigt[4] == 0.0 && voigt[5] == 0.0);
     gm_principal principal;
     ck_assert_int_eq(gm_principal_decompose(voigt, &principal), 0);
     /* Sort the reference descending. */
@@ -219,6 +245,12 @@ START_TEST(test_principal_decomposition) {
       for (int c = 0; c < 3; c++)
         length += principal.vector[k][c] * principal.vector[k][c];
       ck_assert_double_le(fabs(length - 1.0), 1e-13);
+      for (int j = 0; j < k; j++) { /* orthogonal to the earlier ones */
+        double overlap = 0.0;
+        for (int c = 0; c < 3; c++)
+          overlap += principal.vector[k][c] * principal.vector[j][c];
+        ck_assert_double_le(fabs(overlap), 1e-13);
+      }
     }
     gm_principal_compose(&principal, principal.value, rebuilt);
     for (int c = 0; c < 6; c++)
@@ -242,14 +274,20 @@ enum {
 typedef struct sweep_case {
   double phi, psi; /* rad */
   uint64_t seed;
+  bool planar; /* yz = zx = 0 (the closed-form plane-strain path) */
 } sweep_case;
 
 static const sweep_case SWEEP_CASES[] = {
-    {30.0 * 3.14159265358979323846 / 180.0, 0.0, 1},
+    {30.0 * 3.14159265358979323846 / 180.0, 0.0, 1, false},
     {30.0 * 3.14159265358979323846 / 180.0,
-     30.0 * 3.14159265358979323846 / 180.0, 2},
+     30.0 * 3.14159265358979323846 / 180.0, 2, false},
     {40.0 * 3.14159265358979323846 / 180.0,
-     15.0 * 3.14159265358979323846 / 180.0, 3}};
+     15.0 * 3.14159265358979323846 / 180.0, 3, false},
+    {30.0 * 3.14159265358979323846 / 180.0, 0.0, 4, true},
+    {30.0 * 3.14159265358979323846 / 180.0,
+     30.0 * 3.14159265358979323846 / 180.0, 5, true},
+    {40.0 * 3.14159265358979323846 / 180.0,
+     15.0 * 3.14159265358979323846 / 180.0, 6, true}};
 
 enum { SWEEP_POINTS = 6000 };
 static const double SWEEP_STRESS = 1e5; /* Pa, stress scale S */
@@ -258,8 +296,11 @@ static const double SWEEP_ETA = 0.15;   /* Pa s^2, 000 Table 3 */
 
 /* Random input stress and strain increment: mean stress in [-S, S]
  * (tension beyond the apex too), deviator radius up to 1.5 S at a uniform
- * Lode angle, random axes; increments up to 1e-3 (about 1e4 Pa). */
-static void random_state(test_lcg *lcg, double stress[6], double increment[6]) {
+ * Lode angle, random axes; increments up to 1e-3 (about 1e4 Pa). `planar`:
+ * axes rotated about z only and yz = zx = 0 in the increment too, as the
+ * library passes plane-strain and axisymmetric points. */
+static void random_state(test_lcg *lcg, bool planar, double stress[6],
+                         double increment[6]) {
   double mean = lcg_range(lcg, -1.0, 1.0) * SWEEP_STRESS;
   double radius = lcg_range(lcg, 0.0, 1.5) * SWEEP_STRESS;
   double lode = lcg_range(lcg, 0.0, 2.0 * 3.14159265358979323846);
@@ -267,10 +308,15 @@ static void random_state(test_lcg *lcg, double stress[6], double increment[6]) {
   for (int k = 0; k < 3; k++) /* deviatoric principal values of norm radius */
     values[k] = mean + radius * sqrt(2.0 / 3.0) *
                            cos(lode - 2.0 * 3.14159265358979323846 * k / 3.0);
-  random_rotation(lcg, r);
+  if (planar)
+    random_z_rotation(lcg, r);
+  else
+    random_rotation(lcg, r);
   rotate_diagonal(r, values, stress);
   for (int c = 0; c < 6; c++)
     increment[c] = lcg_range(lcg, -1e-3, 1e-3);
+  if (planar)
+    increment[GM_YZ] = increment[GM_ZX] = 0.0;
 }
 
 /* Trial stress, the same formula as the elastic model. */
@@ -373,7 +419,7 @@ START_TEST(test_random_returns) {
   ck_assert_ptr_nonnull(inputs);
   for (size_t i = 0; i < p.count; i++) {
     double e[6];
-    random_state(&lcg, inputs[i], e);
+    random_state(&lcg, sc->planar, inputs[i], e);
     for (int c = 0; c < 6; c++) {
       p.stress[c][i] = elastic.stress[c][i] = inputs[i][c];
       p.increment[c][i] = elastic.increment[c][i] = e[c];
@@ -488,11 +534,12 @@ START_TEST(test_random_returns) {
     ck_assert_msg(count[region] >= SWEEP_POINTS / 50,
                   "region %d reached by only %d points", region, count[region]);
   fprintf(stderr,
-          "random returns phi %.0f psi %.0f: elastic %d main %d compression "
+          "random returns%s phi %.0f psi %.0f: elastic %d main %d compression "
           "edge %d extension edge %d apex %d; worst |f|/scale %.2e, flow "
           "%.2e, pressure %.2e\n",
-          sc->phi / DEG, sc->psi / DEG, count[0], count[1], count[2], count[3],
-          count[4], worst_yield, worst_flow, worst_pressure);
+          sc->planar ? " (planar)" : "", sc->phi / DEG, sc->psi / DEG, count[0],
+          count[1], count[2], count[3], count[4], worst_yield, worst_flow,
+          worst_pressure);
   points_free(&p);
   points_free(&elastic);
   free(inputs);
@@ -726,7 +773,7 @@ static Suite *mohr_coulomb_suite(void) {
   Suite *suite = suite_create("mohr_coulomb");
   TCase *tc = tcase_create("mohr_coulomb");
   tcase_set_timeout(tc, 120);
-  tcase_add_test(tc, test_principal_decomposition);
+  tcase_add_loop_test(tc, test_principal_decomposition, 0, 2);
   tcase_add_loop_test(tc, test_random_returns, 0,
                       (int)(sizeof SWEEP_CASES / sizeof SWEEP_CASES[0]));
   tcase_add_test(tc, test_triaxial_ratio);
