@@ -82,7 +82,11 @@ gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
   gm_wall *wall = &domain->walls[domain->wall_count];
   double inverse_length = 1.0 / sqrt(length_squared);
   for (int k = 0; k < 2; k++) {
-    wall->point[k] = def->point[k];
+    /* Coordinates beyond the geometry's mean nothing (the nodes of a 1D
+     * grid all lie at y = 0) and are not range-checked above: a 1D wall at
+     * y = -1.6e29 m (found by fuzz/fuzz_api) overflowed the friction-strip
+     * index, which measures along the plane. They are stored as 0. */
+    wall->point[k] = k < domain->dim ? def->point[k] : 0.0;
     wall->normal[k] = def->normal[k] * inverse_length;
   }
   wall->friction_static = mu_s;

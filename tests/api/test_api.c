@@ -1085,6 +1085,41 @@ START_TEST(test_set_field) {
 }
 END_TEST
 
+/* A wall's coordinates beyond the geometry mean nothing: a 1D wall whose
+ * point has y = -1.6e29 m is a wall at x, and steps like one. The library
+ * measured friction strips along the plane from that y and overflowed an
+ * int64 (undefined behaviour; found by fuzz/fuzz_api in CI, 2026-11-25;
+ * the sanitize stage runs this test). */
+START_TEST(test_wall_ignores_coordinates_beyond_geometry) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_1D;
+  def.extent[0] = 1.0;
+  def.cell_size = 0.1;
+  def.gravity[0] = -9.81;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+  gm_fill_def fill = gm_fill_def_default();
+  fill.material = material;
+  fill.lower[0] = 0.3;
+  fill.upper[0] = 0.6;
+  int64_t first_id = 0;
+  size_t count = 0;
+  TEST_ASSERT_OK(domain, gm_domain_fill_box(domain, &fill, &first_id, &count));
+  gm_wall_def wall = gm_wall_def_default();
+  wall.point[0] = 0.25;
+  wall.point[1] = -1.5848e29; /* m: not a coordinate of a 1D grid */
+  wall.normal[0] = 1.0;
+  wall.normal[1] = 0.0;
+  int wall_id = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &wall_id));
+  for (int step = 0; step < 20; step++)
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, 0.0));
+  gm_wall_force force = gm_wall_force_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, wall_id, &force));
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 START_TEST(test_point_index_misuse) {
   gm_domain *domain = create_domain_with_points();
   size_t index = 0;
@@ -1247,6 +1282,7 @@ static Suite *api_suite(void) {
   tcase_add_test(fields, test_field_access_misuse);
   tcase_add_test(fields, test_view_and_edit_misuse);
   tcase_add_test(fields, test_set_field);
+  tcase_add_test(fields, test_wall_ignores_coordinates_beyond_geometry);
   tcase_add_test(fields, test_point_index_misuse);
   suite_add_tcase(suite, fields);
 
