@@ -163,6 +163,9 @@ static void measure_point(gm_domain *domain, const gap_context *ctx,
                   gm_block_node(links, grid->shift, x, y) * (size_t)planes;
     for (int w = 0; w < planes; w++)
       gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
+    if (walls == 0)
+      continue; /* box faces only: no centre gaps (the array is NULL, and
+                   even NULL + 0 is undefined; found by fuzz/fuzz_api) */
     double *centre_gap =
         grid->wall_centre_gap +
         gm_block_node(links, grid->shift, x, y) * (size_t)walls;
@@ -205,6 +208,9 @@ static void clear_gaps(void *context, size_t begin, size_t end, int worker) {
 
 void gm_walls_measure_gaps(gm_domain *domain) {
   gm_grid *grid = &domain->grid;
+  if (grid->block_count == 0)
+    return; /* no nodes; and the block lists may be NULL (NULL + 0 is
+               undefined) */
   gm_parallel_for(&domain->pool, grid->block_count, clear_gaps, domain);
   gap_context ctx;
   ctx.domain = domain;
