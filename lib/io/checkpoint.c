@@ -202,10 +202,12 @@ size_t gm_checkpoint_point_arrays(const gm_domain *domain,
   for (int k = 0; k < GM_STRESS_STORED; k++)
     SLOT(b->stress[k], d, GM_CHECK_FINITE);
   for (int k = 0; k < deformation; k++)
-    SLOT(b->deformation[k], d, GM_CHECK_FINITE);
+    SLOT(b->deformation[k], d,
+         k == F_XX ? GM_CHECK_DEFORMATION : GM_CHECK_FINITE);
   if (b->domain_map[0]) /* CPDI: the domain map (since format version 2) */
     for (int k = 0; k < 4; k++)
-      SLOT(b->domain_map[k], d, GM_CHECK_FINITE);
+      SLOT(b->domain_map[k], d,
+           k == F_XX ? GM_CHECK_DOMAIN_MAP : GM_CHECK_FINITE);
   SLOT(b->volume, d, GM_CHECK_POSITIVE);
   SLOT(b->state, points->state_stride * d, GM_CHECK_NONE);
   if (domain->def.family == GM_FAMILY_GRANULAR) {

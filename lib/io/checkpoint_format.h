@@ -121,10 +121,14 @@ void gm_checkpoint_describe_setup(const gm_domain *domain, gm_byte_writer *out);
 
 /* What load checks in an array before accepting it. */
 typedef enum gm_array_check {
-  GM_CHECK_NONE,     /* material state: its meaning is the material's */
-  GM_CHECK_FINITE,   /* stress, F, granular labels */
-  GM_CHECK_POSITIVE, /* finite and > 0: volumes, masses, domain sizes */
-  GM_CHECK_POSITION, /* finite and inside the grid box */
+  GM_CHECK_NONE,        /* material state: its meaning is the material's */
+  GM_CHECK_FINITE,      /* stress, F, granular labels */
+  GM_CHECK_DEFORMATION, /* F_XX: with the next three slots (and F_ZZ in
+                           axisymmetry) finite, det F > 0 */
+  GM_CHECK_DOMAIN_MAP,  /* CPDI's D_XX: with the next three slots finite,
+                           det D > 0 */
+  GM_CHECK_POSITIVE,    /* finite and > 0: volumes, masses, domain sizes */
+  GM_CHECK_POSITION,    /* finite and inside the grid box */
   GM_CHECK_INPUT,   /* velocities: host-written ones are screened by the step */
   GM_CHECK_ID,      /* ids against the id map */
   GM_CHECK_MATERIAL /* a registered material */

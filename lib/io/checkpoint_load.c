@@ -156,6 +156,27 @@ static bool valid_position(const gm_domain *domain, const loaded_state *state,
          (!domain->axisymmetric || xy[0] > 0.0);
 }
 
+/* The 2x2 tensors in slots first..first+3 (F_XX, F_XY, F_YX, F_YY), times
+ * slot first+4 when with_hoop (axisymmetry's F_ZZ), have a positive
+ * determinant at every point. A step never leaves an inverted F or CPDI
+ * map behind (g2p.c refuses det F <= 0), so a file holding one was not
+ * written by the library, and a domain loaded from it could never step. */
+static bool valid_jacobians(const loaded_state *state, size_t first,
+                            bool with_hoop) {
+  for (size_t i = 0; i < state->count; i++) {
+    double xx = real_at(state->array[first + F_XX], i);
+    double xy = real_at(state->array[first + F_XY], i);
+    double yx = real_at(state->array[first + F_YX], i);
+    double yy = real_at(state->array[first + F_YY], i);
+    double det = xx * yy - xy * yx;
+    if (with_hoop)
+      det *= real_at(state->array[first + F_ZZ], i);
+    if (!(det > 0.0 && isfinite(det)))
+      return false;
+  }
+  return true;
+}
+
 /* Ids and the id -> index map must be each other's inverse. */
 static bool valid_ids(const loaded_state *state, const unsigned char *ids) {
   uint32_t index;
@@ -206,6 +227,18 @@ static const char *first_invalid(const gm_domain *domain,
     case GM_CHECK_POSITIVE:
       if (!valid_reals(bytes, values, slots[k].check))
         return "a non-finite or non-positive point value";
+      break;
+    case GM_CHECK_DEFORMATION:
+    case GM_CHECK_DOMAIN_MAP:
+      if (!valid_reals(bytes, values, GM_CHECK_FINITE))
+        return "a non-finite or non-positive point value";
+      /* F_ZZ follows F_YY in axisymmetry (gm_checkpoint_point_arrays). */
+      if (!valid_jacobians(state, k,
+                           slots[k].check == GM_CHECK_DEFORMATION &&
+                               domain->axisymmetric))
+        return slots[k].check == GM_CHECK_DEFORMATION
+                   ? "an inverted deformation gradient (det F <= 0)"
+                   : "an inverted CPDI domain (det <= 0)";
       break;
     case GM_CHECK_INPUT: /* host-written values are screened by the step */
       if (!state->inputs_edited && !valid_reals(bytes, values, GM_CHECK_FINITE))

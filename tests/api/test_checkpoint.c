@@ -31,6 +31,7 @@
 #include <check.h>
 #include <signal.h>
 #include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -599,6 +600,69 @@ START_TEST(test_refuses_damaged_files) {
 }
 END_TEST
 
+/* Offset of the n-th (0-based) occurrence of the 16 bytes of pattern in
+ * data, or SIZE_MAX. */
+static size_t find_bytes(const unsigned char *data, size_t size,
+                         const double pattern[2], int n) {
+  for (size_t at = 0; at + 16 <= size; at++)
+    if (memcmp(data + at, pattern, 16) == 0 && n-- == 0)
+      return at;
+  return SIZE_MAX;
+}
+
+/* A sealed file whose F or CPDI map is inverted at one point (a file the
+ * library never writes: the step refuses det F <= 0) is refused at the
+ * load, naming the tensor, instead of loading a domain that can never
+ * step. The F_XX (and D_XX) arrays hold the points in order; on this
+ * scene D = F exactly (D starts at I and takes F's increments, with no
+ * reset in 5 steps), so the first two points' F_XX appear twice: F's
+ * array first, the map's second. */
+START_TEST(test_refuses_inverted_tensors) {
+  make_temporary_directory();
+  char *good = path_in_directory("good.ckpt");
+  char *damaged = path_in_directory("inverted.ckpt");
+  scene saved = build(GRANULAR, 1);
+  run_steps(&saved, 5);
+  TEST_ASSERT_OK(saved.domain, gm_domain_save(saved.domain, good));
+  size_t count = gm_domain_point_count(saved.domain);
+  double *f = malloc(count * 9 * sizeof *f);
+  TEST_ASSERT_OK(saved.domain, gm_domain_get_field(
+                                   saved.domain, GM_FIELD_DEFORMATION_GRADIENT,
+                                   f, count * 9));
+  const double first_two[2] = {f[0], f[9]}; /* F_XX of points 0 and 1 */
+  size_t size = 0;
+  unsigned char *data = read_file(good, &size);
+  scene target = build(GRANULAR, 1);
+  run_steps(&target, 3);
+  observed before = observe(&target);
+  const char *named[2] = {"det F", "CPDI domain"};
+  for (int tensor = 0; tensor < 2; tensor++) {
+    size_t at = find_bytes(data, size, first_two, tensor);
+    ck_assert_msg(at != SIZE_MAX, "F_XX pattern %d not found", tensor);
+    double flipped = -first_two[0];
+    unsigned char *copy = malloc(size);
+    memcpy(copy, data, size);
+    memcpy(copy + at, &flipped, sizeof flipped);
+    reseal(copy, size);
+    write_file(damaged, copy, size);
+    expect_refused(&target, &before, damaged, GM_ERR_IO, named[tensor]);
+    ck_assert_msg(last_error_mentions(target.domain, named[tensor]),
+                  "message \"%s\" does not name %s",
+                  gm_domain_last_error(target.domain), named[tensor]);
+    free(copy);
+  }
+  TEST_ASSERT_OK(target.domain, gm_domain_load(target.domain, good));
+  forget(&before);
+  free(f);
+  free(data);
+  free(good);
+  free(damaged);
+  gm_domain_destroy(saved.domain);
+  gm_domain_destroy(target.domain);
+  remove_temporary_directory();
+}
+END_TEST
+
 /* Loads the file into a scene of another setup: refused with
  * GM_ERR_INVALID_ARGUMENT, a message naming `difference` (and `detail`
  * unless NULL), the scene unchanged; then destroys the scene. */
@@ -841,6 +905,7 @@ static Suite *checkpoint_suite(void) {
   tcase_set_timeout(refusals, 120);
   tcase_add_test(refusals, test_refuses_damaged_files);
   tcase_add_test(refusals, test_refuses_other_setup);
+  tcase_add_test(refusals, test_refuses_inverted_tensors);
   tcase_add_test(refusals, test_material_parameters);
   tcase_add_test(refusals, test_failed_saves_keep_previous_file);
   tcase_add_test(refusals, test_arguments);
