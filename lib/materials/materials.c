@@ -4,6 +4,8 @@
  */
 #include "materials/materials.h"
 
+#include "materials/invariants.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -155,8 +157,7 @@ static gm_status elastic_check(gm_domain *domain, const void *parameters) {
 /* Constrained (P-wave) modulus M = K + 4G/3 = E(1-nu)/((1+nu)(1-2nu)). */
 static double elastic_p_wave_modulus(const void *parameters) {
   const gm_elastic_def *def = parameters;
-  double young = def->youngs_modulus, nu = def->poisson_ratio;
-  return young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  return gm_p_wave_modulus(def->youngs_modulus, def->poisson_ratio);
 }
 
 const gm_builtin_model gm_elastic_model = {

@@ -31,6 +31,7 @@
  */
 #include "materials/materials.h"
 
+#include "materials/invariants.h"
 #include "materials/principal.h"
 
 #include <math.h>
@@ -431,8 +432,7 @@ static gm_status check_parameters(gm_domain *domain, const void *parameters) {
  * M = K + 4G/3 = E(1-nu)/((1+nu)(1-2nu)) bounds the wave speed. */
 static double mohr_coulomb_p_wave_modulus(const void *parameters) {
   const gm_mohr_coulomb_def *def = parameters;
-  double young = def->youngs_modulus, nu = def->poisson_ratio;
-  return young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  return gm_p_wave_modulus(def->youngs_modulus, def->poisson_ratio);
 }
 
 const gm_builtin_model gm_mohr_coulomb_model = {

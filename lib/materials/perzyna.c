@@ -23,6 +23,8 @@
  */
 #include "materials/materials.h"
 
+#include "materials/invariants.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -248,8 +250,7 @@ static gm_status perzyna_check(gm_domain *domain, const void *parameters) {
  * flow only softens the response, so the elastic value bounds it. */
 static double perzyna_p_wave_modulus(const void *parameters) {
   const gm_perzyna_def *def = parameters;
-  double young = def->youngs_modulus, nu = def->poisson_ratio;
-  return young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  return gm_p_wave_modulus(def->youngs_modulus, def->poisson_ratio);
 }
 
 const gm_builtin_model gm_perzyna_model = {
