@@ -91,6 +91,7 @@ typedef struct collapse_scene {
   const char *transfer;  /* flip | apic */
   double pic_fraction;   /* FLIP-PIC blend, 0 = FLIP */
   double grain_diameter; /* mu(I): d, m */
+  double regularise;     /* mu(I): nonzero = Barker & Gray's low-I branch */
   const char *scheme;    /* usl | musl | usf */
   double cfl;            /* Courant number, 0 = the library's default */
 } collapse_scene;
@@ -193,10 +194,12 @@ static int add_material(gm_domain *domain, const collapse_scene *scene) {
     def.grain_diameter = scene->grain_diameter;
     def.static_friction = sin(scene->friction_deg * PI / 180.0);
     def.limit_friction = def.static_friction + (0.6435 - 0.3819);
-    /* Barker & Gray's regularisation has no well-posed range for these
-     * mu_s, mu_2, I_0 (gm_domain_add_mu_i refuses them): Jop's curve with
-     * its yield stress mu_s p, as Mohr-Coulomb has. */
-    def.regularise = 0;
+    /* By default Jop's curve with its yield stress mu_s p, as Mohr-Coulomb
+     * has: Barker & Gray's regularisation has no well-posed range for
+     * mu_s = sin 35 deg with these mu_2 - mu_s, I_0 (gm_domain_add_mu_i
+     * refuses them). --regularise 1 asks for it, for a mu_s that has one
+     * (Jop's glass beads: --friction 22.46, mu_s = tan 20.9 deg). */
+    def.regularise = scene->regularise != 0.0;
     status = gm_domain_add_mu_i(domain, &def, &material);
   } else {
     fprintf(stderr,
@@ -721,7 +724,7 @@ int main(int argc, char **argv) {
   const example_extra extras[] = {
       {"aspect", "aspect ratio a = H0/L0", &scene.aspect, NULL},
       {"length", "column width L0, m", &scene.length, NULL},
-      {"material", "mohr_coulomb|drucker_prager", NULL, &scene.material},
+      {"material", "mohr_coulomb|drucker_prager|mu_i", NULL, &scene.material},
       {"friction", "friction angle of material and floor, deg",
        &scene.friction_deg, NULL},
       {"youngs", "Young's modulus E, Pa", &scene.youngs_modulus, NULL},
@@ -737,13 +740,15 @@ int main(int argc, char **argv) {
       {"pic", "PIC share of the FLIP-PIC blend, 0..1", &scene.pic_fraction,
        NULL},
       {"grain", "mu_i grain diameter d, m", &scene.grain_diameter, NULL},
+      {"regularise", "mu_i: 1 = Barker & Gray's well-posed low-I branch",
+       &scene.regularise, NULL},
       {"scheme", "update scheme usl|musl|usf", NULL, &scene.scheme},
       {"cfl", "Courant number (0: the library's 0.5)", &scene.cfl, NULL}};
   int parsed = example_parse(
       argc, argv,
       "Planar granular column collapse against Lube et al. (2005).\n"
       "--t-end 0 (the default) runs 6 tau_c, tau_c = sqrt(H0/g).",
-      &options, extras, 13);
+      &options, extras, 14);
   if (parsed != 0)
     return parsed == 1 ? 0 : parsed;
   collapse_run run = {0};
