@@ -13,8 +13,9 @@
 # most points per cell (not a Richardson estimate: the run-out is not
 # monotone in the cell for most settings, see docs/convergence.md, so an
 # extrapolation from three cells would invent a number). It counts as
-# converged only if that run's metric moved by at most 3 % from the run
-# with the same points per cell on twice the cell (the last halving);
+# converged only if that run's metric differs by at most 3 % from every
+# run with the same points per cell on a cell up to twice as large (the
+# last halving, the cells between included);
 # otherwise the setting is drawn in the left panel only and the legend says
 # "not converged" with the change in the last halving.
 #
@@ -151,36 +152,49 @@ if [ "$jobs" != plot ]; then
   echo "bench-chart: $(wc -l < "$work/grid") runs, $jobs at a time" >&2
   xargs -P "$jobs" -L 1 sh "$work/one.sh" "$program" "$reference" \
     "$metric" "$scene_args" "$work/settings" < "$work/grid" > "$work/rows"
-  # The converged answer of each setting (see the header) and every run's
-  # difference from it.
-  sort -t, -k1,1 -k2,2gr -k3,3n "$work/rows" | awk -F, -v OFS=, '
-    { row[NR] = $0; key[NR] = $1; cell[NR] = $2; ppc[NR] = $3; m[NR] = $7 }
-    $7 != "nan" && (!($1 in rc) || $2 + 0 < rc[$1] || ($2 + 0 == rc[$1] && $3 + 0 > rp[$1])) {
-      rc[$1] = $2 + 0; rp[$1] = $3 + 0; rv[$1] = $7 }
-    END {
-      for (i = 1; i <= NR; i++)
-        if ((key[i] in rc) && ppc[i] + 0 == rp[key[i]] &&
-            cell[i] + 0 > 1.999 * rc[key[i]] && cell[i] + 0 < 2.001 * rc[key[i]] && m[i] != "nan")
-          half[key[i]] = m[i]
-      print "setting,cell,ppc,points,seconds,ns_per_point_step,metric,rel_error,load1,reference,ref_change,ref_diff"
-      for (i = 1; i <= NR; i++) {
-        k = key[i]; ref = "nan"; change = "nan"; diff = "nan"
-        if (k in rc) {
-          ref = rv[k]
-          if (k in half) {
-            change = sprintf("%.4g", (rv[k] - half[k]) / half[k])
-            c = change < 0 ? -change : change
-            if (c <= 0.03 && m[i] != "nan") {
-              d = (m[i] - rv[k]) / rv[k]; if (d < 0) d = -d
-              diff = sprintf("%.4g", d)
-            }
+else
+  # Redraw: the runs as recorded, the references recomputed below.
+  awk -F, -v OFS=, 'NR > 1 { print $1, $2, $3, $4, $5, $6, $7, $8, $9 }' "$csv" > "$work/rows"
+fi
+# The converged answer of each setting (see the header) and every run's
+# difference from it. The change in the last halving is the largest
+# relative change between the reference and a run with the same points
+# per cell on a cell up to twice as large (so a run-out that swings
+# between 20 and 15 cells across is not taken for converged because its
+# ends happen to agree); it needs the run on exactly twice the cell.
+sort -t, -k1,1 -k2,2gr -k3,3n "$work/rows" | awk -F, -v OFS=, '
+  { row[NR] = $0; key[NR] = $1; cell[NR] = $2; ppc[NR] = $3; m[NR] = $7 }
+  $7 != "nan" && (!($1 in rc) || $2 + 0 < rc[$1] || ($2 + 0 == rc[$1] && $3 + 0 > rp[$1])) {
+    rc[$1] = $2 + 0; rp[$1] = $3 + 0; rv[$1] = $7 }
+  END {
+    for (i = 1; i <= NR; i++) {
+      k = key[i]
+      if (!(k in rc) || ppc[i] + 0 != rp[k] || m[i] == "nan") continue
+      if (cell[i] + 0 > 1.999 * rc[k] && cell[i] + 0 < 2.001 * rc[k]) half[k] = 1
+      if (cell[i] + 0 > 1.001 * rc[k] && cell[i] + 0 < 2.001 * rc[k]) {
+        c = (rv[k] - m[i]) / m[i]
+        if (!(k in change) || (c < 0 ? -c : c) > (change[k] < 0 ? -change[k] : change[k])) change[k] = c
+      }
+    }
+    print "setting,cell,ppc,points,seconds,ns_per_point_step,metric,rel_error,load1,reference,ref_change,ref_diff"
+    for (i = 1; i <= NR; i++) {
+      k = key[i]; ref = "nan"; ch = "nan"; diff = "nan"
+      if (k in rc) {
+        ref = rv[k]
+        if (k in half) {
+          ch = sprintf("%.4g", change[k])
+          c = change[k] < 0 ? -change[k] : change[k]
+          if (c <= 0.03 && m[i] != "nan") {
+            d = (m[i] - rv[k]) / rv[k]; if (d < 0) d = -d
+            diff = sprintf("%.4g", d)
           }
         }
-        print row[i], ref, change, diff
       }
-    }' > "$csv"
-  echo "bench-chart: wrote $csv" >&2
-fi
+      print row[i], ref, ch, diff
+    }
+  }' > "$work/csv"
+mv "$work/csv" "$csv"
+echo "bench-chart: wrote $csv" >&2
 
 # --- the chart --------------------------------------------------------
 # Errors in percent (1 %, 0.1 %), time in seconds, both log. A setting is
@@ -227,15 +241,18 @@ legend() { # key
       if (ref == "") { printf "%s: every run failed", text; exit }
       if (ch == "nan") { printf "%s: no halving to judge", text; exit }
       c = ch < 0 ? -ch : ch
-      printf "%s: %s %.3g at %g m, %dx%d (%+.1f %% last halving)", text,
-        (c <= 0.03 ? "converged to" : "NOT converged,"), ref, fc, fp, fp, 100 * ch
+      if (c <= 0.03)
+        printf "%s: converged to %.3g (%g m, %dx%d; moved %+.1f %% in the last halving)", text, ref, fc, fp, fp, 100 * ch
+      else
+        printf "%s: NOT converged (%g m, %dx%d: %.3g, moved %+.1f %% in the last halving)", text, fc, fp, fp, ref, 100 * ch
     }' "$csv"
 }
 
 table() { # front file, title
   awk -v title="$2" -v sf="$work/settings" 'BEGIN { printf "%s", title
       while ((getline line < sf) > 0) { split(line, f, "|"); name[f[1]] = f[2] } }
-    { printf "\\n%2d  %s, %g m, %dx%d: %.2g %% in %.2g s", $6, name[$3], $4, $5, $5, $2, $1 }' "$1"
+    { printf "\\n%2d  %s, %g m, %dx%d: %.2g %% in %.2g s", $6, name[$3], $4, $5, $5, $2, $1 }
+    END { if (NR == 0) printf "\\n(none: no setting converged)" }' "$1"
 }
 
 if ! command -v gnuplot > /dev/null 2>&1; then
@@ -262,10 +279,13 @@ plotcmd() { # column (2: law, 3: converged), front file
     printf "%s using 1:(\$5 == 1 ? %s : NaN):4 with points pt %s ps variable lw 1.5 lc rgb '%s' notitle, \\\\\n" "$d" "$y" "$open" "$colour"
     printf "%s using 1:(\$5 > 1 ? %s : NaN):4 with points pt %s ps variable lc rgb '%s' notitle, \\\\\n" "$d" "$y" "$filled" "$colour"
     printf "%s using 1:(\$5 > 2 ? %s : NaN):4 with points pt %s ps variable lw 1 lc rgb 'black' notitle, \\\\\n" "$d" "$y" "$open"
-    if [ "$1" = 3 ]; then
+    if [ "$1" = 2 ]; then
       printf "NaN with points pt %s ps 1.6 lc rgb '%s' title \"%s\", \\\\\n" "$filled" "$colour" "$(legend "$key")"
     fi
   done
+  if [ "$1" = 2 ]; then
+    printf "NaN with lines dt 2 lc rgb 'gray40' title '%s', \\\\\n" "$band_label"
+  fi
   if [ "$1" = 3 ]; then
     printf "NaN with points pt 6 ps 1.6 lw 1.5 lc rgb 'gray30' title '1x1 points per cell: open marker', \\\\\n"
     printf "NaN with points pt 7 ps 1.6 lc rgb 'gray30' title '2x2: filled', \\\\\n"
@@ -276,12 +296,18 @@ plotcmd() { # column (2: law, 3: converged), front file
         "$cell" "$(awk -v c="$cell" -v l="$width" 'BEGIN { printf "%.0f", l / c }')" "$across"
     done
   fi
-  printf "'%s' using 1:2 with steps lw 1.5 lc rgb 'black' title 'Pareto front (the numbers: tables below)', \\\\\n" "$2"
+  title=$([ "$1" = 3 ] && echo "Pareto front (the numbers: tables below)" || echo '')
+  printf "'%s' using 1:2 with steps lw 1.5 lc rgb 'black' title '%s', \\\\\n" "$2" "$title"
   # odd numbers above right, even below left: neighbours on the front do
   # not cover each other
   printf "'%s' using 1:2:(int(\$6) %% 2 ? sprintf('%%d', \$6) : '') with labels offset char 1.0,char 0.8 font 'sans,10' tc rgb 'black' notitle, \\\\\n" "$2"
   printf "'%s' using 1:2:(int(\$6) %% 2 ? '' : sprintf('%%d', \$6)) with labels offset char -1.0,char -0.8 font 'sans,10' tc rgb 'black' notitle\n" "$2"
 }
+
+none_converged=
+if [ ! -s "$work/front_ref" ]; then
+  none_converged='set label 8 "No setting converged (3 % in its last halving; legend on the left):\nthere is no converged answer to draw its runs against." at graph 0.5, graph 0.6 center font "sans,13" front'
+fi
 
 {
   cat <<PLOT
@@ -298,25 +324,25 @@ set format y '%g %%'
 set xlabel 'run time, s (log)'
 set lmargin at screen 0.06
 set rmargin at screen 0.48
-set tmargin at screen 0.91
+set tmargin at screen 0.875
 set bmargin at screen 0.43
 set ylabel "|$quantity - law| / law (log)"
-set title "Against the law: $law"
-unset key
+set title "Against the law: $law\n(where a setting has not converged, a small error is a crossing of the law, not accuracy)"
+set key at screen 0.06, screen 0.365 left top Left reverse maxrows $((nsettings + 1)) spacing 1.15 font 'sans,10' samplen 1.5 width 2
 set yrange [0.001:200]
 set arrow 1 from graph 0, first $band to graph 1, first $band nohead dt 2 lc rgb 'gray40'
-set label 4 '$band_label' at graph 0.02, first $band * 1.25 tc rgb 'gray40' front
 plot $(plotcmd 2 "$work/front_law")
 unset arrow 1
-unset label 4
 set lmargin at screen 0.56
 set rmargin at screen 0.98
 set ylabel "|$quantity - converged| / converged (log)"
-set title "Against the setting's own converged answer (finest cell, most points per cell)"
+set title "Against the setting's own converged answer\n(its run on the finest cell with the most points per cell, where that has converged)"
 set arrow 2 from graph 0, first 3 to graph 1, first 3 nohead dt 2 lc rgb 'gray40'
 set label 7 'convergence criterion: 3 % in the last halving' at graph 0.02, first 3 * 1.25 tc rgb 'gray40' front
-set key at screen 0.06, screen 0.36 left top Left reverse maxrows 11 spacing 1.15 font 'sans,10' samplen 1.5 width 2
+set key at screen 0.74, screen 0.365 left top Left reverse maxrows 9 spacing 1.15 font 'sans,10' samplen 1.5 width 2
+$none_converged
 plot $(plotcmd 3 "$work/front_ref")
+unset label 8
 unset title
 unset key
 unset label 1
