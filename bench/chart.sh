@@ -241,10 +241,11 @@ legend() { # key
       if (ref == "") { printf "%s: every run failed", text; exit }
       if (ch == "nan") { printf "%s: no halving to judge", text; exit }
       c = ch < 0 ? -ch : ch
+      moved = sprintf(c < 0.01 ? "%+.2f" : "%+.1f", 100 * ch)
       if (c <= 0.03)
-        printf "%s: converged to %.3g (%g m, %dx%d; moved %+.1f %% in the last halving)", text, ref, fc, fp, fp, 100 * ch
+        printf "%s: converged to %.4g (%g m, %dx%d; moved %s %% in the last halving)", text, ref, fc, fp, fp, moved
       else
-        printf "%s: NOT converged (%g m, %dx%d: %.3g, moved %+.1f %% in the last halving)", text, fc, fp, fp, ref, 100 * ch
+        printf "%s: NOT converged (%g m, %dx%d: %.4g, moved %s %% in the last halving)", text, fc, fp, fp, ref, moved
     }' "$csv"
 }
 
