@@ -219,19 +219,19 @@ for key in $(cat "$work/keys"); do
 done
 
 # Pareto fronts (by increasing time, the runs more accurate than every
-# faster one), numbered; the table beside the chart says what each is.
+# faster one), numbered; the tables under the panels say what each is.
+# The reference runs themselves (difference 0) are not on the right one.
 front() { # column of the error, output file, first number
   awk -F, -v col="$1" 'NR > 1 && $col != "nan"' "$csv" | sort -t, -k5,5g |
     awk -F, -v col="$1" -v n="$3" 'BEGIN { best = 1e300 }
-      $col < best && !($col == 0) { best = $col; print $5, 100 * $col, $1, $2, $3, n++ }
-      $col == 0 && best > 0 { }' > "$2"
+      $col < best && $col > 0 { best = $col; print $5, 100 * $col, $1, $2, $3, n++ }' > "$2"
 }
 front 8 "$work/front_law" 1
 next_n=$(($(wc -l < "$work/front_law") + 1))
 front 12 "$work/front_ref" "$next_n"
 
-# Legend text of a setting: its name, and for the right panel whether and
-# where it converged.
+# Legend text of a setting: its name, whether it converged, to what, on
+# which run and by how much it moved in the last halving.
 legend() { # key
   awk -F, -v k="$1" -v sf="$work/settings" 'BEGIN {
       while ((getline line < sf) > 0) { split(line, f, "|"); if (f[1] == k) text = f[2] } }
