@@ -22,9 +22,9 @@ demo-collapse: examples/column_collapse
 	  --out $(DEMO_OUT)/column_collapse
 
 # The speed-vs-accuracy charts in the source tree: column collapse,
-# bench/results/accuracy_vs_cost.{csv,png} (~10 min on 2 cores), and the
-# moderate flow down a slope, accuracy_vs_cost_slope.{csv,png} (~3 min);
-# CHART_JOBS runs at a time.
+# bench/results/accuracy_vs_cost.{csv,png} (92 runs), and the moderate flow
+# down a slope, accuracy_vs_cost_slope.{csv,png} (24 runs); CHART_JOBS runs
+# at a time (cost: docs/performance.md, "The speed-vs-accuracy charts").
 CHART_JOBS ?= 2
 bench-chart: examples/column_collapse examples/papers/seyedan2021_slope_density
 	SCENE=collapse $(SHELL) $(top_srcdir)/bench/chart.sh \
