@@ -139,11 +139,18 @@ typedef enum gm_transfer {
                            transfers, without FLIP's noise */
 } gm_transfer;
 
-/** Boundary condition on one face of the grid box. */
+/** Boundary condition on one face of the grid box. GM_WALL_PERIODIC
+ * joins the two x faces (both must have it): the nodes on x = x0 and
+ * x = x0 + L are one node, a ghost node beyond one face is the image of
+ * the node a box length L away, and a point leaving through one face comes
+ * back through the other (gm_domain_create(3): plain and stress_free
+ * families only; no planar walls or rigid materials; y faces may not be
+ * periodic). */
 typedef enum gm_wall_type {
-  GM_WALL_OPEN = 0,  /* no condition: a point crossing it is an error */
-  GM_WALL_FIXED = 1, /* no-slip: both velocity components zero */
-  GM_WALL_SLIP = 2   /* frictionless: normal velocity zero */
+  GM_WALL_OPEN = 0,    /* no condition: a point crossing it is an error */
+  GM_WALL_FIXED = 1,   /* no-slip: both velocity components zero */
+  GM_WALL_SLIP = 2,    /* frictionless: normal velocity zero */
+  GM_WALL_PERIODIC = 3 /* the x faces wrap around onto each other */
 } gm_wall_type;
 
 /** Faces of the grid box, indices into gm_domain_def.walls. */
