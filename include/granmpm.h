@@ -980,9 +980,9 @@ GM_API gm_status gm_set_allocator(const gm_allocator *allocator);
  *    struct has no struct_size to grow by, and its per-node force is the
  *    impulse / dt that spikes after a very short step (gm_wall_force's
  *    impulses and smoothed force are the stable readings);
- *  - the mu(I) material (granmpm/mu_i.h): its steady inclined-plane flow
- *    is not yet validated against the Bagnold profile to the intended 3 %,
- *    and its parameters may change with that work.
+ *  - the mu(I) material (granmpm/mu_i.h): its parameters may still
+ *    change (its steady inclined-plane flow matches the Bagnold profile to
+ *    3 % on a periodic chute, tests/physics/test_bagnold.c).
  * This is zstd's static-linking-only section turned around: a program that
  * must rely on the stable part only defines GM_STABLE_ONLY before including
  * this header, and the compiler then names every provisional call it makes.
