@@ -2,7 +2,8 @@
  * block_grid.c - the sparse block grid: which blocks exist this step (those
  * holding points, plus the upper neighbours their cells' nodes reach), a
  * hash from block key to block index, neighbour links and colours.
- * Everything here is proportional to the occupied blocks, never to the box.
+ * Everything here is proportional to the occupied blocks, never to the box
+ * (with periodic x faces: to the occupied rows of blocks).
  */
 #include "core/core.h"
 
