@@ -35,15 +35,23 @@ static const double PI = 3.14159265358979323846;
  * rho = 1000 kg/m^3 (c_p ~ 3.7 m/s) with v = 1.3 m/s take 367 steps for 6
  * crossings of the 0.8 m period. */
 static const gm_shape TRANSLATION_SHAPES[] = {
-    GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,    GM_SHAPE_CPGIMP,
-    GM_SHAPE_CPDI,   GM_SHAPE_BSPLINE2, GM_SHAPE_BSPLINE3,
-    GM_SHAPE_LINEAR, GM_SHAPE_BSPLINE2, GM_SHAPE_BSPLINE3};
+    GM_SHAPE_LINEAR,   GM_SHAPE_UGIMP,    GM_SHAPE_CPGIMP, GM_SHAPE_CPDI,
+    GM_SHAPE_BSPLINE2, GM_SHAPE_BSPLINE3, GM_SHAPE_LINEAR, GM_SHAPE_BSPLINE2,
+    GM_SHAPE_BSPLINE3, GM_SHAPE_LINEAR,   GM_SHAPE_UGIMP};
 static const gm_update_scheme TRANSLATION_SCHEMES[] = {
-    GM_SCHEME_USL, GM_SCHEME_USL,  GM_SCHEME_USL,  GM_SCHEME_USL, GM_SCHEME_USL,
-    GM_SCHEME_USL, GM_SCHEME_MUSL, GM_SCHEME_MUSL, GM_SCHEME_USF};
+    GM_SCHEME_USL, GM_SCHEME_USL, GM_SCHEME_USL,  GM_SCHEME_USL,
+    GM_SCHEME_USL, GM_SCHEME_USL, GM_SCHEME_MUSL, GM_SCHEME_MUSL,
+    GM_SCHEME_USF, GM_SCHEME_USL, GM_SCHEME_MUSL};
+/* The last two with APIC: the affine part sees the node positions of the
+ * copy (owner or image) a point reaches. */
+static const gm_transfer TRANSLATION_TRANSFERS[] = {
+    GM_TRANSFER_FLIP, GM_TRANSFER_FLIP, GM_TRANSFER_FLIP, GM_TRANSFER_FLIP,
+    GM_TRANSFER_FLIP, GM_TRANSFER_FLIP, GM_TRANSFER_FLIP, GM_TRANSFER_FLIP,
+    GM_TRANSFER_FLIP, GM_TRANSFER_APIC, GM_TRANSFER_APIC};
 
 static gm_domain *periodic_layer(gm_shape shape, gm_update_scheme scheme,
-                                 int workers, size_t *count) {
+                                 gm_transfer transfer, int workers,
+                                 size_t *count) {
   gm_domain_def def = gm_domain_def_default();
   def.cell_size = 0.1;
   def.origin[0] = -0.3; /* not at 0: the seam's arithmetic is not trivial */
@@ -53,6 +61,7 @@ static gm_domain *periodic_layer(gm_shape shape, gm_update_scheme scheme,
   def.walls[GM_FACE_XMAX] = GM_WALL_PERIODIC;
   def.shape = shape;
   def.scheme = scheme;
+  def.transfer = transfer;
   def.worker_count = workers;
   gm_domain *domain = test_create_domain(&def);
   int material = test_add_elastic(domain, 1e4, 0.3, 1000.0);
@@ -72,19 +81,20 @@ static gm_domain *periodic_layer(gm_shape shape, gm_update_scheme scheme,
 /* The velocity stays v to round-off: the nodal velocity is
  * sum N m v / sum N m, which is v within a few ulps, so the strain rate
  * and the stress are ~1e-16 and the points' accelerations tiny (measured:
- * every |v - v0| below 1.6e-14 m/s after 367 steps, all shapes and
- * schemes; 1e-11 leaves a factor 600). The positions are then start + v t
- * wrapped, to the round-off summed over the steps (measured below 2.5e-14
- * m; 1e-9 m allowed). The mass is exactly constant (point masses never
- * change), the momentum to 1e-11 relative like the velocities. Checked
+ * every |v - v0| below 1.6e-14 m/s after 367 steps, all shapes,
+ * schemes and both transfers; 1e-11 leaves a factor 600). The positions are
+ * then start + v t wrapped, to the round-off summed over the steps (measured
+ * below 2.5e-14 m; 1e-9 m allowed). The mass is exactly constant (point masses
+ * never change), the momentum to 1e-11 relative like the velocities. Checked
  * against the seam itself: without the fold of the images onto their
  * owners the momentum drifts by up to 7.5e-7 relative (linear MUSL) and 7
- * of the 9 cases fail. */
+ * of the 9 FLIP cases fail. */
 START_TEST(test_translation_crosses_the_seam) {
   gm_shape shape = TRANSLATION_SHAPES[_i];
   gm_update_scheme scheme = TRANSLATION_SCHEMES[_i];
   size_t count = 0;
-  gm_domain *domain = periodic_layer(shape, scheme, 1, &count);
+  gm_transfer transfer = TRANSLATION_TRANSFERS[_i];
+  gm_domain *domain = periodic_layer(shape, scheme, transfer, 1, &count);
   const double speed = 1.3, period = 0.8, x0 = -0.3; /* m/s, m, m */
   double *start = malloc(count * 2 * sizeof(double));
   double *position = malloc(count * 2 * sizeof(double));
@@ -119,9 +129,10 @@ START_TEST(test_translation_crosses_the_seam) {
   ck_assert_double_eq(after.mass, before.mass);
   ck_assert_msg(fabs(after.momentum[0] / before.momentum[0] - 1.0) < 1e-11 &&
                     fabs(after.momentum[1]) < 1e-11 * before.momentum[0],
-                "%s %s: momentum (%.17g, %g) from %.17g",
+                "%s %s%s: momentum (%.17g, %g) from %.17g",
                 test_shape_name(shape), test_scheme_name(scheme),
-                after.momentum[0], after.momentum[1], before.momentum[0]);
+                transfer == GM_TRANSFER_APIC ? " APIC" : "", after.momentum[0],
+                after.momentum[1], before.momentum[0]);
   TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_POSITION,
                                              position, count * 2));
   TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_VELOCITY,
@@ -155,15 +166,16 @@ START_TEST(test_translation_crosses_the_seam) {
         fmax(worst_position, fabs(position[2 * p + 1] - start[2 * p + 1]));
   }
   if (getenv("GM_VERBOSE"))
-    fprintf(stderr, "%s %s: %ld steps, |dv| %.3g m/s, |dx| %.3g m\n",
-            test_shape_name(shape), test_scheme_name(scheme), steps,
-            worst_velocity, worst_position);
-  ck_assert_msg(worst_velocity < 1e-11, "%s %s: |v - v0| up to %g m/s",
+    fprintf(stderr, "%s %s%s: %ld steps, |dv| %.3g m/s, |dx| %.3g m\n",
+            test_shape_name(shape), test_scheme_name(scheme),
+            transfer == GM_TRANSFER_APIC ? " APIC" : "", steps, worst_velocity,
+            worst_position);
+  ck_assert_msg(worst_velocity < 1e-11, "%s %s%s: |v - v0| up to %g m/s",
                 test_shape_name(shape), test_scheme_name(scheme),
-                worst_velocity);
-  ck_assert_msg(worst_position < 1e-9, "%s %s: position off by %g m",
+                transfer == GM_TRANSFER_APIC ? " APIC" : "", worst_velocity);
+  ck_assert_msg(worst_position < 1e-9, "%s %s%s: position off by %g m",
                 test_shape_name(shape), test_scheme_name(scheme),
-                worst_position);
+                transfer == GM_TRANSFER_APIC ? " APIC" : "", worst_position);
   free(start);
   free(start_id);
   free(id);
@@ -282,8 +294,8 @@ START_TEST(test_periodic_worker_independent) {
   const int fields[3] = {GM_FIELD_POSITION, GM_FIELD_VELOCITY, GM_FIELD_STRESS};
   const size_t width[3] = {2, 2, 6};
   for (int run = 0; run < 2; run++) {
-    gm_domain *domain =
-        periodic_layer(shapes[_i], GM_SCHEME_MUSL, run ? 3 : 1, &count);
+    gm_domain *domain = periodic_layer(shapes[_i], GM_SCHEME_MUSL,
+                                       GM_TRANSFER_FLIP, run ? 3 : 1, &count);
     const double *x = NULL, *y = NULL;
     double *vx = NULL, *vy = NULL;
     TEST_ASSERT_OK(domain,
