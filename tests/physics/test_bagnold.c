@@ -380,8 +380,8 @@ static double creep_inertial(const gm_mu_i_def *def, double slope) {
  * 0.9 % of u_s): its points, a quarter and three quarters of a cell above
  * the no-slip node row, move at half the closed form (0.00085 against
  * 0.00168 m/s at 25 deg), a one-cell boundary layer of the grid's no-slip
- * row that shrinks with the cell (8, 16, 32 cells per h: shape 4.64,
- * 2.31, 1.17 %). A PIC share of 1 % adds enough numerical viscosity to
+ * row that shrinks with the cell (8, 16, 32 cells per h: shape 4.60,
+ * 2.31, 1.16 %). A PIC share of 1 % adds enough numerical viscosity to
  * slow the layer by 4 % (5 %: 19 %), so the run is pure FLIP. The band
  * spread of the bulk I (each band's I against I_theta, measured up to
  * 4 %: the central differences of FLIP band means) is printed, not
