@@ -57,7 +57,8 @@ module granmpm
     GM_FAMILY_STRESS_FREE = 1, GM_FAMILY_GRANULAR = 2
   ! gm_wall_type
   integer(c_int), parameter :: GM_WALL_OPEN = 0, GM_WALL_FIXED = 1, &
-    GM_WALL_SLIP = 2
+    GM_WALL_SLIP = 2, &
+    GM_WALL_PERIODIC = 3
   ! faces of the grid box: indices into gm_domain_def%walls(0:5)
   integer(c_int), parameter :: GM_FACE_XMIN = 0, GM_FACE_XMAX = 1, &
     GM_FACE_YMIN = 2, GM_FACE_YMAX = 3, GM_FACE_ZMIN = 4, GM_FACE_ZMAX = 5

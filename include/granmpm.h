@@ -139,11 +139,18 @@ typedef enum gm_transfer {
                            transfers, without FLIP's noise */
 } gm_transfer;
 
-/** Boundary condition on one face of the grid box. */
+/** Boundary condition on one face of the grid box. GM_WALL_PERIODIC
+ * joins the two x faces (both must have it): the nodes on x = x0 and
+ * x = x0 + L are one node, a ghost node beyond one face is the image of
+ * the node a box length L away, and a point leaving through one face comes
+ * back through the other (gm_domain_create(3): plain and stress_free
+ * families only; no planar walls or rigid materials; y faces may not be
+ * periodic). */
 typedef enum gm_wall_type {
-  GM_WALL_OPEN = 0,  /* no condition: a point crossing it is an error */
-  GM_WALL_FIXED = 1, /* no-slip: both velocity components zero */
-  GM_WALL_SLIP = 2   /* frictionless: normal velocity zero */
+  GM_WALL_OPEN = 0,    /* no condition: a point crossing it is an error */
+  GM_WALL_FIXED = 1,   /* no-slip: both velocity components zero */
+  GM_WALL_SLIP = 2,    /* frictionless: normal velocity zero */
+  GM_WALL_PERIODIC = 3 /* the x faces wrap around onto each other */
 } gm_wall_type;
 
 /** Faces of the grid box, indices into gm_domain_def.walls. */
@@ -973,9 +980,9 @@ GM_API gm_status gm_set_allocator(const gm_allocator *allocator);
  *    struct has no struct_size to grow by, and its per-node force is the
  *    impulse / dt that spikes after a very short step (gm_wall_force's
  *    impulses and smoothed force are the stable readings);
- *  - the mu(I) material (granmpm/mu_i.h): its steady inclined-plane flow
- *    is not yet validated against the Bagnold profile to the intended 3 %,
- *    and its parameters may change with that work.
+ *  - the mu(I) material (granmpm/mu_i.h): its parameters may still
+ *    change (its steady inclined-plane flow matches the Bagnold profile to
+ *    3 % on a periodic chute, tests/physics/test_bagnold.c).
  * This is zstd's static-linking-only section turned around: a program that
  * must rely on the stable part only defines GM_STABLE_ONLY before including
  * this header, and the compiler then names every provisional call it makes.

@@ -24,6 +24,14 @@ gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
   if (status != GM_OK)
     return status;
   def = &full;
+  /* Rigid points mark the nodes they touch, images beyond a periodic face
+   * included, and their force sums nodal impulses: the seam's nodes would
+   * count twice. */
+  if (gm_periodic_x(domain))
+    return gm_set_error(domain, GM_ERR_UNSUPPORTED,
+                        "gm_domain_add_rigid: rigid materials are not "
+                        "supported with periodic x faces (GM_WALL_PERIODIC) "
+                        "in this version");
   for (int k = 0; k < domain->dim; k++)
     if (!isfinite(def->velocity[k]))
       return gm_set_error(domain, GM_ERR_NOT_FINITE,

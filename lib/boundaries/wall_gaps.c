@@ -32,6 +32,7 @@
 /* Does box face f (2 axis + side) hold material and get a gap? */
 static bool face_measured(const gm_domain *domain, int face) {
   return face / 2 < domain->dim && domain->def.walls[face] != GM_WALL_OPEN &&
+         domain->def.walls[face] != GM_WALL_PERIODIC &&
          !gm_shape_is_bspline(domain->def.shape);
 }
 

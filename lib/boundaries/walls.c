@@ -47,6 +47,14 @@ gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
   if (domain->wall_count >= GM_MAX_WALLS)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_add_wall: at most %d walls", GM_MAX_WALLS);
+  /* A wall's contact and friction act on every node near it, the images
+   * beyond a periodic face included, so its force would count the seam's
+   * nodes twice (and its friction strips are not periodic). */
+  if (gm_periodic_x(domain))
+    return gm_set_error(domain, GM_ERR_UNSUPPORTED,
+                        "gm_domain_add_wall: planar walls are not supported "
+                        "with periodic x faces (GM_WALL_PERIODIC) in this "
+                        "version; use the box's y faces");
   double length_squared = 0.0;
   for (int k = 0; k < 3; k++) {
     if (!isfinite(def->point[k]) || !isfinite(def->normal[k]))

@@ -2,7 +2,8 @@
  * block_grid.c - the sparse block grid: which blocks exist this step (those
  * holding points, plus the upper neighbours their cells' nodes reach), a
  * hash from block key to block index, neighbour links and colours.
- * Everything here is proportional to the occupied blocks, never to the box.
+ * Everything here is proportional to the occupied blocks, never to the box
+ * (with periodic x faces: to the occupied rows of blocks).
  */
 #include "core/core.h"
 
@@ -181,13 +182,21 @@ gm_status gm_grid_build(gm_domain *domain) {
   const int64_t *point_key = points->block_key;
   hash_clear(grid);
   int64_t previous = -1;
+  bool periodic = gm_periodic_x(domain);
+  int64_t blocks_x = grid->blocks_per_axis[0];
   for (size_t i = 0; i < points->count; i++) {
     if (point_key[i] == previous)
       continue; /* points are sorted by block: most keys repeat */
     previous = point_key[i];
-    if (!insert_with_neighbours(grid, previous))
-      return gm_set_error(domain, GM_ERR_NO_MEMORY,
-                          "grid: out of memory for the block hash");
+    /* Periodic x faces: the whole row of blocks, so that the owner of
+     * every image node exists (grid/periodic.c). Rows are short next to
+     * the work of a layer that fills the period. */
+    int64_t first = periodic ? previous - previous % blocks_x : previous;
+    int64_t last = periodic ? first + blocks_x - 1 : previous;
+    for (int64_t key = first; key <= last; key++)
+      if (!insert_with_neighbours(grid, key))
+        return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                            "grid: out of memory for the block hash");
   }
   if (!reserve_blocks(domain, grid->hash_used))
     return gm_set_error(domain, GM_ERR_NO_MEMORY,

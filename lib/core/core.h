@@ -314,6 +314,14 @@ struct gm_domain {
   char last_error[GM_ERROR_MESSAGE_SIZE];
 };
 
+/* Are the x faces periodic (GM_WALL_PERIODIC; gm_domain_create checks that
+ * both are)? Nodes x = 1..cells[0] (node numbering of support.h) then own
+ * the columns; node i outside that range is the image of node i -+
+ * cells[0] (lib/grid/periodic.c). */
+static inline bool gm_periodic_x(const gm_domain *domain) {
+  return domain->def.walls[GM_FACE_XMIN] == GM_WALL_PERIODIC;
+}
+
 /* Records the message read by gm_last_create_error() (this thread). */
 gm_status gm_set_create_error(gm_status status, const char *format, ...)
     __attribute__((format(printf, 2, 3)));

@@ -40,8 +40,8 @@ static bool face_signs(const gm_domain *domain, int axis, int side,
   gm_wall_type wall = domain->def.walls[2 * axis + side];
   bool symmetry_axis = axis == 0 && side == 0 && domain->axisymmetric &&
                        domain->def.origin[0] == 0.0; /* v_r = 0 at r = 0 */
-  if (wall == GM_WALL_OPEN && !symmetry_axis)
-    return false;
+  if ((wall == GM_WALL_OPEN || wall == GM_WALL_PERIODIC) && !symmetry_axis)
+    return false; /* periodic faces: images of the other side (periodic.c) */
   for (int k = 0; k < 2; k++)
     sign[k] = wall == GM_WALL_FIXED ||
                       (k == axis && (wall == GM_WALL_SLIP || symmetry_axis))

@@ -34,6 +34,14 @@ void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
  * (and acceleration in GM_GRID_FULL mode), reflected. */
 void gm_bspline_fold_ghosts(gm_domain *domain, const gm_p2g_pass *pass);
 void gm_bspline_mirror_ghosts(gm_domain *domain, int mode);
+/* Periodic x faces (periodic.c; no-ops otherwise): after a scatter, the
+ * sums of each image node go to its owner a box length away; after a grid
+ * update, each image takes its owner's velocity (and acceleration in
+ * GM_GRID_FULL mode) and mass; after the wall gaps are measured, each
+ * owner takes the smaller gap of itself and its image. */
+void gm_periodic_fold_images(gm_domain *domain, const gm_p2g_pass *pass);
+void gm_periodic_copy_images(gm_domain *domain, int mode);
+void gm_periodic_fold_gaps(gm_domain *domain);
 
 /* What a G2P pass does (g2p.c). */
 typedef struct gm_g2p_pass {

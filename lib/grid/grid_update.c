@@ -77,8 +77,8 @@ static void constrain_faces(const gm_domain *domain, size_t node, int64_t ix,
         continue;
       int face = 2 * axis + side;
       gm_wall_type wall = walls[face];
-      if (wall == GM_WALL_OPEN)
-        continue;
+      if (wall == GM_WALL_OPEN || wall == GM_WALL_PERIODIC)
+        continue; /* periodic: the images take their owners' values */
       int slot = gm_gap_face_slot(domain, face);
       double gap = slot >= 0 && grid->mass[node] > 0.0
                        ? grid->wall_gap[node * (size_t)planes + (size_t)slot]
@@ -239,4 +239,5 @@ void gm_grid_update(gm_domain *domain, double dt, int mode) {
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks, &ctx);
   gm_walls_share_friction(domain, dt, mode); /* serial: worker-independent */
   gm_bspline_mirror_ghosts(domain, mode);    /* ghosts reflect their mirrors */
+  gm_periodic_copy_images(domain, mode);     /* images take their owners' */
 }

@@ -97,6 +97,10 @@ typedef struct gather_view {
   bool affine;
   double *next_affine[4]; /* m^2/s */
   double cell;            /* m, h */
+  /* Periodic x faces (periodic.c): moved points wrap into [x0, x0 + L). */
+  bool periodic_x;
+  double box_lower; /* m, x0 */
+  double period;    /* m, L = cells[0] h */
 } gather_view;
 
 /* What the grid tells the points of one chunk, SoA: interpolated nodal

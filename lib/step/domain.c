@@ -66,12 +66,44 @@ static gm_status validate_def(const gm_domain_def *def) {
                 (int)def->scheme);
   for (int face = 0; face < 2 * dim; face++) {
     gm_wall_type wall = def->walls[face];
-    if (wall != GM_WALL_OPEN && wall != GM_WALL_FIXED && wall != GM_WALL_SLIP)
+    if (wall != GM_WALL_OPEN && wall != GM_WALL_FIXED && wall != GM_WALL_SLIP &&
+        wall != GM_WALL_PERIODIC)
       CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                   "gm_domain_def.walls[%d] (%s face) is %d, not a "
                   "gm_wall_type value",
                   face, face_name(face), (int)wall);
+    if (wall == GM_WALL_PERIODIC && face >= GM_FACE_YMIN)
+      CREATE_FAIL(GM_ERR_UNSUPPORTED,
+                  "gm_domain_def.walls[%d] (%s face) is GM_WALL_PERIODIC; "
+                  "only the x faces (xmin and xmax) may be periodic in "
+                  "this version",
+                  face, face_name(face));
   }
+  bool periodic_min = def->walls[GM_FACE_XMIN] == GM_WALL_PERIODIC;
+  bool periodic_max = def->walls[GM_FACE_XMAX] == GM_WALL_PERIODIC;
+  if (periodic_min != periodic_max)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.walls: the xmin face is %s and the xmax face "
+                "%s; the two x faces must be GM_WALL_PERIODIC together",
+                periodic_min ? "periodic" : "not periodic",
+                periodic_max ? "periodic" : "not");
+  if (periodic_min && def->geometry == GM_GEOMETRY_AXISYMMETRIC)
+    CREATE_FAIL(GM_ERR_UNSUPPORTED,
+                "gm_domain_def.walls: periodic x faces (xmin, xmax) are "
+                "radial faces in GM_GEOMETRY_AXISYMMETRIC, which cannot "
+                "wrap around");
+  if (periodic_min && dim > 0 &&
+      ceil(def->extent[0] / def->cell_size - 1e-9) < 3.0)
+    CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
+                "gm_domain_def.walls: periodic x faces (xmin, xmax) need at "
+                "least 3 cells along x; extent[0] = %g m is %g cells",
+                def->extent[0], ceil(def->extent[0] / def->cell_size - 1e-9));
+  if (periodic_min && def->family == GM_FAMILY_GRANULAR)
+    CREATE_FAIL(GM_ERR_UNSUPPORTED,
+                "gm_domain_def.walls: periodic x faces (xmin, xmax) are not "
+                "supported with GM_FAMILY_GRANULAR in this version (its "
+                "pair search and parallel grids do not see across the "
+                "seam); use GM_FAMILY_PLAIN or GM_FAMILY_STRESS_FREE");
   if (!(def->cfl > 0.0 && def->cfl <= 1.0))
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.cfl is %g, must be in (0, 1]", def->cfl);

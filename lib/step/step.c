@@ -212,8 +212,10 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt) {
       gm_rigid_mark_nodes(domain);
     break;
   case STAGE_MEASURE_WALL_GAPS:
-    if (gm_gap_plane_count(domain) > 0)
+    if (gm_gap_plane_count(domain) > 0) {
       gm_walls_measure_gaps(domain);
+      gm_periodic_fold_gaps(domain); /* owners see across the seam */
+    }
     break;
   case STAGE_GRID_SOLVE:
     gm_grid_update(domain, dt, GM_GRID_FULL);

@@ -5,7 +5,8 @@
  * per-step work arrays reach their size), further steps of a scene whose
  * occupied region stays the same must not allocate at all, with one or two
  * workers and with each update scheme, for linear MPM and for the
- * granular family with CPDI and a planar wall. Also checks that every
+ * granular family with CPDI and a planar wall, and for a layer sliding
+ * across periodic x faces (GM_WALL_PERIODIC). Also checks that every
  * allocation is freed by gm_domain_destroy (the counts balance), and that
  * running out of memory in the middle of a step or of a material registration
  * fails cleanly without changing the domain.
@@ -52,9 +53,11 @@ static void install_counting_allocator(void) {
  * grid blocks, hence every work array, keeps its size. */
 /* granular: the same with CPDI, the granular family (a second, small block
  * far from the first makes two parallel grids, so the conflict search
- * runs) and a planar wall against the block's left side (wall gaps). */
+ * runs) and a planar wall against the block's left side (wall gaps).
+ * periodic: a layer filling the width between periodic x faces, moving at
+ * 3 m/s along x, so its points cross the seam in the measured steps. */
 static gm_domain *resting_block(gm_update_scheme scheme, int workers,
-                                bool granular) {
+                                bool granular, bool periodic) {
   gm_domain_def def = gm_domain_def_default();
   def.scheme = scheme;
   def.worker_count = workers;
@@ -66,10 +69,20 @@ static gm_domain *resting_block(gm_update_scheme scheme, int workers,
     def.shape = GM_SHAPE_CPDI;
     def.family = GM_FAMILY_GRANULAR;
   }
+  if (periodic)
+    def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] = GM_WALL_PERIODIC;
   gm_domain *domain = test_create_domain(&def);
   int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
-  const double lower[3] = {0.5, 0.0, 0.0}, upper[3] = {1.5, 0.6, 0.0};
+  const double lower[3] = {periodic ? 0.0 : 0.5, 0.0, 0.0};
+  const double upper[3] = {periodic ? 2.0 : 1.5, 0.6, 0.0};
   test_fill_box(domain, material, lower, upper, 2, NULL);
+  if (periodic) {
+    double *velocity = NULL;
+    TEST_ASSERT_OK(
+        domain, gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 0, &velocity));
+    for (size_t p = 0; p < gm_domain_point_count(domain); p++)
+      velocity[p] = 3.0; /* m/s: ~8 cells in the 200 measured steps */
+  }
   if (granular) {
     gm_granular_def def_granular = gm_granular_def_default();
     def_granular.critical_density = 990.0; /* kg/m^3, below rho0 = 1000 */
@@ -93,9 +106,10 @@ START_TEST(test_no_allocation_after_warm_up) {
                                               GM_SCHEME_USF};
   gm_update_scheme scheme = schemes[_i % 3];
   int workers = 1 + _i / 3 % 2;
-  bool granular = _i >= 6;
+  bool granular = _i >= 6 && _i < 12;
+  bool periodic = _i >= 12;
   install_counting_allocator();
-  gm_domain *domain = resting_block(scheme, workers, granular);
+  gm_domain *domain = resting_block(scheme, workers, granular, periodic);
   enum { WARM_UP_STEPS = 5, MEASURED_STEPS = 200 };
   for (int step = 0; step < WARM_UP_STEPS; step++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
@@ -106,8 +120,10 @@ START_TEST(test_no_allocation_after_warm_up) {
   ck_assert_msg(during == 0,
                 "%s, %d workers%s: %ld allocations in %d steps after warm-up",
                 test_scheme_name(scheme), workers,
-                granular ? ", granular CPDI with a wall" : "", during,
-                MEASURED_STEPS);
+                granular   ? ", granular CPDI with a wall"
+                : periodic ? ", periodic layer"
+                           : "",
+                during, MEASURED_STEPS);
   gm_domain_destroy(domain);
   ck_assert_msg(atomic_load(&allocations) == atomic_load(&releases),
                 "allocations %ld != frees %ld after destroy",
@@ -225,7 +241,7 @@ int main(void) {
   TCase *tcase = tcase_create("steady_state");
   tcase_set_timeout(tcase, 60);
   /* 0..5: linear MPM; 6..11: granular CPDI with a planar wall. */
-  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 12);
+  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 18);
   tcase_add_test(tcase, test_out_of_memory_while_growing_the_grid);
   tcase_add_test(tcase, test_out_of_memory_while_widening_state);
   suite_add_tcase(suite, tcase);

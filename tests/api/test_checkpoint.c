@@ -61,7 +61,8 @@ typedef enum scene_kind {
   SMALL,
   GRANULAR,
   GRANULAR_GIMP,
-  FLOW
+  FLOW,
+  PERIODIC
 } scene_kind;
 
 typedef struct scene {
@@ -171,6 +172,29 @@ static scene build_flow(gm_domain_def def) {
   return s;
 }
 
+/* A sheared elastic layer filling a box with periodic x faces on a fixed
+ * floor, moving at 2-3 m/s along x: its points cross the seam before and
+ * after the save. */
+static scene build_periodic(gm_domain_def def) {
+  scene s = {NULL, -1, -1, -1, -1, 21, 40};
+  def.gravity[1] = -9.81; /* m/s^2 */
+  def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
+  def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] = GM_WALL_PERIODIC;
+  s.domain = test_create_domain(&def);
+  int layer = test_add_elastic(s.domain, 1e6, 0.3, 1000.0);
+  const double lower[3] = {0.0, 0.0, 0.0}, upper[3] = {1.0, 0.3, 0.0};
+  test_fill_box(s.domain, layer, lower, upper, 2, NULL);
+  const double *y = NULL;
+  double *vx = NULL;
+  REQUIRE_OK(s.domain,
+             gm_domain_view_field(s.domain, GM_FIELD_POSITION, 1, &y));
+  REQUIRE_OK(s.domain,
+             gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
+  for (size_t p = 0; p < gm_domain_point_count(s.domain); p++)
+    vx[p] = 2.0 + 3.0 * y[p]; /* m/s */
+  return s;
+}
+
 /* The scene on top of def (the caller's changes to def stay unless the
  * scene sets that field itself). */
 static scene build_from(scene_kind kind, gm_domain_def def) {
@@ -183,6 +207,8 @@ static scene build_from(scene_kind kind, gm_domain_def def) {
     return build_granular(def, GM_SHAPE_CPDI);
   case GRANULAR_GIMP:
     return build_granular(def, GM_SHAPE_UGIMP);
+  case PERIODIC:
+    return build_periodic(def);
   case FLOW:
     break;
   }
@@ -545,6 +571,11 @@ static void expect_refused(const scene *target, const observed *before,
   forget(&after);
 }
 
+START_TEST(test_restart_periodic) {
+  check_restart(PERIODIC, 1, 2);
+}
+END_TEST
+
 START_TEST(test_refuses_damaged_files) {
   make_temporary_directory();
   char *good = path_in_directory("good.ckpt");
@@ -900,6 +931,7 @@ static Suite *checkpoint_suite(void) {
   tcase_add_test(restart, test_restart_granular_two_workers);
   tcase_add_test(restart, test_restart_source_sink_wall);
   tcase_add_test(restart, test_restart_apic);
+  tcase_add_test(restart, test_restart_periodic);
   suite_add_tcase(suite, restart);
   TCase *refusals = tcase_create("refusals");
   tcase_set_timeout(refusals, 120);

@@ -8,7 +8,8 @@
  *   u(z) = (2/3) (I_theta / d) sqrt(phi g cos theta) [h^1.5 - (h - z)^1.5].
  * Below tan theta = mu_s the layer must not flow.
  *
- * The library has no periodic boundaries, so the plane is a long layer of
+ * The steady Bagnold flow is asserted on an infinitely long layer, with
+ * periodic x faces, in test_bagnold.c. Here the plane is a long layer of
  * finite length on a no-slip floor (the fixed box face y = 0, a node row),
  * with gravity rotated by theta: g = g (sin theta, -cos theta). Its free
  * ends disturb the flow; in the kinematic (shallow) limit the flux

@@ -1,0 +1,130 @@
+/*
+ * periodic.c - periodic x faces (GM_WALL_PERIODIC): the grid of a layer
+ * that repeats every box length L = cells[0] cells along x.
+ *
+ * Node x = 1 lies on the xmin face and node x = cells[0] + 1 on the xmax
+ * face (support.h counts nodes from the ghost layer): in a periodic box
+ * they are one node. Nodes x = 1 .. cells[0] own the columns; every other
+ * node along x (the ghost column 0 below xmin, and the face and ghost
+ * columns cells[0] + 1, cells[0] + 2 above xmax) is the image of the owner
+ * a box length away (owner = image -+ cells[0]). The points scatter onto
+ * whichever copy their support reaches, as without periodicity; then
+ *   - fold (after every scatter): each image's mass, momentum and force
+ *     are added to its owner, so the owner carries the points on both
+ *     sides of the seam;
+ *   - the grid update solves the owners (the images' own results are
+ *     discarded);
+ *   - copy (after every grid update): each image takes its owner's mass,
+ *     velocity and acceleration, so a point near the seam gathers the same
+ *     field through either copy.
+ * The point positions are wrapped into [x0, x0 + L) when they move
+ * (g2p.c), and the block grid holds every block of a row that has one
+ * (block_grid.c), so an image's owner always exists.
+ *
+ * Each owner receives from at most one image (the box has at least 3
+ * cells: gm_domain_create; with 2, node 2 would own images 0 and 4) and an
+ * image is never an owner, so a pass over the blocks in parallel writes every
+ * node from one place: no races, and the sums do not depend on the worker
+ * count. Nothing is allocated.
+ */
+#include "grid/grid.h"
+
+typedef struct periodic_context {
+  gm_domain *domain;
+  const gm_p2g_pass *scatter; /* fold: what was scattered */
+  int mode;                   /* copy: GM_GRID_FULL copies accelerations */
+  int task;                   /* which of the three passes */
+} periodic_context;
+
+enum { TASK_FOLD = 0, TASK_COPY = 1, TASK_GAPS = 2 };
+
+/* Field index of node (x, y) in the layer-0 blocks, or SIZE_MAX if its
+ * block does not exist this step. */
+static size_t node_at(const gm_grid *grid, int64_t x, int64_t y) {
+  uint32_t block = gm_grid_find(grid, gm_block_key_of_node(grid, x, y));
+  if (block == GM_NO_BLOCK)
+    return SIZE_MAX;
+  int64_t mask = ((int64_t)1 << grid->shift) - 1;
+  int64_t local = (x & mask) + (grid->dim > 1 ? (y & mask) << grid->shift : 0);
+  return (size_t)block * GM_BLOCK_NODES + (size_t)local;
+}
+
+static void image_columns(void *context, size_t begin, size_t end, int worker) {
+  (void)worker;
+  const periodic_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  gm_grid *grid = &domain->grid;
+  int dim = domain->dim;
+  int64_t edge = (int64_t)1 << grid->shift;
+  int64_t cells = domain->cells[0];
+  int64_t first_owner = GM_GHOST_LAYERS, last_owner = cells; /* x indices */
+  int planes = ctx->task == TASK_GAPS ? gm_gap_plane_count(domain) : 0;
+  for (size_t b = begin; b < end; b++) {
+    int64_t base[2];
+    gm_block_base(grid, grid->block_key[b], base);
+    for (int64_t lx = 0; lx < (dim > 1 ? edge : (int64_t)GM_BLOCK_NODES);
+         lx++) {
+      int64_t x = base[0] + lx;
+      if (x >= first_owner && x <= last_owner)
+        continue; /* an owner */
+      if (x > domain->shape_grid.last_node[0])
+        break; /* beyond the grid: no node */
+      int64_t owner_x = x < first_owner ? x + cells : x - cells;
+      for (int64_t t = 0; t < (dim > 1 ? edge : 1); t++) {
+        int64_t y = dim > 1 ? base[1] + t : 0;
+        size_t image = (size_t)b * GM_BLOCK_NODES +
+                       (size_t)(dim > 1 ? lx + (t << grid->shift) : lx);
+        if (ctx->task != TASK_COPY && grid->mass[image] == 0.0)
+          continue; /* no point reaches it: nothing to fold */
+        size_t owner = node_at(grid, owner_x, y);
+        if (owner == SIZE_MAX)
+          continue; /* cannot happen: whole rows of blocks exist */
+        if (ctx->task == TASK_FOLD) {
+          const gm_p2g_pass *scatter = ctx->scatter;
+          if (scatter->mass)
+            grid->mass[owner] += grid->mass[image];
+          for (int k = 0; k < dim; k++) {
+            if (scatter->momentum)
+              grid->momentum[k][owner] += grid->momentum[k][image];
+            if (scatter->forces)
+              grid->force[k][owner] += grid->force[k][image];
+          }
+        } else if (ctx->task == TASK_COPY) {
+          grid->mass[image] = grid->mass[owner];
+          for (int k = 0; k < dim; k++) {
+            grid->momentum[k][image] = grid->momentum[k][owner];
+            if (ctx->mode == GM_GRID_FULL)
+              grid->force[k][image] = grid->force[k][owner];
+          }
+        } else {
+          double *owner_gap = grid->wall_gap + owner * (size_t)planes;
+          const double *image_gap = grid->wall_gap + image * (size_t)planes;
+          for (int w = 0; w < planes; w++)
+            owner_gap[w] =
+                image_gap[w] < owner_gap[w] ? image_gap[w] : owner_gap[w];
+        }
+      }
+    }
+  }
+}
+
+static void run(gm_domain *domain, const gm_p2g_pass *scatter, int mode,
+                int task) {
+  if (!gm_periodic_x(domain) || domain->grid.block_count == 0)
+    return;
+  periodic_context ctx = {domain, scatter, mode, task};
+  gm_parallel_for(&domain->pool, domain->grid.block_count, image_columns, &ctx);
+}
+
+void gm_periodic_fold_images(gm_domain *domain, const gm_p2g_pass *pass) {
+  run(domain, pass, 0, TASK_FOLD);
+}
+
+void gm_periodic_copy_images(gm_domain *domain, int mode) {
+  run(domain, NULL, mode, TASK_COPY);
+}
+
+void gm_periodic_fold_gaps(gm_domain *domain) {
+  if (gm_gap_plane_count(domain) > 0)
+    run(domain, NULL, 0, TASK_GAPS);
+}
