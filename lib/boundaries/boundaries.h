@@ -28,7 +28,9 @@ void gm_force_report_commit(gm_force_report *report, const double impulse[2],
  * NULL it gets the one wall that acted and its normal change and the
  * tangential velocity before friction, for gm_walls_share_friction
  * (wall -1 when none or several acted); when none acted, a node in front
- * of exactly one wall it shares gets that wall with normal change 0. */
+ * of exactly one wall it shares, or whose friction strips it joins (the
+ * row a cell in front of a wall on a node row), gets that wall with
+ * normal change 0. */
 typedef struct gm_wall_pool_record {
   int wall;              /* the one wall that acted; -1: none or several */
   double normal_change;  /* m/s, its normal velocity change (> 0; 0: not

@@ -161,21 +161,26 @@ static run_result run(gm_update_scheme scheme, double theta, double mu,
 /* 2 % (design.md, the issue). Measured here at most 1.85 % (MUSL, 30
  * deg, floor 0.7 cells above a row); at 25 and 50 deg, floor offsets 0.3,
  * 0.55, 0.65 and 0.94 cells and tilted planes 0.1, 0.5 and 0.85 cells off
- * a row, at most 1.73 %. Two exceptions, asserted at 3 %:
- *  - the floor 0.7 cells above a row at 40 deg in MUSL slides 2.2 % short:
- *    the friction is 0.499 of the normal impulse, but the normal impulse
- *    is 1.4 % above m g cos th t (the block creeps away from the wall as
- *    it vibrates, with the light row behind the plane carrying the load;
- *    0.1-0.5 % at the other offsets), and friction follows it;
- *  - the floor on a node row at 30 deg in USL, 2.15 % too far: issue 12
- *    item 2, asserted at 3 % in tests/physics/test_friction.c too. Its cause is
- *    the start of the slide: the
- * row on the plane carries the block's normal load but a small part of
- * its tangential momentum, and sticks in some steps while the block
- * slides (1.1 % of the normal impulse on sticking strips, friction 0.396
- * of the normal impulse instead of 0.4). Letting the row in front join
- * the strip brings it to 1.2 % but breaks tests/physics/test_janssen.c (wall
- * pressure 1.11 of Janssen's at 2 m). */
+ * a row, at most 1.73 %. The floor on a node row at 30 deg in USL slid
+ * 2.15 % too far (issue 12 item 2) until the row a cell in front joined
+ * the friction strips (walls.c): the row on the plane carried the block's
+ * normal load but a small part of its tangential momentum and stuck in
+ * some steps (friction 0.396 of the normal impulse); now +0.66 %
+ * (friction 0.3989), and this case fails on the code before. One
+ * exception, asserted at 3 % (open): the floor 0.7 cells above a row at
+ * 40 deg in MUSL slides 2.2 % short. Its friction is 0.499 of the normal
+ * impulse, but the block hops on the wall: the kinetic energy of its
+ * vibration (less the sliding) grows from 1e-3 to 1.8 J/m over the run
+ * (0.04 J/m at 0.5 cells), its centre rises by up to 0.3 cells, and the
+ * normal impulse up to the end time is 4 % above m g cos th t. Only
+ * sliding excites it (frictionless or stuck, the normal impulse is
+ * exact; at 0.8 of the stable dt the centre rises 0.06 cells), and it
+ * goes with the light row behind the plane (weight 0.05 on the bottom
+ * points; USF's normal impulse at 0.65 cells is 3.7 % high too): ignoring the
+ * contact of nodes behind the plane whose weight on every point is below 0.1
+ * puts every scheme within 0.8 % here, but makes the block on the tilted plane
+ * 0.3 cells off a row slide 4-12 % of the frictionless distance at 12 deg
+ * instead of sticking, so it is not done. */
 static const double SLIDE_TOLERANCE = 0.02;
 static const double OPEN_CASE_TOLERANCE = 0.03;
 
@@ -189,11 +194,8 @@ static void check(gm_update_scheme scheme, const slope_case *slope, bool tilted,
   double expected = acceleration > 0.0 ? 0.5 * acceleration * t * t : 0.0;
   const char *how = tilted ? "tilted plane" : "rotated gravity";
   if (expected > 0.0) {
-    bool open_case =
-        !tilted && ((scheme == GM_SCHEME_USL && offset_cells == 0.0 &&
-                     slope->degrees == 30.0) ||
-                    (scheme == GM_SCHEME_MUSL && offset_cells == 0.7 &&
-                     slope->degrees == 40.0));
+    bool open_case = !tilted && scheme == GM_SCHEME_MUSL &&
+                     offset_cells == 0.7 && slope->degrees == 40.0;
     double tolerance = open_case ? OPEN_CASE_TOLERANCE : SLIDE_TOLERANCE;
     ck_assert_msg(fabs(r.slide - expected) < tolerance * expected,
                   "%s, %s, %.0f deg mu %.1f, plane %.3f cells off a node row: "
