@@ -225,10 +225,11 @@ typedef struct gm_granular_work {
   size_t capacity;         /* points */
   int64_t *support_low[2]; /* node box of each point's support */
   int64_t *support_high[2];
-  gm_interaction_domain *interaction; /* per point */
+  gm_interaction_domain *interaction; /* per point; CPDI only (NULL
+                                         otherwise) */
   /* The same for the rectangle variants, SoA for the pair search: centre
-   * (the committed positions, not owned) and half edges (m); and whether
-   * the point's material is granular. */
+   * (the committed positions, not owned) and half edges (m; not CPDI:
+   * NULL there); and whether the point's material is granular. */
   const double *box_centre[2];
   double *box_half[2];
   uint8_t *granular;
