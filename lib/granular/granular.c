@@ -130,8 +130,8 @@ gm_status gm_granular_reserve(gm_domain *domain) {
   size_t old_capacity = work->capacity;
   if (capacity > old_capacity) {
     for (int k = 0; k < 2; k++) {
-      GROW_WORK(work->support_low[k], sizeof(int64_t));
-      GROW_WORK(work->support_high[k], sizeof(int64_t));
+      GROW_WORK(work->support_low[k], sizeof(int32_t));
+      GROW_WORK(work->support_high[k], sizeof(int32_t));
     }
     /* The pair test reads the parallelograms of CPDI (48 bytes per point)
      * or the boxes of the rectangle variants (16), never both
