@@ -7,7 +7,9 @@
 #   make check           build and run the whole test suite
 #   make bench           build and run the benchmark (CSV on stdout)
 #   make bench-yardstick the library against ../shared/yardstick, interleaved
-#                        (YARDSTICK_ARGS=--full; bench/README.md)
+#                        (YARDSTICK_ARGS=--full; bench/README.md), after
+#                        bench-triad
+#   make bench-triad     the machine's triad bandwidth (bench/results/)
 #   make install PREFIX=/usr/local DESTDIR=
 #   make abi-check       compare the library ABI with abi/libgranmpm.abi
 #   make distcheck       build, test and check the release tarball
@@ -21,7 +23,7 @@ CONFIGURE_FLAGS ?=
 TOP := $(CURDIR)
 
 FORWARD := all check demo demo-bar demo-collapse bench bench-chart \
-	bench-yardstick install \
+	bench-yardstick bench-triad install \
 	uninstall abi-check abi-dump check-valgrind installcheck
 # Forwarded without prefix/DESTDIR: a command-line prefix would reach
 # distcheck's own install step through MAKEFLAGS and override its private

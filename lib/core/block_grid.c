@@ -103,7 +103,15 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
   if (block_count <= grid->block_capacity)
     return true;
   size_t old = grid->block_capacity;
-  size_t capacity = block_count + block_count / 2;
+  /* The node fields are most of the grid's memory (40 bytes per node, 64
+   * nodes per block). The first binning sizes them to the blocks the
+   * points occupy plus a few; later growth adds an eighth, so a flow that
+   * spreads still reallocates only geometrically often, and a scene that
+   * stays in place never reallocates after its first step. (A headroom of
+   * a half, before, cost 7 bytes per point of a compact block:
+   * docs/performance.md, "Where the bytes go".) */
+  size_t headroom = old == 0 ? 4 : block_count / 8 + 4;
+  size_t capacity = block_count + headroom;
   size_t nodes_old = old * GM_BLOCK_NODES, nodes = capacity * GM_BLOCK_NODES;
   void **arrays[] = {(void **)&grid->mass, (void **)&grid->momentum[0],
                      (void **)&grid->momentum[1], (void **)&grid->force[0],

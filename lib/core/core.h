@@ -222,13 +222,18 @@ typedef struct gm_root_order gm_root_order;
 /* Per-step work arrays of the granular family (components.c), sized with
  * the points and the blocks outside the step's hot path. */
 typedef struct gm_granular_work {
-  size_t capacity;         /* points */
-  int64_t *support_low[2]; /* node box of each point's support */
-  int64_t *support_high[2];
-  gm_interaction_domain *interaction; /* per point */
+  size_t capacity; /* points */
+  /* Node box of each point's support. 32 bits suffice: a domain has at
+   * most 1e9 cells per axis (domain.c), so node indices stay below
+   * 1e9 + 2 ghost layers + 1 < INT32_MAX; half the bytes of int64_t
+   * (16 B per point). */
+  int32_t *support_low[2];
+  int32_t *support_high[2];
+  gm_interaction_domain *interaction; /* per point; CPDI only (NULL
+                                         otherwise) */
   /* The same for the rectangle variants, SoA for the pair search: centre
-   * (the committed positions, not owned) and half edges (m); and whether
-   * the point's material is granular. */
+   * (the committed positions, not owned) and half edges (m; not CPDI:
+   * NULL there); and whether the point's material is granular. */
   const double *box_centre[2];
   double *box_half[2];
   uint8_t *granular;

@@ -46,8 +46,8 @@ static void general_geometry(gm_domain *domain, size_t p,
   /* Cannot fail: the binning checked the same support. */
   gm_support_bounds(&domain->shape_grid, point, low, high);
   for (int k = 0; k < 2; k++) {
-    work->support_low[k][p] = low[k];
-    work->support_high[k][p] = high[k];
+    work->support_low[k][p] = (int32_t)low[k]; /* range: core.h */
+    work->support_high[k][p] = (int32_t)high[k];
   }
   gm_interaction_domain *interaction = &work->interaction[p];
   gm_interaction_domain_of(domain->shape_grid.shape, domain->dim, point,
@@ -80,8 +80,8 @@ static void rectangle_geometry(gm_domain *domain, size_t p,
     } else {
       low = gm_gimp_axis_bounds(s, half[k] * grid->inv_cell, &span);
     }
-    work->support_low[k][p] = low;
-    work->support_high[k][p] = low + span - 1;
+    work->support_low[k][p] = (int32_t)low; /* range: core.h */
+    work->support_high[k][p] = (int32_t)(low + span - 1);
   }
   /* Constant: linear MPM, uGIMP and the B-splines (whose domain is the
    * initial rectangle, as uGIMP's). */
@@ -142,10 +142,10 @@ static void linear_supports(void *context, size_t begin, size_t end,
   const gm_shape_grid *grid = &domain->shape_grid;
   for (int k = 0; k < domain->dim; k++) {
     const double *position = points->buffer[points->cur].position[k];
-    int64_t *low = work->support_low[k], *high = work->support_high[k];
+    int32_t *low = work->support_low[k], *high = work->support_high[k];
     double origin = grid->origin[k], inv_cell = grid->inv_cell; /* m, 1/m */
     for (size_t p = begin; p < end; p++) {
-      low[p] = (int64_t)((position[p] - origin) * inv_cell); /* >= 0 */
+      low[p] = (int32_t)((position[p] - origin) * inv_cell); /* >= 0 */
       high[p] = low[p] + 1;
     }
   }

@@ -130,12 +130,18 @@ gm_status gm_granular_reserve(gm_domain *domain) {
   size_t old_capacity = work->capacity;
   if (capacity > old_capacity) {
     for (int k = 0; k < 2; k++) {
-      GROW_WORK(work->support_low[k], sizeof(int64_t));
-      GROW_WORK(work->support_high[k], sizeof(int64_t));
+      GROW_WORK(work->support_low[k], sizeof(int32_t));
+      GROW_WORK(work->support_high[k], sizeof(int32_t));
     }
-    GROW_WORK(work->interaction, sizeof(gm_interaction_domain));
-    for (int k = 0; k < 2; k++)
-      GROW_WORK(work->box_half[k], sizeof(double));
+    /* The pair test reads the parallelograms of CPDI (48 bytes per point)
+     * or the boxes of the rectangle variants (16), never both
+     * (pair_rules.h): only the one the domain's shape uses is allocated. */
+    if (domain->shape_grid.shape == GM_SHAPE_CPDI) {
+      GROW_WORK(work->interaction, sizeof(gm_interaction_domain));
+    } else {
+      for (int k = 0; k < 2; k++)
+        GROW_WORK(work->box_half[k], sizeof(double));
+    }
     GROW_WORK(work->granular, sizeof(uint8_t));
     GROW_WORK(work->visit, sizeof(uint8_t));
     GROW_WORK(work->forest, sizeof(uint64_t));

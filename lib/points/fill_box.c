@@ -181,8 +181,11 @@ gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
     return status;
   gm_points *points = &domain->points;
   fill_arrays *arrays = gm_alloc(sizeof *arrays);
+  /* The id map too is sized for the whole fill at once: growing it slab
+   * by slab left it 1.4x too large (1.6 bytes per point). */
   if (!arrays ||
-      gm_points_reserve(domain, points->count + grid.total) != GM_OK) {
+      gm_points_reserve(domain, points->count + grid.total) != GM_OK ||
+      !gm_points_reserve_ids(points, grid.total)) {
     gm_free(arrays);
     return gm_set_error(domain, GM_ERR_NO_MEMORY,
                         "gm_domain_fill_box: out of memory for %zu points",

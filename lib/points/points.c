@@ -392,8 +392,7 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
   points->index_of_id[points->next_id + (int64_t)i] = (uint32_t)p;
 }
 
-/* Room in the id -> index map for `extra` more ids. */
-static bool reserve_ids(gm_points *points, size_t extra) {
+bool gm_points_reserve_ids(gm_points *points, size_t extra) {
   size_t needed = (size_t)points->next_id + extra;
   if (needed <= points->id_capacity)
     return true;
@@ -456,7 +455,7 @@ gm_status gm_points_append(gm_domain *domain, const gm_points_def *def,
                           "gm_domain_add_points: out of memory for %zu points",
                           needed);
   }
-  if (!reserve_ids(points, def->count))
+  if (!gm_points_reserve_ids(points, def->count))
     return gm_set_error(domain, GM_ERR_NO_MEMORY,
                         "gm_domain_add_points: out of memory for the id map");
   for (size_t i = 0; i < def->count; i++)

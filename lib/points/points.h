@@ -17,6 +17,9 @@ gm_status gm_check_placement_density(gm_domain *domain, int material_id,
 
 /* Point storage (points.c). */
 gm_status gm_points_reserve(gm_domain *domain, size_t capacity);
+/* Room in the id -> index map for `extra` more ids (grows by at least a
+ * half); false, the map untouched, when out of memory. */
+bool gm_points_reserve_ids(gm_points *points, size_t extra);
 void gm_points_free(gm_points *points);
 /* gm_domain_add_points without the busy check (sources inject mid-step). */
 gm_status gm_points_append(gm_domain *domain, const gm_points_def *def,

@@ -236,6 +236,80 @@ START_TEST(test_out_of_memory_while_widening_state) {
 }
 END_TEST
 
+/* Live bytes through a hook that records each block's size in front of it
+ * (16 bytes, enough alignment for every library type). */
+static atomic_long live_bytes;
+
+static void *sizing_malloc(size_t size, void *user) {
+  (void)user;
+  unsigned char *block = malloc(size + 16);
+  if (!block)
+    return NULL;
+  memcpy(block, &size, sizeof size);
+  atomic_fetch_add(&live_bytes, (long)size);
+  return block + 16;
+}
+
+static void sizing_free(void *pointer, void *user) {
+  (void)user;
+  if (!pointer)
+    return;
+  unsigned char *block = (unsigned char *)pointer - 16;
+  size_t size;
+  memcpy(&size, block, sizeof size);
+  atomic_fetch_sub(&live_bytes, (long)size);
+  free(block);
+}
+
+/* Issue 15: "<= 300 bytes per point in 2D, grid and scratch included". The
+ * library's memory is the sum of its parts, each sized to what the scene
+ * uses (docs/performance.md, "Where the bytes go"): for a plane-strain
+ * elastic block with linear shapes and FLIP,
+ *  - 272 B per point: two buffers of position, velocity (2 each), stress
+ *    (4), F (4) and volume (208), mass, initial volume and domain size (32),
+ *    id, material, id -> index, block key, block index and order (32);
+ *  - per grid block: 64 nodes of 5 node fields and the floor face's gap
+ *    (48 B per node) and the block's links and chunk counters (160 B),
+ *    3232 B, over the occupied blocks and the ring their cells reach plus
+ *    a headroom of 4 blocks;
+ *  - a fixed part: the domain, one worker's scratch, the block hash (about
+ *    150 kB; 256 kiB allowed).
+ * 128 x 128 cells of 2 x 2 points: 65536 points; their cells' lowest nodes
+ * are nodes 1..128 per axis (node 0 is the ghost layer), 17 blocks of 8,
+ * and the ring makes 18 x 18 = 324 blocks. The old sizing (grid 1.5x the
+ * occupied blocks, the id map grown slab by slab to 1.4x) exceeded the
+ * bound by about 600 kB. */
+START_TEST(test_memory_is_the_sum_of_its_parts) {
+  gm_allocator allocator = {sizeof(gm_allocator), sizing_malloc, sizing_free,
+                            NULL};
+  ck_assert_int_eq(gm_set_allocator(&allocator), GM_OK);
+  atomic_store(&live_bytes, 0);
+  gm_domain_def def = gm_domain_def_default();
+  def.worker_count = 1;
+  def.cell_size = 1.0 / 64.0; /* m */
+  def.extent[0] = def.extent[1] = 2.5;
+  def.gravity[1] = -9.81;
+  def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+  const double lower[3] = {0.0, 0.0, 0.0}, upper[3] = {2.0, 2.0, 0.0};
+  size_t count = test_fill_box(domain, material, lower, upper, 2, NULL);
+  ck_assert_uint_eq(count, 65536);
+  for (int step = 0; step < 5; step++)
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
+  const double blocks = 18.0 * 18.0 + 4.0;
+  double bound = 272.0 * (double)count + 3232.0 * blocks + 256.0 * 1024.0;
+  double live = (double)atomic_load(&live_bytes); /* B */
+  ck_assert_msg(live <= bound,
+                "%.1f bytes per point live, bound %.1f (272 per point, the "
+                "grid, the fixed part)",
+                live / (double)count, bound / (double)count);
+  gm_domain_destroy(domain);
+  ck_assert_int_eq(atomic_load(&live_bytes), 0);
+  ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
+}
+END_TEST
+
 int main(void) {
   Suite *suite = suite_create("allocation");
   TCase *tcase = tcase_create("steady_state");
@@ -244,6 +318,7 @@ int main(void) {
   tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 18);
   tcase_add_test(tcase, test_out_of_memory_while_growing_the_grid);
   tcase_add_test(tcase, test_out_of_memory_while_widening_state);
+  tcase_add_test(tcase, test_memory_is_the_sum_of_its_parts);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
