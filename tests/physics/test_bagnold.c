@@ -42,6 +42,7 @@
 #include <string.h>
 
 #include "granmpm/mu_i.h"
+#include "test_mu_i_law.h"
 #include "test_util.h"
 
 static const double GRAVITY = 9.81; /* m/s^2 */
@@ -327,24 +328,9 @@ static chute_scene default_scene(void) {
 
 /* ------------------------------------------------------- the assertions */
 
-/* Jop's curve and Barker & Gray's (2017) eq 3.9 for it (well posed where
- * < 0), as tests/unit/test_mu_i.c recomputes them, for the creep of the
- * regularised law below mu_s: I = A exp(-alpha / mu^2) with
- * A = I_1^N exp(alpha / mu(I_1^N)^2). */
-static double jop_mu(const gm_mu_i_def *def, double inertial) {
-  return def->static_friction +
-         (def->limit_friction - def->static_friction) /
-             (def->inertial_number_scale / inertial + 1.0);
-}
-
-static double posedness(const gm_mu_i_def *def, double inertial) {
-  double i0 = def->inertial_number_scale;
-  double mu = jop_mu(def, inertial);
-  double c = inertial * i0 * (def->limit_friction - def->static_friction) /
-             ((i0 + inertial) * (i0 + inertial) * mu);
-  return 4.0 * c * c - 4.0 * c + mu * mu * (1.0 - c / 2.0) * (1.0 - c / 2.0);
-}
-
+/* The creep of the regularised law below mu_s: I = A exp(-alpha / mu^2)
+ * with A = I_1^N exp(alpha / mu(I_1^N)^2), from Jop's curve and Barker &
+ * Gray's (2017) eq 3.9 (jop_mu(), posedness(): test_mu_i_law.h). */
 static double creep_inertial(const gm_mu_i_def *def, double slope) {
   double lower = 1e-9, upper = def->inertial_number_scale;
   for (int k = 0; k < 200; k++) {

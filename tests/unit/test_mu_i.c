@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "granmpm/mu_i.h"
+#include "test_mu_i_law.h"
 #include "test_util.h"
 
 enum { CASES = 4 };
@@ -66,20 +67,7 @@ static void update(shear_batch *b, gm_mu_i_def *def) {
 
 /* ------------------------------------------------ the friction law, here */
 
-static double jop_mu(const gm_mu_i_def *def, double inertial) {
-  return def->static_friction +
-         (def->limit_friction - def->static_friction) /
-             (def->inertial_number_scale / inertial + 1.0);
-}
-
-/* Barker & Gray (2017) eq 3.9 for Jop's curve, well posed where < 0. */
-static double posedness(const gm_mu_i_def *def, double inertial) {
-  double i0 = def->inertial_number_scale;
-  double mu = jop_mu(def, inertial);
-  double c = inertial * i0 * (def->limit_friction - def->static_friction) /
-             ((i0 + inertial) * (i0 + inertial) * mu);
-  return 4.0 * c * c - 4.0 * c + mu * mu * (1.0 - c / 2.0) * (1.0 - c / 2.0);
-}
+/* jop_mu() and posedness(): tests/common/test_mu_i_law.h */
 
 typedef struct branch {
   double inertial, friction, amplitude; /* I_1^N, mu(I_1^N), A */
