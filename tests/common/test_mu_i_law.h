@@ -27,4 +27,18 @@ static inline double posedness(const gm_mu_i_def *def, double inertial) {
   return 4.0 * c * c - 4.0 * c + mu * mu * (1.0 - c / 2.0) * (1.0 - c / 2.0);
 }
 
+/* I_1^N, the lowest I where Jop's curve is well posed (posedness < 0),
+ * by bisection on [1e-9, I_0] to round-off (-). */
+static inline double posedness_onset(const gm_mu_i_def *def) {
+  double lower = 1e-9, upper = def->inertial_number_scale;
+  for (int k = 0; k < 200; k++) {
+    double middle = 0.5 * (lower + upper);
+    if (posedness(def, middle) > 0.0)
+      lower = middle;
+    else
+      upper = middle;
+  }
+  return upper;
+}
+
 #endif /* GM_TEST_MU_I_LAW_H */

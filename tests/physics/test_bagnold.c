@@ -332,14 +332,7 @@ static chute_scene default_scene(void) {
  * with A = I_1^N exp(alpha / mu(I_1^N)^2), from Jop's curve and Barker &
  * Gray's (2017) eq 3.9 (jop_mu(), posedness(): test_mu_i_law.h). */
 static double creep_inertial(const gm_mu_i_def *def, double slope) {
-  double lower = 1e-9, upper = def->inertial_number_scale;
-  for (int k = 0; k < 200; k++) {
-    double middle = 0.5 * (lower + upper);
-    if (posedness(def, middle) > 0.0)
-      lower = middle;
-    else
-      upper = middle;
-  }
+  double upper = posedness_onset(def);
   double friction = jop_mu(def, upper);
   double amplitude =
       upper * exp(def->regularisation_exponent / (friction * friction));

@@ -74,15 +74,9 @@ typedef struct branch {
 } branch;
 
 static branch low_branch(const gm_mu_i_def *def) {
-  double lower = 1e-9, upper = def->inertial_number_scale;
-  ck_assert(posedness(def, lower) > 0.0 && posedness(def, upper) < 0.0);
-  for (int k = 0; k < 200; k++) {
-    double middle = 0.5 * (lower + upper);
-    if (posedness(def, middle) > 0.0)
-      lower = middle;
-    else
-      upper = middle;
-  }
+  ck_assert(posedness(def, 1e-9) > 0.0 &&
+            posedness(def, def->inertial_number_scale) < 0.0);
+  double upper = posedness_onset(def);
   branch b;
   b.inertial = upper;
   b.friction = jop_mu(def, upper);
