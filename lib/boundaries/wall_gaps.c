@@ -176,6 +176,45 @@ static void measure_point(gm_domain *domain, const gap_context *ctx,
   }
 }
 
+/* Could a point binned in this block lie within the reach of
+ * measure_point (8 cells) of a plane? The binning keys a point by its cell
+ * (linear) or by the lowest node of its support (bins.c), and a support
+ * spans at most GM_SUPPORT_MAX_SPAN nodes, so every point centre of the
+ * block lies in nodes base .. base + edge + GM_SUPPORT_MAX_SPAN on each
+ * axis; one more cell on each side keeps the test conservative against
+ * rounding. A block no plane may reach holds only points measure_point
+ * would return from without writing a gap, so skipping it leaves every gap
+ * bit-for-bit the same and spares the reads of its points (issue 15). */
+static bool block_may_reach(const gm_domain *domain, const gap_context *ctx,
+                            uint32_t block) {
+  const gm_grid *grid = &domain->grid;
+  const double *origin = domain->shape_grid.origin;
+  double h = domain->def.cell_size; /* m */
+  double reach = 8.0 * h;           /* m, as in measure_point */
+  int64_t base[2];
+  gm_block_base(grid, grid->block_key[block], base);
+  int64_t edge = (int64_t)1 << grid->shift;
+  double low[2], high[2]; /* m, box holding every point centre of the block */
+  for (int k = 0; k < 2; k++) {
+    low[k] = origin[k] + (double)(base[k] - 1) * h;
+    high[k] =
+        origin[k] + (double)(base[k] + edge + GM_SUPPORT_MAX_SPAN + 1) * h;
+  }
+  for (int w = 0; w < ctx->plane_count; w++) {
+    const gap_plane *plane = &ctx->planes[w];
+    if (domain->dim == 1 && plane->normal[1] != 0.0)
+      return true;        /* no box along y in 1D: measure every point */
+    double nearest = 0.0; /* m, least signed distance of the box's corners */
+    for (int k = 0; k < domain->dim; k++) {
+      double corner = plane->normal[k] >= 0.0 ? low[k] : high[k];
+      nearest += (corner - plane->point[k]) * plane->normal[k];
+    }
+    if (nearest <= reach)
+      return true;
+  }
+  return false;
+}
+
 static void measure_blocks(void *context, size_t begin, size_t end,
                            int worker) {
   (void)worker;
@@ -185,6 +224,8 @@ static void measure_blocks(void *context, size_t begin, size_t end,
   const gm_points *points = &domain->points;
   for (size_t item = begin; item < end; item++) {
     uint32_t block = ctx->blocks[item];
+    if (!block_may_reach(domain, ctx, block))
+      continue;
     for (uint32_t k = grid->point_start[block];
          k < grid->point_start[block + 1]; k++) {
       size_t p = points->order[k];
