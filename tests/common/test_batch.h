@@ -74,6 +74,21 @@ static inline test_points *test_points_clone(const test_points *source) {
   return copy;
 }
 
+/* The elastic trial of every point (a plastic model's documented first
+ * stage, gm_elastic_update with E (Pa) and nu) into trial[c][i]. */
+static inline void test_points_elastic_trial(const test_points *points,
+                                             double youngs, double poisson,
+                                             double (*trial)[MAX_POINTS]) {
+  test_points *copy = test_points_clone(points);
+  gm_elastic_def elastic = gm_elastic_def_default();
+  elastic.youngs_modulus = youngs;
+  elastic.poisson_ratio = poisson;
+  ck_assert_int_eq(gm_elastic_update(&copy->batch, &elastic, NULL, 0), 0);
+  for (int c = 0; c < 6; c++)
+    memcpy(trial[c], copy->stress[c], sizeof copy->stress[c]);
+  free(copy);
+}
+
 /* ------------------------------------------------------------- invariants */
 
 static inline double pressure_of(const double sigma[6]) {

@@ -88,20 +88,6 @@ static void fill_random(test_points *points, size_t count, uint64_t seed) {
   }
 }
 
-/* The elastic trial of every point (the model's documented first stage,
- * gm_elastic_update) into trial[c][i]. */
-static void elastic_trial(const test_points *points,
-                          double (*trial)[MAX_POINTS]) {
-  test_points *copy = test_points_clone(points);
-  gm_elastic_def elastic = gm_elastic_def_default();
-  elastic.youngs_modulus = YOUNGS;
-  elastic.poisson_ratio = POISSON;
-  ck_assert_int_eq(gm_elastic_update(&copy->batch, &elastic, NULL, 0), 0);
-  for (int c = 0; c < 6; c++)
-    memcpy(trial[c], copy->stress[c], sizeof copy->stress[c]);
-  free(copy);
-}
-
 /* Counts of the three branches seen in a random run. */
 typedef struct branch_counts {
   size_t elastic, compression, apex;
@@ -198,7 +184,7 @@ START_TEST(test_random_trial_states) {
   test_points *after = test_points_clone(before);
   double(*trial)[MAX_POINTS] = malloc(6 * sizeof *trial);
   ck_assert_ptr_nonnull(trial);
-  elastic_trial(before, trial);
+  test_points_elastic_trial(before, YOUNGS, POISSON, trial);
   gm_drucker_prager_def def = dp_def(phi);
   run_dp(after, &def);
   branch_counts counts = {0, 0, 0};

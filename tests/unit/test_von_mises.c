@@ -83,20 +83,6 @@ static void fill_random(test_points *points, size_t count, uint64_t seed) {
   }
 }
 
-/* The elastic trial of every point (the model's documented first stage,
- * gm_elastic_update) into trial[c][i]. */
-static void elastic_trial(const test_points *points,
-                          double (*trial)[MAX_POINTS]) {
-  test_points *copy = test_points_clone(points);
-  gm_elastic_def elastic = gm_elastic_def_default();
-  elastic.youngs_modulus = YOUNGS;
-  elastic.poisson_ratio = POISSON;
-  ck_assert_int_eq(gm_elastic_update(&copy->batch, &elastic, NULL, 0), 0);
-  for (int c = 0; c < 6; c++)
-    memcpy(trial[c], copy->stress[c], sizeof copy->stress[c]);
-  free(copy);
-}
-
 /* Checks one plastic return of point i against the closed form
  * sigma = (sigma_y / q_e) s_e - p_e I. */
 static void check_plastic_return(const test_points *before,
@@ -150,7 +136,7 @@ START_TEST(test_random_trial_states) {
   test_points *after = test_points_clone(before);
   double(*trial)[MAX_POINTS] = malloc(6 * sizeof *trial);
   ck_assert_ptr_nonnull(trial);
-  elastic_trial(before, trial);
+  test_points_elastic_trial(before, YOUNGS, POISSON, trial);
   gm_von_mises_def def = vm_def();
   run_vm(after, &def);
   size_t elastic_count = 0, plastic_count = 0;
