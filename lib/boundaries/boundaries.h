@@ -23,14 +23,14 @@ void gm_force_report_commit(gm_force_report *report, const double impulse[2],
  * or NULL = 0) lets it approach a wall by that much in dt, and centre_gap
  * (one per wall, m, or NULL) the same for the nodes the wall's contact
  * does not reach, from the nearest point centre; returns true if
- * a wall acted. If block_force is not NULL, mass/dt times each wall's velocity
- * change (N) is added to block_force[2 w], [2 w + 1]. If record is not
- * NULL it gets the one wall that acted and its normal change and the
- * tangential velocity before friction, for gm_walls_share_friction
- * (wall -1 when none or several acted); when none acted, a node in front
- * of exactly one wall it shares, or whose friction strips it joins (the
- * row a cell in front of a wall on a node row), gets that wall with
- * normal change 0. */
+ * a wall acted. Without `friction` only the normal approach is removed. If
+ * block_force is not NULL, mass/dt times each wall's velocity change (N) is
+ * added to block_force[2 w], [2 w + 1]. If record is not NULL it gets the one
+ * wall that acted and its normal change and the tangential velocity before
+ * friction, for gm_walls_share_friction (wall -1 when none or several acted);
+ * when none acted, a node in front of exactly one wall it shares, or whose
+ * friction strips it joins (the row a cell in front of a wall on a node row),
+ * gets that wall with normal change 0. */
 typedef struct gm_wall_pool_record {
   int wall;              /* the one wall that acted; -1: none or several */
   double normal_change;  /* m/s, its normal velocity change (> 0; 0: not
@@ -40,8 +40,8 @@ typedef struct gm_wall_pool_record {
 } gm_wall_pool_record;
 bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
                       double velocity[2], const double *gap,
-                      const double *centre_gap, double dt, double *block_force,
-                      double mass_over_dt, int *first_wall,
+                      const double *centre_gap, double dt, bool friction,
+                      double *block_force, double mass_over_dt, int *first_wall,
                       gm_wall_pool_record *record);
 /* Coulomb friction shared along each wall (walls.c): after the nodal
  * update, the per-node friction of the nodes with one wall is replaced by

@@ -188,10 +188,10 @@ bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
  * may approach the wall at up to approach_speed (m/s, >= 0: the gap of its
  * material to the wall over dt), so material that has left the wall can
  * come back to it; only the excess is removed, with Coulomb friction on
- * that normal impulse (004 algorithm 3.1). */
+ * that normal impulse (004 algorithm 3.1) when `friction` is set. */
 static bool contact_one(const gm_wall *wall, double velocity[2],
-                        double approach_speed, double *normal_change_out,
-                        double *tangent_out) {
+                        double approach_speed, bool friction,
+                        double *normal_change_out, double *tangent_out) {
   double normal_speed =
       velocity[0] * wall->normal[0] + velocity[1] * wall->normal[1];
   if (normal_speed >= -approach_speed)
@@ -203,7 +203,9 @@ static bool contact_one(const gm_wall *wall, double velocity[2],
   *normal_change_out = normal_change;
   *tangent_out = tangent[0] * wall->normal[1] - tangent[1] * wall->normal[0];
   double keep = 0.0; /* fraction of the tangential velocity kept */
-  if (tangential_speed > wall->friction_static * normal_change)
+  if (!friction)
+    keep = 1.0;
+  else if (tangential_speed > wall->friction_static * normal_change)
     keep = 1.0 - wall->friction_kinetic * normal_change / tangential_speed;
   velocity[0] = keep * tangent[0] - approach_speed * wall->normal[0];
   velocity[1] = keep * tangent[1] - approach_speed * wall->normal[1];
@@ -212,8 +214,8 @@ static bool contact_one(const gm_wall *wall, double velocity[2],
 
 bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
                       double velocity[2], const double *gap,
-                      const double *centre_gap, double dt, double *block_force,
-                      double mass_over_dt, int *first_wall,
+                      const double *centre_gap, double dt, bool friction,
+                      double *block_force, double mass_over_dt, int *first_wall,
                       gm_wall_pool_record *record) {
   bool acted = false;
   int acting = 0, sharing = 0, shared_wall = -1;
@@ -298,7 +300,7 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
                           ? (material_gap[w] - tolerance) / dt
                           : 0.0;                      /* m/s */
     double normal_change = 0.0, tangent_before = 0.0; /* m/s */
-    if (!contact_one(wall, velocity, approach, &normal_change,
+    if (!contact_one(wall, velocity, approach, friction, &normal_change,
                      &tangent_before)) {
       if ((shares && distance > GM_ON_ROW * domain->def.cell_size) ||
           strip_only) {
