@@ -324,12 +324,19 @@ static int advanced_step(const gm_domain *domain, double time, double end_time,
   return 0;
 }
 
+/* Whether every step is an interval (EXAMPLE_STEPS, no sample times). */
+static int every_step(const example_run_schedule *schedule) {
+  return schedule->stepping == EXAMPLE_STEPS &&
+         schedule->sample_times != EXAMPLE_SAMPLE_SPLIT &&
+         schedule->sample_period == 0.0;
+}
+
 /* EXAMPLE_STEPS: one step, or steps clipped to the sample time until
  * within 1e-9 s of it. */
 static gm_status take_steps(gm_domain *domain, run_context *context) {
   const example_run_schedule *schedule = context->schedule;
   example_run_state *state = context->state;
-  int clipped = schedule->sample_period > 0.0;
+  int clipped = !every_step(schedule);
   gm_status status = GM_OK;
   do {
     if (clipped && !(state->target - state->time > 1e-9))
@@ -373,19 +380,18 @@ static double sample_time(const example_run_schedule *schedule,
 static int before_end(const example_run_schedule *schedule, double time) {
   if (schedule->stepping == EXAMPLE_ADVANCE)
     return time < schedule->t_end - 1e-12;
-  if (schedule->sample_period > 0.0)
-    return schedule->t_end - time > 1e-9;
-  return time < schedule->t_end;
+  if (every_step(schedule))
+    return time < schedule->t_end;
+  return schedule->t_end - time > 1e-9;
 }
 
 static int schedule_is_valid(const example_run_schedule *s) {
   const char *problem = NULL;
   if (!(s->t_end > 0.0))
     problem = "t_end must be > 0";
-  else if (!(s->sample_period >= 0.0) || !isfinite(s->sample_period) ||
-           (s->sample_period == 0.0 &&
-            (s->stepping == EXAMPLE_ADVANCE ||
-             s->sample_times == EXAMPLE_SAMPLE_SPLIT)))
+  else if (s->sample_times != EXAMPLE_SAMPLE_SPLIT &&
+           (!(s->sample_period >= 0.0) || !isfinite(s->sample_period) ||
+            (s->sample_period == 0.0 && s->stepping == EXAMPLE_ADVANCE)))
     problem = "sample_period must be finite, and > 0 unless EXAMPLE_STEPS "
               "samples every step";
   else if (s->sample_times == EXAMPLE_SAMPLE_SPLIT &&
@@ -457,9 +463,7 @@ gm_status example_run_loop(gm_domain *domain,
          (limit <= 0 || state.interval < limit)) {
     long k = state.interval + 1;
     state.target =
-        schedule->stepping == EXAMPLE_STEPS && schedule->sample_period == 0.0
-            ? state.time
-            : sample_time(schedule, &state, k);
+        every_step(schedule) ? state.time : sample_time(schedule, &state, k);
     if (schedule->prepare)
       status = schedule->prepare(domain, &state, schedule->user);
     if (status == GM_OK && schedule->stepping == EXAMPLE_ADVANCE)
@@ -468,7 +472,7 @@ gm_status example_run_loop(gm_domain *domain,
     else if (status == GM_OK)
       status = take_steps(domain, &context);
     gm_domain_get_time(domain, &state.time, NULL);
-    if (schedule->stepping == EXAMPLE_STEPS && schedule->sample_period == 0.0)
+    if (every_step(schedule))
       state.target = state.time;
     state.interval = k;
     gm_status recorded =

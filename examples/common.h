@@ -91,17 +91,23 @@ int example_progress(const gm_domain *domain, double time, double end_time,
  * `stop` says so, or at the first failure. A driver's phases (settle
  * closed, then discharge) are one example_run_loop call each.
  *
- * Drivers that do not use it, and why:
- *  - minimal.c and demo_bar.c show the public API alone (granmpm.h, built
- *    without common.c; minimal.c is the README's listing): their few
- *    lines of gm_domain_step are what they are there to show;
- *  - freefall.f90 is the Fortran binding's check, and C helpers are not
- *    callable from it. */
+ * Every driver in examples/papers/, column_collapse.c and
+ * silo_layers_janssen.c runs on it. Those that do not, and why:
+ *  - minimal.c (the README's and granmpm(3)'s listing, which
+ *    tests/scripts/readme_example.sh keeps identical to it; make check
+ *    builds it against granmpm.h alone) and demo_bar.c (make demo-bar,
+ *    "uses only the public API") are there to show the public API: their
+ *    few lines of gm_domain_step are the point of the listing, and a
+ *    user copying them would also need common.c;
+ *  - freefall.f90 is the Fortran binding's check and cannot call C
+ *    helpers that are not part of the library. */
 
 /* Where the loop stands, handed to every callback. */
 typedef struct example_run_state {
   long interval;     /* intervals done; 0 before the first */
-  double target;     /* s, the end of the current interval (0 at the start) */
+  double target;     /* s, the end of the current interval (the start time
+                        before the first; every step an interval: the time
+                        reached after it) */
   double time;       /* s, the domain's time */
   double step_start; /* s, step: the time before the step */
   double dt;         /* s, step: the step taken (time - step_start when
@@ -129,9 +135,10 @@ typedef enum example_stepping {
   EXAMPLE_ADVANCE,
   /* gm_domain_step: steps of dt (<= 0: gm_domain_stable_dt; empty_dt
    * while the domain has no points, where the stable dt is undefined).
-   * sample_period > 0: each step clipped to the sample time, the interval
-   * over within 1e-9 s of it, and the loop runs while t_end - time >
-   * 1e-9 s. sample_period = 0: every step is an interval, the last one
+   * With sample times (sample_period > 0 or EXAMPLE_SAMPLE_SPLIT): each
+   * step clipped to the sample time, the interval over within 1e-9 s of
+   * it (no sliver step), and the loop runs while t_end - time > 1e-9 s.
+   * Without (sample_period = 0): every step is an interval, the last one
    * may pass t_end, and the loop runs while time < t_end. */
   EXAMPLE_STEPS
 } example_stepping;
@@ -145,9 +152,9 @@ typedef enum example_sample_times {
 
 /* What a failed step (or callback) leaves behind, beyond the status. */
 typedef enum example_on_failure {
-  EXAMPLE_FAILURE_STOP,          /* nothing */
-  EXAMPLE_FAILURE_SAMPLE,        /* the failed interval's sample */
-  EXAMPLE_FAILURE_SAMPLE_FRAME   /* its sample and a frame of it */
+  EXAMPLE_FAILURE_STOP,        /* nothing */
+  EXAMPLE_FAILURE_SAMPLE,      /* the failed interval's sample */
+  EXAMPLE_FAILURE_SAMPLE_FRAME /* its sample and a frame of it */
 } example_on_failure;
 
 typedef struct example_run_schedule {
@@ -162,9 +169,10 @@ typedef struct example_run_schedule {
   int sample_at_start;  /* also sample (and frame) before interval 1 */
   /* The frame cadence: frame_every > 0: after the intervals frame_first,
    * frame_first + frame_every, ... (0 is the start); otherwise one frame
-   * each time the time passes a multiple of frame_period (within 1e-9 s;
-   * example_open_series wrote the frame at t = 0). */
-  gm_series *series; /* NULL: no frames */
+   * each time the time passes the next multiple of frame_period (within
+   * 1e-9 s; a frame at t = 0 is the driver's, example_open_series writes
+   * one). */
+  gm_series *series;   /* NULL: no frames */
   double frame_period; /* s */
   long frame_every;
   long frame_first;
@@ -185,8 +193,7 @@ typedef struct example_run_schedule {
  * schedule that does not make sense), and the time reached in *time (s;
  * may be NULL). The domain's last error names a failed step. */
 gm_status example_run_loop(gm_domain *domain,
-                           const example_run_schedule *schedule,
-                           double *time);
+                           const example_run_schedule *schedule, double *time);
 
 /* The last line of every example:
  * RESULT name=value reference=value rel_error=x */
