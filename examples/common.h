@@ -90,6 +90,8 @@ int example_progress(const gm_domain *domain, double time, double end_time,
  * ends when the time reaches t_end, after interval_limit intervals, when
  * `stop` says so, or at the first failure. A driver's phases (settle
  * closed, then discharge) are one example_run_loop call each.
+ * tests/unit/test_example_loop.c asserts its sample times, step and frame
+ * cadence, stop and failure path.
  *
  * Every driver in examples/papers/, column_collapse.c and
  * silo_layers_janssen.c runs on it. Those that do not, and why:
