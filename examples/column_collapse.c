@@ -537,13 +537,16 @@ static void write_row(collapse_run *run, int row) {
           back.smoothed_normal); /* the last step to a row may be short */
 }
 
-/* Progress over the whole run, although gm_domain_advance is called once
- * per output row. */
-static int run_progress(const gm_domain *domain, double time, double end_time,
-                        void *user) {
-  (void)end_time;
+/* example_sample_fn: the row of interval `state->interval` (0: the start)
+ * and the snapshots due by its time. */
+static gm_status sample_row(const gm_domain *domain,
+                            const example_run_state *state, void *user) {
+  (void)domain;
   collapse_run *run = user;
-  return example_progress(domain, time, run->options->t_end, run->options);
+  write_row(run, (int)state->interval);
+  if (run->options->out[0])
+    take_snapshots(run, state->target);
+  return GM_OK;
 }
 
 /* Opens the CSV and the VTU series in <out>; returns 0. */
@@ -570,23 +573,24 @@ static int open_outputs(collapse_run *run) {
   return 0;
 }
 
-/* Runs to t_end in ROW_COUNT rows; returns 0 or the exit status. */
+/* Runs to t_end in ROW_COUNT rows (row 0 at the start), a frame every
+ * ROWS_PER_FRAME rows; returns 0 or the exit status. */
 static int run_collapse(collapse_run *run) {
-  gm_domain *domain = run->domain;
-  double t_end = run->options->t_end;
-  for (int row = 0; row <= ROW_COUNT; row++) {
-    /* The last target is t_end itself (t_end * n / n may round off). */
-    double target = row == ROW_COUNT ? t_end : t_end * row / ROW_COUNT;
-    if (row > 0)
-      EXAMPLE_CHECK(domain,
-                    gm_domain_advance(domain, target, 0.0, run_progress, run));
-    write_row(run, row);
-    if (run->series && row % ROWS_PER_FRAME == 0)
-      EXAMPLE_CHECK(domain, gm_series_write(run->series, domain));
-    if (run->options->out[0])
-      take_snapshots(run, target);
-  }
-  return 0;
+  const example_run_schedule schedule = {.stepping = EXAMPLE_ADVANCE,
+                                         .sample_times = EXAMPLE_SAMPLE_SPLIT,
+                                         .t_end = run->options->t_end,
+                                         .sample_count = ROW_COUNT,
+                                         .sample_at_start = 1,
+                                         .series = run->series,
+                                         .frame_every = ROWS_PER_FRAME,
+                                         .on_failure = EXAMPLE_FAILURE_STOP,
+                                         .progress = run->options,
+                                         .sample = sample_row,
+                                         .user = run};
+  gm_status status = example_run_loop(run->domain, &schedule, NULL);
+  return status == GM_OK
+             ? 0
+             : example_fail(run->domain, "example_run_loop", status);
 }
 
 /* First recorded time at which the front reached STOP_FRACTION of its

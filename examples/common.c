@@ -285,25 +285,204 @@ int example_fail(const gm_domain *domain, const char *call, gm_status status) {
   return 2;
 }
 
+/* What the step callbacks need while gm_domain_advance runs. */
+typedef struct run_context {
+  const example_run_schedule *schedule;
+  example_run_state *state;
+  int display_done; /* the 100 % line has been shown */
+} run_context;
+
+/* After every committed step: the state, the step callback, the display
+ * (against t_end, or the options' t_end for an open-ended run; after that
+ * end only the 100 % line, once). */
+static void after_step(const gm_domain *domain, run_context *context) {
+  const example_run_schedule *schedule = context->schedule;
+  example_run_state *state = context->state;
+  if (schedule->step)
+    schedule->step(domain, state, schedule->user);
+  if (!schedule->progress)
+    return;
+  double end = isfinite(schedule->t_end) ? schedule->t_end
+                                         : schedule->progress->t_end; /* s */
+  if (state->time < end)
+    example_progress(domain, state->time, end, (void *)schedule->progress);
+  else if (!context->display_done)
+    example_progress(domain, end, end, (void *)schedule->progress);
+  context->display_done = state->time >= end;
+}
+
+/* gm_progress_fn for gm_domain_advance. */
+static int advanced_step(const gm_domain *domain, double time, double end_time,
+                         void *user) {
+  (void)end_time;
+  run_context *context = user;
+  example_run_state *state = context->state;
+  state->step_start = state->time;
+  state->time = time;
+  state->dt = time - state->step_start;
+  after_step(domain, context);
+  return 0;
+}
+
+/* Whether every step is an interval (EXAMPLE_STEPS, no sample times). */
+static int every_step(const example_run_schedule *schedule) {
+  return schedule->stepping == EXAMPLE_STEPS &&
+         schedule->sample_times != EXAMPLE_SAMPLE_SPLIT &&
+         schedule->sample_period == 0.0;
+}
+
+/* EXAMPLE_STEPS: one step, or steps clipped to the sample time until
+ * within 1e-9 s of it. */
+static gm_status take_steps(gm_domain *domain, run_context *context) {
+  const example_run_schedule *schedule = context->schedule;
+  example_run_state *state = context->state;
+  int clipped = !every_step(schedule);
+  gm_status status = GM_OK;
+  do {
+    if (clipped && !(state->target - state->time > 1e-9))
+      break;
+    double dt = schedule->dt; /* s */
+    if (!(dt > 0.0) && gm_domain_point_count(domain) > 0)
+      status = gm_domain_stable_dt(domain, &dt);
+    if (!(dt > 0.0) && gm_domain_point_count(domain) == 0)
+      dt = schedule->empty_dt;
+    if (clipped)
+      dt = fmin(dt, state->target - state->time);
+    if (status == GM_OK)
+      status = gm_domain_step(domain, dt);
+    if (status != GM_OK)
+      return status;
+    state->step_start = state->time;
+    gm_domain_get_time(domain, &state->time, NULL);
+    state->dt = dt;
+    after_step(domain, context);
+  } while (clipped);
+  return GM_OK;
+}
+
+/* The end of interval `k` (s). */
+static double sample_time(const example_run_schedule *schedule,
+                          const example_run_state *state, long k) {
+  switch (schedule->sample_times) {
+  case EXAMPLE_SAMPLE_MULTIPLES:
+    return fmin((double)k * schedule->sample_period, schedule->t_end);
+  case EXAMPLE_SAMPLE_SPLIT: /* the last exactly t_end, whatever round-off */
+    return k >= schedule->sample_count
+               ? schedule->t_end
+               : schedule->t_end * (double)k / (double)schedule->sample_count;
+  default:
+    return fmin(state->time + schedule->sample_period, schedule->t_end);
+  }
+}
+
+/* Whether the time is short of t_end, by the stepping's tolerance (see
+ * example_stepping). */
+static int before_end(const example_run_schedule *schedule, double time) {
+  if (schedule->stepping == EXAMPLE_ADVANCE)
+    return time < schedule->t_end - 1e-12;
+  if (every_step(schedule))
+    return time < schedule->t_end;
+  return schedule->t_end - time > 1e-9;
+}
+
+static int schedule_is_valid(const example_run_schedule *s) {
+  const char *problem = NULL;
+  if (!(s->t_end > 0.0))
+    problem = "t_end must be > 0";
+  else if (s->sample_times != EXAMPLE_SAMPLE_SPLIT &&
+           (!(s->sample_period >= 0.0) || !isfinite(s->sample_period) ||
+            (s->sample_period == 0.0 && s->stepping == EXAMPLE_ADVANCE)))
+    problem = "sample_period must be finite, and > 0 unless EXAMPLE_STEPS "
+              "samples every step";
+  else if (s->sample_times == EXAMPLE_SAMPLE_SPLIT &&
+           (s->sample_count < 1 || !isfinite(s->t_end)))
+    problem = "EXAMPLE_SAMPLE_SPLIT needs sample_count >= 1 and a finite "
+              "t_end";
+  else if (!isfinite(s->t_end) && s->interval_limit <= 0 && !s->stop)
+    problem = "an open-ended run (t_end INFINITY) needs interval_limit or "
+              "stop";
+  else if (s->progress && !isfinite(s->t_end) && !(s->progress->t_end > 0.0))
+    problem = "the progress display of an open-ended run needs "
+              "options->t_end > 0";
+  if (problem)
+    fprintf(stderr, "example_run_loop: %s\n", problem);
+  return problem == NULL;
+}
+
+/* The sample and frame after interval state->interval (0: the start). */
+static gm_status record(const gm_domain *domain,
+                        const example_run_schedule *schedule,
+                        const example_run_state *state, int failed,
+                        double *next_frame) {
+  gm_status status = GM_OK;
+  if (failed && schedule->on_failure == EXAMPLE_FAILURE_STOP)
+    return GM_OK;
+  if (schedule->sample)
+    status = schedule->sample(domain, state, schedule->user);
+  if (!schedule->series)
+    return status;
+  int due = 0;
+  long k = state->interval;
+  if (schedule->frame_every > 0)
+    due = k >= schedule->frame_first &&
+          (k - schedule->frame_first) % schedule->frame_every == 0;
+  else
+    due = schedule->frame_period > 0.0 && k > 0 &&
+          state->time >= *next_frame - 1e-9;
+  if (failed && schedule->on_failure == EXAMPLE_FAILURE_SAMPLE_FRAME)
+    due = 1;
+  if (!due)
+    return status;
+  if (schedule->frame_every <= 0)
+    *next_frame += schedule->frame_period;
+  return status == GM_OK ? gm_series_write(schedule->series, domain) : status;
+}
+
 gm_status example_run_loop(gm_domain *domain,
                            const example_run_schedule *schedule, double *time) {
-  double now = 0.0, next_frame = schedule->frame_period; /* s */
+  example_run_state state = {0, 0.0, 0.0, 0.0, 0.0};
+  run_context context = {schedule, &state, 0};
+  gm_domain_get_time(domain, &state.time, NULL);
+  state.target = state.time;
+  if (time)
+    *time = state.time;
+  if (!schedule_is_valid(schedule))
+    return GM_ERR_INVALID_ARGUMENT;
+  double next_frame = state.time + schedule->frame_period; /* s */
+  long limit = schedule->interval_limit;
+  if (schedule->sample_times == EXAMPLE_SAMPLE_SPLIT &&
+      (limit <= 0 || limit > schedule->sample_count))
+    limit = schedule->sample_count;
   gm_status status = GM_OK;
-  /* The tolerances keep a sample or frame that round-off puts a hair
-   * before its nominal time from slipping to the next interval. */
-  while (status == GM_OK && now < schedule->t_end - 1e-12) {
-    double target = fmin(now + schedule->sample_period, schedule->t_end);
-    status = gm_domain_advance(domain, target, schedule->dt, schedule->progress,
-                               schedule->progress_user);
-    gm_domain_get_time(domain, &now, NULL);
-    if (schedule->sample)
-      schedule->sample(domain, schedule->sample_user);
-    if (schedule->series && (now >= next_frame - 1e-9 ||
-                             (schedule->frame_on_failure && status != GM_OK))) {
-      gm_series_write(schedule->series, domain);
-      next_frame += schedule->frame_period;
-    }
+  int stopped = 0;
+  if (schedule->sample_at_start) {
+    status = record(domain, schedule, &state, 0, &next_frame);
+    stopped = schedule->stop && schedule->stop(domain, &state, schedule->user);
   }
-  *time = now;
+  while (status == GM_OK && !stopped && before_end(schedule, state.time) &&
+         (limit <= 0 || state.interval < limit)) {
+    long k = state.interval + 1;
+    state.target =
+        every_step(schedule) ? state.time : sample_time(schedule, &state, k);
+    if (schedule->prepare)
+      status = schedule->prepare(domain, &state, schedule->user);
+    if (status == GM_OK && schedule->stepping == EXAMPLE_ADVANCE)
+      status = gm_domain_advance(domain, state.target, schedule->dt,
+                                 advanced_step, &context);
+    else if (status == GM_OK)
+      status = take_steps(domain, &context);
+    gm_domain_get_time(domain, &state.time, NULL);
+    if (every_step(schedule))
+      state.target = state.time;
+    state.interval = k;
+    gm_status recorded =
+        record(domain, schedule, &state, status != GM_OK, &next_frame);
+    if (status == GM_OK)
+      status = recorded;
+    if (status == GM_OK && schedule->stop)
+      stopped = schedule->stop(domain, &state, schedule->user);
+  }
+  if (time)
+    *time = state.time;
   return status;
 }

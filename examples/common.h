@@ -2,8 +2,8 @@
  * common.h - what every example driver shares: the command-line options
  * (--method, --family, --ppc, --cell, --workers, --out, --t-end and the
  * example's own), the output directory, a CSV time series, a progress
- * display for gm_domain_advance, the run loop (advance, sample, frame) and
- * the final RESULT line.
+ * display, the run loop every stepping driver shares (intervals, callbacks,
+ * frames, the stop and the failure) and the final RESULT line.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -81,33 +81,121 @@ gm_status example_open_series(const example_options *options, const char *name,
 int example_progress(const gm_domain *domain, double time, double end_time,
                      void *user);
 
-/* Called after every sample interval of example_run_loop with the domain
- * at the time reached; user is example_run_schedule.sample_user. */
-typedef void (*example_sample_fn)(const gm_domain *domain, void *user);
+/* The shared run loop of every example driver that steps a domain.
+ *
+ * A run is a sequence of intervals. Before each: `prepare` (place a
+ * portion, a layer, reset an average); then the domain is moved through
+ * the interval by `stepping`, `step` after every step; after it: `sample`
+ * (a CSV row), a VTU frame when the cadence says, and `stop`. The loop
+ * ends when the time reaches t_end, after interval_limit intervals, when
+ * `stop` says so, or at the first failure. A driver's phases (settle
+ * closed, then discharge) are one example_run_loop call each.
+ * tests/unit/test_example_loop.c asserts its sample times, step and frame
+ * cadence, stop and failure path.
+ *
+ * Every driver in examples/papers/, column_collapse.c and
+ * silo_layers_janssen.c runs on it. Those that do not, and why:
+ *  - minimal.c (the README's and granmpm(3)'s listing, which
+ *    tests/scripts/readme_example.sh keeps identical to it; make check
+ *    builds it against granmpm.h alone) and demo_bar.c (make demo-bar,
+ *    "uses only the public API") are there to show the public API: their
+ *    few lines of gm_domain_step are the point of the listing, and a
+ *    user copying them would also need common.c;
+ *  - freefall.f90 is the Fortran binding's check and cannot call C
+ *    helpers that are not part of the library. */
 
-/* What the shared run loop does: advance to t_end in intervals of
- * sample_period, each with gm_domain_advance (step dt, <= 0 for the stable
- * step; progress called after every step), then sample, and write a frame
- * to series (if not NULL) every frame_period. */
+/* Where the loop stands, handed to every callback. */
+typedef struct example_run_state {
+  long interval;     /* intervals done; 0 before the first */
+  double target;     /* s, the end of the current interval (the start time
+                        before the first; every step an interval: the time
+                        reached after it) */
+  double time;       /* s, the domain's time */
+  double step_start; /* s, step: the time before the step */
+  double dt;         /* s, step: the step taken (time - step_start when
+                        gm_domain_advance chose it) */
+} example_run_state;
+
+/* Before an interval (domain at state->time) and after one (sample); a
+ * status other than GM_OK ends the loop with it. */
+typedef gm_status example_run_fn(gm_domain *domain,
+                                 const example_run_state *state, void *user);
+typedef gm_status example_sample_fn(const gm_domain *domain,
+                                    const example_run_state *state, void *user);
+/* After every committed step. */
+typedef void example_step_fn(const gm_domain *domain,
+                             const example_run_state *state, void *user);
+/* After each sample and frame: nonzero ends the loop. */
+typedef int example_stop_fn(const gm_domain *domain,
+                            const example_run_state *state, void *user);
+
+/* How an interval is stepped. */
+typedef enum example_stepping {
+  /* gm_domain_advance to the sample time: steps of dt (<= 0: the stable
+   * dt), the last two evened out, landing on it exactly; the loop runs
+   * while time < t_end - 1e-12 s (no sliver interval for round-off). */
+  EXAMPLE_ADVANCE,
+  /* gm_domain_step: steps of dt (<= 0: gm_domain_stable_dt; empty_dt
+   * while the domain has no points, where the stable dt is undefined).
+   * With sample times (sample_period > 0 or EXAMPLE_SAMPLE_SPLIT): each
+   * step clipped to the sample time, the interval over within 1e-9 s of
+   * it (no sliver step), and the loop runs while t_end - time > 1e-9 s.
+   * Without (sample_period = 0): every step is an interval, the last one
+   * may pass t_end, and the loop runs while time < t_end. */
+  EXAMPLE_STEPS
+} example_stepping;
+
+/* Where the sample times lie (k = the interval's number, from 1). */
+typedef enum example_sample_times {
+  EXAMPLE_SAMPLE_AFTER,     /* the time reached + sample_period */
+  EXAMPLE_SAMPLE_MULTIPLES, /* k sample_period */
+  EXAMPLE_SAMPLE_SPLIT      /* t_end k / sample_count, the last t_end */
+} example_sample_times;
+
+/* What a failed step (or callback) leaves behind, beyond the status. */
+typedef enum example_on_failure {
+  EXAMPLE_FAILURE_STOP,        /* nothing */
+  EXAMPLE_FAILURE_SAMPLE,      /* the failed interval's sample */
+  EXAMPLE_FAILURE_SAMPLE_FRAME /* its sample and a frame of it */
+} example_on_failure;
+
 typedef struct example_run_schedule {
-  double t_end;           /* s */
-  double sample_period;   /* s between samples (CSV rows) */
-  double frame_period;    /* s between VTU frames */
-  double dt;              /* s; <= 0: the stable step */
-  gm_progress_fn *progress; /* NULL: none */
-  void *progress_user;
-  example_sample_fn sample; /* NULL: none */
-  void *sample_user;
-  gm_series *series;      /* NULL: no frames */
-  int frame_on_failure;   /* also write a frame of the failed state */
+  example_stepping stepping;
+  example_sample_times sample_times;
+  double t_end;         /* s; INFINITY: no end but interval_limit or stop */
+  double sample_period; /* s between samples (0: every step, EXAMPLE_STEPS) */
+  long sample_count;    /* EXAMPLE_SAMPLE_SPLIT: intervals to t_end */
+  long interval_limit;  /* > 0: at most this many intervals */
+  double dt;            /* s; <= 0: the stable step */
+  double empty_dt;      /* s, EXAMPLE_STEPS without points */
+  int sample_at_start;  /* also sample (and frame) before interval 1 */
+  /* The frame cadence: frame_every > 0: after the intervals frame_first,
+   * frame_first + frame_every, ... (0 is the start); otherwise one frame
+   * each time the time passes the next multiple of frame_period (within
+   * 1e-9 s; a frame at t = 0 is the driver's, example_open_series writes
+   * one). */
+  gm_series *series;   /* NULL: no frames */
+  double frame_period; /* s */
+  long frame_every;
+  long frame_first;
+  example_on_failure on_failure;
+  /* The progress display (example_progress against t_end, or against
+   * options->t_end while t_end is INFINITY); NULL: none. */
+  const example_options *progress;
+  example_run_fn *prepare; /* each may be NULL */
+  example_step_fn *step;
+  example_sample_fn *sample;
+  example_stop_fn *stop;
+  void *user; /* handed to every callback */
 } example_run_schedule;
 
-/* Runs the schedule from t = 0; returns the status of the first failed
- * advance (GM_OK if none) and the time reached in *time (s). Does not
- * print anything itself. */
+/* Runs the schedule from the domain's time; returns GM_OK or the status
+ * of the first failure (a step, a callback, a frame that could not be
+ * written; GM_ERR_INVALID_ARGUMENT, with a message on stderr, for a
+ * schedule that does not make sense), and the time reached in *time (s;
+ * may be NULL). The domain's last error names a failed step. */
 gm_status example_run_loop(gm_domain *domain,
-                           const example_run_schedule *schedule,
-                           double *time);
+                           const example_run_schedule *schedule, double *time);
 
 /* The last line of every example:
  * RESULT name=value reference=value rel_error=x */

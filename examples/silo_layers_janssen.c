@@ -35,6 +35,8 @@
  */
 #include <granmpm.h>
 
+#include "common.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -137,6 +139,39 @@ static void record_pressure(const gm_domain *domain, const int walls[2],
   }
 }
 
+/* The filling: layers placed so far, and the wall pressures summed over
+ * the last AVERAGING_TIME. */
+typedef struct layer_run {
+  int material;
+  int layers, placed;
+  int walls[2];
+  double end;                /* s, the last layer plus SETTLE_TIME */
+  double pressure[MAX_ROWS]; /* Pa s, by node row */
+  double averaged;           /* s */
+} layer_run;
+
+/* example_run_fn, before every step: the next layer once its time has
+ * come. */
+static gm_status place_due_layer(gm_domain *domain,
+                                 const example_run_state *state, void *user) {
+  layer_run *run = user;
+  if (run->placed < run->layers && state->time >= run->placed * LAYER_PERIOD) {
+    place_layer(domain, run->material);
+    run->placed++;
+  }
+  return GM_OK;
+}
+
+/* example_step_fn: the wall pressures over the last AVERAGING_TIME. */
+static void record_step(const gm_domain *domain, const example_run_state *state,
+                        void *user) {
+  layer_run *run = user;
+  if (state->time > run->end - AVERAGING_TIME) {
+    record_pressure(domain, run->walls, state->dt, run->pressure);
+    run->averaged += state->dt;
+  }
+}
+
 /* Vertical stress (Pa) of each cell row as the force it transmits. */
 static void row_stress(const gm_domain *domain, double *stress) {
   size_t count = gm_domain_point_count(domain);
@@ -164,15 +199,15 @@ int main(int argc, char **argv) {
   def.damping = 0.05;
   gm_domain *domain = NULL;
   CHECK(domain, gm_domain_create(&def, &domain));
-  int walls[2] = {add_wall(domain, 0.0, 0.0, 1.0, 0.0, WALL_FRICTION),
-                  add_wall(domain, WIDTH, 0.0, -1.0, 0.0, WALL_FRICTION)};
+  static layer_run run; /* static: the pressure rows */
+  run.walls[0] = add_wall(domain, 0.0, 0.0, 1.0, 0.0, WALL_FRICTION);
+  run.walls[1] = add_wall(domain, WIDTH, 0.0, -1.0, 0.0, WALL_FRICTION);
   add_wall(domain, 0.0, 0.0, 0.0, 1.0, 1.0); /* rough floor */
   gm_drucker_prager_def granular = gm_drucker_prager_def_default();
   granular.poisson_ratio = POISSON_RATIO;
   granular.density = DENSITY;
   granular.friction_angle = FRICTION_ANGLE;
-  int material = -1;
-  CHECK(domain, gm_domain_add_drucker_prager(domain, &granular, &material));
+  CHECK(domain, gm_domain_add_drucker_prager(domain, &granular, &run.material));
 
   gm_series *series = NULL;
   if (argc > 1) {
@@ -180,27 +215,23 @@ int main(int argc, char **argv) {
     snprintf(pvd, sizeof pvd, "%s/silo.pvd", argv[1]);
     CHECK(NULL, gm_series_create(pvd, &series));
   }
-  int layers = (int)lround(FILL_HEIGHT / CELL), placed = 0;
-  double end = layers * LAYER_PERIOD + SETTLE_TIME, time = 0.0; /* s */
-  static double pressure[MAX_ROWS];                             /* Pa s */
-  double averaged = 0.0;                                        /* s */
-  for (int step = 0; time < end; step++) {
-    if (placed < layers && time >= placed * LAYER_PERIOD) {
-      place_layer(domain, material);
-      placed++;
-    }
-    double dt = 0.0; /* s, the largest stable step */
-    CHECK(domain, gm_domain_stable_dt(domain, &dt));
-    CHECK(domain, gm_domain_step(domain, dt));
-    time += dt;
-    if (time > end - AVERAGING_TIME) {
-      record_pressure(domain, walls, dt, pressure);
-      averaged += dt;
-    }
-    if (series && step % 200 == 0)
-      CHECK(domain, gm_series_write(series, domain));
-  }
+  run.layers = (int)lround(FILL_HEIGHT / CELL);
+  run.end = run.layers * LAYER_PERIOD + SETTLE_TIME; /* s */
+  /* Stable steps up to the end (the last may pass it), a layer before the
+   * step where its time has come, a frame after steps 1, 201, 401, ... */
+  const example_run_schedule schedule = {.stepping = EXAMPLE_STEPS,
+                                         .t_end = run.end,
+                                         .series = series,
+                                         .frame_every = 200,
+                                         .frame_first = 1,
+                                         .on_failure = EXAMPLE_FAILURE_STOP,
+                                         .prepare = place_due_layer,
+                                         .step = record_step,
+                                         .user = &run};
+  CHECK(domain, example_run_loop(domain, &schedule, NULL));
   gm_series_destroy(series);
+  const double *pressure = run.pressure;
+  double averaged = run.averaged; /* s */
 
   static double stress[MAX_ROWS];
   row_stress(domain, stress);

@@ -151,10 +151,12 @@ static gm_domain *create_domain(const example_options *options) {
 }
 
 /* example_sample_fn: one CSV row; user is the FILE (NULL: none). */
-static void write_row(const gm_domain *domain, void *user) {
+static gm_status write_row(const gm_domain *domain,
+                           const example_run_state *state, void *user) {
+  (void)state;
   FILE *csv = user;
   if (!csv)
-    return;
+    return GM_OK;
   double time = 0.0, front = 0.0, centre = 0.0, energy[2];
   gm_domain_get_time(domain, &time, NULL);
   measure(domain, &front, &centre, energy);
@@ -167,6 +169,7 @@ static void write_row(const gm_domain *domain, void *user) {
           floor_force.smoothed_tangential);
   example_write_states(csv, domain);
   fputc('\n', csv);
+  return GM_OK;
 }
 
 int main(int argc, char **argv) {
@@ -211,9 +214,16 @@ int main(int argc, char **argv) {
   EXAMPLE_CHECK(domain, gm_domain_get_summary(domain, &start));
   double centre_speed = start.momentum[0] / start.mass; /* m/s */
   double time = 0.0;                                    /* s */
-  const example_run_schedule schedule = {
-      options.t_end, SAMPLE_PERIOD, FRAME_PERIOD, 0.0,    example_progress,
-      &options,      write_row,     csv,          series, 0};
+  const example_run_schedule schedule = {.stepping = EXAMPLE_ADVANCE,
+                                         .sample_times = EXAMPLE_SAMPLE_AFTER,
+                                         .t_end = options.t_end,
+                                         .sample_period = SAMPLE_PERIOD,
+                                         .series = series,
+                                         .frame_period = FRAME_PERIOD,
+                                         .on_failure = EXAMPLE_FAILURE_SAMPLE,
+                                         .progress = &options,
+                                         .sample = write_row,
+                                         .user = csv};
   gm_status status = example_run_loop(domain, &schedule, &time);
   if (status != GM_OK)
     printf("FAILED at t = %.4f s: %s (%s)\n", time, gm_strerror(status),

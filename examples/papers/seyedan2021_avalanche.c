@@ -70,7 +70,7 @@ enum { WALL_LOWER = 0, WALL_UPPER = 1, WALL_END = 2, WALL_COUNT = 3 };
 /* What the run measured; updated after every step. */
 typedef struct avalanche_record {
   double max_volume_ratio; /* largest V/V0 of any point so far */
-  const example_options *options;
+  FILE *csv;               /* NULL: no CSV */
 } avalanche_record;
 
 static double largest_volume_ratio(const gm_domain *domain) {
@@ -86,13 +86,13 @@ static double largest_volume_ratio(const gm_domain *domain) {
   return largest;
 }
 
-/* gm_progress_fn: tracks the largest V/V0 and shows the progress. */
-static int track_step(const gm_domain *domain, double time, double end_time,
-                      void *user) {
+/* example_step_fn: tracks the largest V/V0. */
+static void track_step(const gm_domain *domain, const example_run_state *state,
+                       void *user) {
+  (void)state;
   avalanche_record *record = user;
   record->max_volume_ratio =
       fmax(record->max_volume_ratio, largest_volume_ratio(domain));
-  return example_progress(domain, time, end_time, (void *)record->options);
 }
 
 static int add_wall(gm_domain *domain, double x, double y, double normal_x,
@@ -189,11 +189,13 @@ static void measure(const gm_domain *domain, double *average, double *front) {
   *average = total_mass / total_volume;
 }
 
-/* example_sample_fn: one CSV row; user is the FILE (NULL: none). */
-static void write_row(const gm_domain *domain, void *user) {
-  FILE *csv = user;
+/* example_sample_fn: one CSV row to the record's CSV (NULL: none). */
+static gm_status write_row(const gm_domain *domain,
+                           const example_run_state *state, void *user) {
+  (void)state;
+  FILE *csv = ((const avalanche_record *)user)->csv;
   if (!csv)
-    return;
+    return GM_OK;
   double time = 0.0, average = 0.0, front = 0.0;
   gm_domain_get_time(domain, &time, NULL);
   gm_summary summary = gm_summary_default();
@@ -214,6 +216,7 @@ static void write_row(const gm_domain *domain, void *user) {
             force.smoothed_tangential);
   }
   fprintf(csv, "\n");
+  return GM_OK;
 }
 
 static gm_domain *create_domain(const example_options *options,
@@ -233,13 +236,21 @@ static gm_domain *create_domain(const example_options *options,
 /* Runs to t_end writing samples and frames; returns the status of the
  * first failed step (GM_OK if none). */
 static gm_status run(gm_domain *domain, const example_options *options,
-                     double dt, FILE *csv, gm_series *series,
-                     avalanche_record *record) {
-  double time = 0.0; /* s */
-  const example_run_schedule schedule = {
-      options->t_end, SAMPLE_PERIOD, FRAME_PERIOD, dt,     track_step,
-      record,         write_row,     csv,          series, 1};
-  return example_run_loop(domain, &schedule, &time);
+                     double dt, gm_series *series, avalanche_record *record) {
+  const example_run_schedule schedule = {.stepping = EXAMPLE_ADVANCE,
+                                         .sample_times = EXAMPLE_SAMPLE_AFTER,
+                                         .t_end = options->t_end,
+                                         .sample_period = SAMPLE_PERIOD,
+                                         .dt = dt,
+                                         .series = series,
+                                         .frame_period = FRAME_PERIOD,
+                                         .on_failure =
+                                             EXAMPLE_FAILURE_SAMPLE_FRAME,
+                                         .progress = options,
+                                         .step = track_step,
+                                         .sample = write_row,
+                                         .user = record};
+  return example_run_loop(domain, &schedule, NULL);
 }
 
 int main(int argc, char **argv) {
@@ -277,8 +288,8 @@ int main(int argc, char **argv) {
   gm_series *series = NULL;
   EXAMPLE_CHECK(domain,
                 example_open_series(&options, "avalanche", domain, &series));
-  avalanche_record record = {1.0, &options};
-  gm_status status = run(domain, &options, dt, csv, series, &record);
+  avalanche_record record = {1.0, csv};
+  gm_status status = run(domain, &options, dt, series, &record);
   double time = 0.0, average = 0.0, front = 0.0;
   gm_domain_get_time(domain, &time, NULL);
   measure(domain, &average, &front);

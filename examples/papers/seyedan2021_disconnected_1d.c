@@ -113,34 +113,56 @@ static double moving_value(const gm_domain *domain, int64_t id,
   return values[index];
 }
 
-/* Steps to t_end; records the events, the CSV and frames if given. */
+/* The moving point and what happened to it. */
+typedef struct moving_run {
+  int64_t id;
+  double speed; /* m/s, its initial speed */
+  FILE *csv;    /* NULL: none */
+  event_times times;
+} moving_run;
+
+/* example_sample_fn, after every step: the events and a CSV row. */
+static gm_status sample_step(const gm_domain *domain,
+                             const example_run_state *state, void *user) {
+  moving_run *run = user;
+  double start = (double)(state->interval - 1) * TIME_STEP; /* s */
+  gm_granular_summary summary = gm_granular_summary_default();
+  gm_domain_get_granular_summary(domain, &summary);
+  if (run->times.merge < 0 && summary.component_count == 1)
+    run->times.merge = start;
+  double velocity = moving_value(domain, run->id, GM_FIELD_VELOCITY); /* m/s */
+  if (run->times.change < 0 && velocity != run->speed)
+    run->times.change = start;
+  if (run->csv)
+    fprintf(run->csv, "%.5f,%.8f,%.8f,%g,%g,%zu\n", start + TIME_STEP,
+            moving_value(domain, run->id, GM_FIELD_POSITION), velocity,
+            moving_value(domain, run->id, GM_FIELD_STATE),
+            moving_value(domain, run->id, GM_FIELD_COMPONENT),
+            summary.component_count);
+  return GM_OK;
+}
+
+/* Steps of TIME_STEP to t_end (as many as round to it); records the
+ * events, the CSV and a frame every 100 steps if given. */
 static event_times run(gm_domain *domain, int64_t id, double speed,
                        double t_end, FILE *csv, gm_series *series) {
-  event_times times = {-1.0, -1.0};
+  moving_run moving = {id, speed, csv, {-1.0, -1.0}};
   long steps = lround(t_end / TIME_STEP);
-  for (long step = 0; step < steps; step++) {
-    double start = step * TIME_STEP; /* s */
-    if (gm_domain_step(domain, TIME_STEP) != GM_OK) {
-      example_fail(domain, "gm_domain_step", GM_ERR_INVALID_ARGUMENT);
-      break;
-    }
-    gm_granular_summary summary = gm_granular_summary_default();
-    gm_domain_get_granular_summary(domain, &summary);
-    if (times.merge < 0 && summary.component_count == 1)
-      times.merge = start;
-    double velocity = moving_value(domain, id, GM_FIELD_VELOCITY); /* m/s */
-    if (times.change < 0 && velocity != speed)
-      times.change = start;
-    if (csv)
-      fprintf(csv, "%.5f,%.8f,%.8f,%g,%g,%zu\n", start + TIME_STEP,
-              moving_value(domain, id, GM_FIELD_POSITION), velocity,
-              moving_value(domain, id, GM_FIELD_STATE),
-              moving_value(domain, id, GM_FIELD_COMPONENT),
-              summary.component_count);
-    if (series && step % 100 == 99)
-      gm_series_write(series, domain);
-  }
-  return times;
+  const example_run_schedule schedule = {.stepping = EXAMPLE_STEPS,
+                                         .t_end = INFINITY,
+                                         .interval_limit = steps,
+                                         .dt = TIME_STEP,
+                                         .series = series,
+                                         .frame_every = 100,
+                                         .frame_first = 100,
+                                         .on_failure = EXAMPLE_FAILURE_STOP,
+                                         .sample = sample_step,
+                                         .user = &moving};
+  gm_status status =
+      steps > 0 ? example_run_loop(domain, &schedule, NULL) : GM_OK;
+  if (status != GM_OK)
+    example_fail(domain, "gm_domain_step", status);
+  return moving.times;
 }
 
 int main(int argc, char **argv) {

@@ -126,7 +126,9 @@ static gm_status add_bed(gm_domain *domain) {
  * (gm_walls(3)), and the last step to a row's time may be a sliver whose
  * force (impulse / dt) spikes; the row's impulse over its duration is the
  * load-cell signal, however the row was split into steps. */
-static void write_row(const gm_domain *domain, void *user) {
+static gm_status write_row(const gm_domain *domain,
+                           const example_run_state *state, void *user) {
+  (void)state;
   impact_record *record = user; /* example_sample_fn */
   FILE *csv = record->csv;
   gm_rigid_load load = gm_rigid_load_default();
@@ -146,7 +148,7 @@ static void write_row(const gm_domain *domain, void *user) {
   record->duration = load.total_duration;
   record->peak_force = fmax(record->peak_force, plate);
   if (!csv)
-    return;
+    return GM_OK;
   double time = 0.0;
   gm_domain_get_time(domain, &time, NULL);
   gm_summary summary = gm_summary_default();
@@ -158,6 +160,7 @@ static void write_row(const gm_domain *domain, void *user) {
           granular.state_count[1], granular.state_count[2],
           granular.component_count, plate, plate * FLUME_WIDTH, bed_force[1],
           fabs(bed_force[0])); /* the bed normal is +y */
+  return GM_OK;
 }
 
 static gm_domain *create_domain(const example_options *options) {
@@ -210,9 +213,16 @@ int main(int argc, char **argv) {
                 example_open_series(&options, "impact_force", domain, &series));
   record.csv = csv;
   double time = 0.0; /* s */
-  const example_run_schedule schedule = {
-      options.t_end, SAMPLE_PERIOD, FRAME_PERIOD, 0.0,    example_progress,
-      &options,      write_row,     &record,      series, 0};
+  const example_run_schedule schedule = {.stepping = EXAMPLE_ADVANCE,
+                                         .sample_times = EXAMPLE_SAMPLE_AFTER,
+                                         .t_end = options.t_end,
+                                         .sample_period = SAMPLE_PERIOD,
+                                         .series = series,
+                                         .frame_period = FRAME_PERIOD,
+                                         .on_failure = EXAMPLE_FAILURE_SAMPLE,
+                                         .progress = &options,
+                                         .sample = write_row,
+                                         .user = &record};
   gm_status status = example_run_loop(domain, &schedule, &time);
   if (status != GM_OK)
     printf("FAILED at t = %.4f s: %s (%s)\n", time, gm_strerror(status),

@@ -55,7 +55,8 @@ static const double FRAME_PERIOD = 0.17;   /* s between VTU frames */
 typedef struct silo_record {
   int fill_material;
   double max_volume_ratio; /* largest V/V0 of a fill point so far */
-  const example_options *options;
+  double cell;             /* m */
+  FILE *csv;               /* NULL: no CSV */
 } silo_record;
 
 /* The material id of every point (computed, so copied, not viewed);
@@ -83,13 +84,14 @@ static double largest_volume_ratio(const gm_domain *domain, int material) {
   return largest;
 }
 
-static int track_step(const gm_domain *domain, double time, double end_time,
-                      void *user) {
+/* example_step_fn: tracks the largest V/V0 of the fill. */
+static void track_step(const gm_domain *domain, const example_run_state *state,
+                       void *user) {
+  (void)state;
   silo_record *record = user;
   record->max_volume_ratio =
       fmax(record->max_volume_ratio,
            largest_volume_ratio(domain, record->fill_material));
-  return example_progress(domain, time, end_time, (void *)record->options);
 }
 
 /* Wall thickness = one cell: the walls fill the grid's outer cells. */
@@ -179,10 +181,16 @@ static void measure_fill(const gm_domain *domain, int material, double *average,
   free(id);
 }
 
-static void write_row(FILE *csv, const gm_domain *domain, int material,
-                      double cell) {
+/* example_sample_fn: one CSV row to the record's CSV (NULL: none). */
+static gm_status write_row(const gm_domain *domain,
+                           const example_run_state *state, void *user) {
+  (void)state;
+  const silo_record *record = user;
+  FILE *csv = record->csv;
+  int material = record->fill_material;
+  double cell = record->cell; /* m */
   if (!csv)
-    return;
+    return GM_OK;
   double time = 0.0, average = 0.0, deposit = 0.0;
   size_t count = 0;
   gm_domain_get_time(domain, &time, NULL);
@@ -197,6 +205,7 @@ static void write_row(FILE *csv, const gm_domain *domain, int material,
           granular.component_count, count, average,
           largest_volume_ratio(domain, material),
           count ? fmax(deposit - cell, 0.0) : 0.0);
+  return GM_OK;
 }
 
 static gm_domain *create_domain(const example_options *options,
@@ -211,22 +220,24 @@ static gm_domain *create_domain(const example_options *options,
   return example_create_domain(&def);
 }
 
+/* Runs to t_end: a CSV row per sample, a frame per frame period (the
+ * series has no frame at t = 0) and one of a failed state. */
 static gm_status run(gm_domain *domain, const example_options *options,
-                     double dt, FILE *csv, gm_series *series,
-                     silo_record *record) {
-  double time = 0.0, next_frame = FRAME_PERIOD; /* s */
-  gm_status status = GM_OK;
-  while (status == GM_OK && time < options->t_end - 1e-12) {
-    double target = fmin(time + SAMPLE_PERIOD, options->t_end);
-    status = gm_domain_advance(domain, target, dt, track_step, record);
-    gm_domain_get_time(domain, &time, NULL);
-    write_row(csv, domain, record->fill_material, options->cell);
-    if (series && (time >= next_frame - 1e-9 || status != GM_OK)) {
-      gm_series_write(series, domain);
-      next_frame += FRAME_PERIOD;
-    }
-  }
-  return status;
+                     double dt, gm_series *series, silo_record *record) {
+  const example_run_schedule schedule = {.stepping = EXAMPLE_ADVANCE,
+                                         .sample_times = EXAMPLE_SAMPLE_AFTER,
+                                         .t_end = options->t_end,
+                                         .sample_period = SAMPLE_PERIOD,
+                                         .dt = dt,
+                                         .series = series,
+                                         .frame_period = FRAME_PERIOD,
+                                         .on_failure =
+                                             EXAMPLE_FAILURE_SAMPLE_FRAME,
+                                         .progress = options,
+                                         .step = track_step,
+                                         .sample = write_row,
+                                         .user = record};
+  return example_run_loop(domain, &schedule, NULL);
 }
 
 int main(int argc, char **argv) {
@@ -249,7 +260,7 @@ int main(int argc, char **argv) {
   gm_domain *domain = create_domain(&options, scheme);
   if (!domain)
     return 2;
-  silo_record record = {-1, 1.0, &options};
+  silo_record record = {-1, 1.0, options.cell, NULL};
   EXAMPLE_CHECK(domain,
                 add_fill(domain, options.cell, youngs, &record.fill_material));
   EXAMPLE_CHECK(domain, add_silo_walls(domain, options.cell, youngs));
@@ -266,7 +277,8 @@ int main(int argc, char **argv) {
     if (options.shape != GM_SHAPE_LINEAR)
       gm_series_set_domains(series, 1);
   }
-  gm_status status = run(domain, &options, dt, csv, series, &record);
+  record.csv = csv;
+  gm_status status = run(domain, &options, dt, series, &record);
   double time = 0.0, average = 0.0, deposit = 0.0;
   size_t placed = 0;
   gm_domain_get_time(domain, &time, NULL);

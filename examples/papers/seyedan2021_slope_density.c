@@ -92,10 +92,12 @@ static gm_domain *create_slope(const example_options *options) {
 }
 
 /* example_sample_fn: one CSV row; user is the FILE (NULL: none). */
-static void write_row(const gm_domain *domain, void *user) {
+static gm_status write_row(const gm_domain *domain,
+                           const example_run_state *state, void *user) {
+  (void)state;
   FILE *csv = user;
   if (!csv)
-    return;
+    return GM_OK;
   double time = 0.0, average = 0.0, lowest = 0.0, front = 0.0;
   gm_domain_get_time(domain, &time, NULL);
   gm_summary summary = gm_summary_default();
@@ -107,6 +109,7 @@ static void write_row(const gm_domain *domain, void *user) {
           summary.kinetic_energy, granular.state_count[0],
           granular.state_count[1], granular.state_count[2],
           granular.component_count, average, lowest, front);
+  return GM_OK;
 }
 
 int main(int argc, char **argv) {
@@ -140,9 +143,17 @@ int main(int argc, char **argv) {
   double time = 0.0; /* s */
   struct timespec wall_start, wall_end;
   clock_gettime(CLOCK_MONOTONIC, &wall_start);
-  const example_run_schedule schedule = {
-      options.t_end, SAMPLE_PERIOD, FRAME_PERIOD, TIME_STEP, example_progress,
-      &options,      write_row,     csv,          series,    0};
+  const example_run_schedule schedule = {.stepping = EXAMPLE_ADVANCE,
+                                         .sample_times = EXAMPLE_SAMPLE_AFTER,
+                                         .t_end = options.t_end,
+                                         .sample_period = SAMPLE_PERIOD,
+                                         .dt = TIME_STEP,
+                                         .series = series,
+                                         .frame_period = FRAME_PERIOD,
+                                         .on_failure = EXAMPLE_FAILURE_SAMPLE,
+                                         .progress = &options,
+                                         .sample = write_row,
+                                         .user = csv};
   gm_status status = example_run_loop(domain, &schedule, &time);
   if (status != GM_OK)
     printf("FAILED at t = %.4f s: %s (%s)\n", time, gm_strerror(status),

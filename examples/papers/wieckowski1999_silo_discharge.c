@@ -306,8 +306,30 @@ static void record_tractions(const gm_domain *domain, int wall, double cell,
   }
 }
 
-/* Phase 1: settles the closed silo; returns the mid-depth wall pressure
- * (Pa, time-averaged) or a negative status. Writes rest_wall.csv. */
+/* The side wall's tractions at rest, summed over the last AVERAGING_TIME
+ * of the settling. */
+typedef struct rest_record {
+  int wall;
+  double cell;      /* m */
+  double *pressure; /* Pa s, by node row */
+  size_t rows;
+  double averaged; /* s */
+} rest_record;
+
+/* example_step_fn of the settling. */
+static void record_rest_step(const gm_domain *domain,
+                             const example_run_state *state, void *user) {
+  rest_record *rest = user;
+  if (state->time > SETTLE_TIME - AVERAGING_TIME) {
+    record_tractions(domain, rest->wall, rest->cell, state->dt, rest->pressure,
+                     rest->rows);
+    rest->averaged += state->dt;
+  }
+}
+
+/* Phase 1: settles the closed silo (stable steps up to SETTLE_TIME, the
+ * last one may pass it); returns the mid-depth wall pressure (Pa,
+ * time-averaged) or a negative status. Writes rest_wall.csv. */
 static gm_status settle(gm_domain *domain, silo *s, const wall_loads *loads,
                         double *mid_pressure) {
   double cell = s->options.cell, time = 0.0; /* m, s */
@@ -315,19 +337,14 @@ static gm_status settle(gm_domain *domain, silo *s, const wall_loads *loads,
   double *pressure = calloc(rows, sizeof *pressure); /* Pa s */
   if (!pressure)
     return GM_ERR_NO_MEMORY;
-  double averaged = 0.0; /* s */
-  gm_status status = GM_OK;
-  while (status == GM_OK && time < SETTLE_TIME) {
-    double dt = 0.0; /* s */
-    status = gm_domain_stable_dt(domain, &dt);
-    if (status == GM_OK)
-      status = gm_domain_step(domain, dt);
-    time += dt;
-    if (status == GM_OK && time > SETTLE_TIME - AVERAGING_TIME) {
-      record_tractions(domain, loads->walls[0], cell, dt, pressure, rows);
-      averaged += dt;
-    }
-  }
+  rest_record rest = {loads->walls[0], cell, pressure, rows, 0.0};
+  const example_run_schedule schedule = {.stepping = EXAMPLE_STEPS,
+                                         .t_end = SETTLE_TIME,
+                                         .on_failure = EXAMPLE_FAILURE_STOP,
+                                         .step = record_rest_step,
+                                         .user = &rest};
+  gm_status status = example_run_loop(domain, &schedule, &time);
+  double averaged = rest.averaged; /* s */
   gm_summary summary = gm_summary_default();
   if (status == GM_OK)
     status = gm_domain_get_summary(domain, &summary);
@@ -466,17 +483,84 @@ static double beverloo(const silo *s, double offset) {
   return BEVERLOO_SI * sqrt(2.0) * DENSITY * sqrt(GRAVITY) * pow(width, 1.5);
 }
 
+/* The discharge's samples, filled by sample_discharge. */
+typedef struct discharge_record {
+  const silo *s;
+  wall_loads *loads;
+  int sinks[2];
+  double symmetry; /* full silo over the model: 2 in plane strain */
+  double *time;    /* s, of each sample */
+  double *mass;    /* kg, discharged by then (full silo) */
+  size_t taken;    /* samples the fit may use */
+  FILE *csv;       /* NULL: none */
+} discharge_record;
+
+/* example_run_fn: the loads are averaged over each sampling interval. */
+static gm_status reset_interval(gm_domain *domain,
+                                const example_run_state *state, void *user) {
+  (void)domain, (void)state;
+  reset_loads(((discharge_record *)user)->loads);
+  return GM_OK;
+}
+
+/* example_sample_fn: the discharged mass and a CSV row, at the start and
+ * after every interval. */
+static gm_status sample_discharge(const gm_domain *domain,
+                                  const example_run_state *state, void *user) {
+  discharge_record *record = user;
+  const silo *s = record->s;
+  const wall_loads *loads = record->loads;
+  size_t taken = (size_t)state->interval;
+  double target = state->target; /* s */
+  gm_summary summary = gm_summary_default();
+  gm_status status = gm_domain_get_summary(domain, &summary);
+  if (status != GM_OK)
+    return status;
+  double *time = record->time, *mass = record->mass;
+  time[taken] = target;
+  mass[taken] = record->symmetry * discharged_mass(domain, record->sinks);
+  double flow = taken > 0 ? (mass[taken] - mass[taken - 1]) / s->sample : 0;
+  double span = loads->span > 0.0 ? loads->span : 1.0; /* s */
+  if (record->csv) {
+    fprintf(record->csv, "%g,%g,%g,%g,%zu,%g,%g,%g,%g", target, mass[taken],
+            flow, summary.kinetic_energy, gm_domain_point_count(domain),
+            loads->normal[0] / span, loads->tangential[0] / span,
+            loads->normal[1] / span, loads->tangential[1] / span);
+    example_write_states(record->csv, domain);
+    fputc('\n', record->csv);
+  }
+  record->taken = taken + 1;
+  return GM_OK;
+}
+
+/* example_stop_fn: past t_end and past the steady window. The sample that
+ * ends the run is left out of the fit (taken), as it always was. */
+static int discharge_done(const gm_domain *domain,
+                          const example_run_state *state, void *user) {
+  (void)domain;
+  discharge_record *record = user;
+  size_t last = (size_t)state->interval;
+  if (!(state->target >= record->s->options.t_end &&
+        past_window(record->s, record->time, record->mass, last)))
+    return 0;
+  record->taken = last;
+  return 1;
+}
+
 /* Phase 2: discharge; samples the sinks, writes CSV and VTU, and returns
  * the steady rate (full silo: twice the half model's in plane strain). */
 static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
                      double *rate) {
-  int sinks[2] = {-1, -1};
-  EXAMPLE_CHECK(domain, add_sinks(domain, s, sinks));
+  discharge_record record = {s, loads, {-1, -1}, 0.0, NULL, NULL, 0, NULL};
+  EXAMPLE_CHECK(domain, add_sinks(domain, s, record.sinks));
   double symmetry = s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 1.0 : 2.0;
   size_t samples = MAX_SAMPLES;
   double *time = calloc(2 * samples, sizeof *time), *mass = time + samples;
   if (!time)
     return example_fail(domain, "calloc", GM_ERR_NO_MEMORY);
+  record.symmetry = symmetry;
+  record.time = time;
+  record.mass = mass;
   gm_series *series = NULL;
   if (s->options.out[0]) {
     char pvd[1200];
@@ -489,39 +573,36 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
       "time_s,discharged_kg,flow_rate_kg_s,kinetic_energy_J,points,"
       "wall_normal_N,wall_tangential_N,hopper_normal_N,hopper_tangential_"
       "N," EXAMPLE_STATE_HEADER);
+  record.csv = csv;
   EXAMPLE_CHECK(domain,
                 gm_domain_set_step_hook(domain, integrate_wall_loads, loads));
-  size_t taken = 0;
-  for (; taken < samples; taken++) {
-    double target = taken * s->sample; /* s */
-    if (taken > 0) {
-      reset_loads(loads);
-      EXAMPLE_CHECK(domain,
-                    gm_domain_advance(domain, target, 0.0, example_progress,
-                                      (void *)&s->options));
-    }
-    gm_summary summary = gm_summary_default();
-    EXAMPLE_CHECK(domain, gm_domain_get_summary(domain, &summary));
-    time[taken] = target;
-    mass[taken] = symmetry * discharged_mass(domain, sinks);
-    double flow = taken > 0 ? (mass[taken] - mass[taken - 1]) / s->sample : 0;
-    double span = loads->span > 0.0 ? loads->span : 1.0; /* s */
-    if (csv) {
-      fprintf(csv, "%g,%g,%g,%g,%zu,%g,%g,%g,%g", target, mass[taken], flow,
-              summary.kinetic_energy, gm_domain_point_count(domain),
-              loads->normal[0] / span, loads->tangential[0] / span,
-              loads->normal[1] / span, loads->tangential[1] / span);
-      example_write_states(csv, domain);
-      fputc('\n', csv);
-    }
-    if (series && taken % 5 == 0)
-      EXAMPLE_CHECK(domain, gm_series_write(series, domain));
-    if (target >= s->options.t_end && past_window(s, time, mass, taken))
-      break;
-  }
+  /* Samples at k --sample from 0, a frame every 5, for at least t_end and
+   * until the steady window is over (discharge_done) or the sample arrays
+   * are full. */
+  const example_run_schedule schedule = {.stepping = EXAMPLE_ADVANCE,
+                                         .sample_times =
+                                             EXAMPLE_SAMPLE_MULTIPLES,
+                                         .t_end = INFINITY,
+                                         .sample_period = s->sample,
+                                         .interval_limit = (long)samples - 1,
+                                         .sample_at_start = 1,
+                                         .series = series,
+                                         .frame_every = 5,
+                                         .on_failure = EXAMPLE_FAILURE_STOP,
+                                         .progress = &s->options,
+                                         .prepare = reset_interval,
+                                         .sample = sample_discharge,
+                                         .stop = discharge_done,
+                                         .user = &record};
+  gm_status status = example_run_loop(domain, &schedule, NULL);
   if (csv)
     fclose(csv);
   gm_series_destroy(series);
+  if (status != GM_OK) {
+    free(time);
+    return example_fail(domain, "example_run_loop", status);
+  }
+  size_t taken = record.taken;
   size_t first = 0, last = 0;
   double total = symmetry * s->mass; /* kg, the full silo's fill */
   while (first < taken && mass[first] < WINDOW_START * total)

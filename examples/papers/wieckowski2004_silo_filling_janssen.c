@@ -87,6 +87,8 @@ typedef struct filling {
   double pressure[MAX_ROWS]; /* Pa s, side wall, by node row */
   double wall_impulse;       /* N s per m, side wall normal force */
   double averaged;           /* s */
+  double end;                /* s, the last portion plus SETTLE_TIME */
+  FILE *csv;                 /* filling.csv, NULL: none */
 } filling;
 
 static int add_wall(gm_domain *domain, double x, double normal_x,
@@ -184,9 +186,49 @@ static double janssen_wall_force(double k, double rho, double z) {
   return k * rho * GRAVITY / decay * (z - (1.0 - exp(-decay * z)) / decay);
 }
 
+/* example_run_fn: the next portion, once its time has come. */
+static gm_status place_portion(gm_domain *domain,
+                               const example_run_state *state, void *user) {
+  filling *f = user;
+  if (f->placed < (int)f->portions && state->time >= f->placed * PERIOD - 1e-9)
+    return add_portion(domain, f, state->time);
+  return GM_OK;
+}
+
+/* example_step_fn: the wall loads over the last AVERAGING_TIME. */
+static void record_step(const gm_domain *domain, const example_run_state *state,
+                        void *user) {
+  filling *f = user;
+  if (state->time > f->end - AVERAGING_TIME)
+    record_tractions(domain, f, state->time - state->step_start);
+}
+
+/* example_sample_fn: a CSV row. The forces are the smoothed ones
+ * (gm_walls(3)), which a short last step could not make spike anyway. */
+static gm_status write_row(const gm_domain *domain,
+                           const example_run_state *state, void *user) {
+  const filling *f = user;
+  gm_summary summary = gm_summary_default();
+  gm_wall_force side = gm_wall_force_default(), floor = side;
+  gm_status status = gm_domain_get_summary(domain, &summary);
+  if (status == GM_OK)
+    status = gm_domain_get_wall_force(domain, f->walls[0], &side);
+  if (status == GM_OK)
+    status = gm_domain_get_wall_force(domain, f->walls[1], &floor);
+  if (status == GM_OK && f->csv) {
+    fprintf(f->csv, "%g,%g,%zu,%g,%g,%g", state->time, summary.kinetic_energy,
+            gm_domain_point_count(domain), side.smoothed_normal,
+            side.smoothed_tangential, floor.smoothed_normal);
+    example_write_states(f->csv, domain);
+    fputc('\n', f->csv);
+  }
+  return status;
+}
+
 /* Runs the filling and settling, writing CSV and VTU on the way. */
 static int run(gm_domain *domain, filling *f) {
   double end = f->portions * PERIOD + SETTLE_TIME; /* s */
+  f->end = end;
   gm_series *series = NULL;
   if (f->options.out[0]) {
     char pvd[1200];
@@ -198,46 +240,32 @@ static int run(gm_domain *domain, filling *f) {
       &f->options, "filling.csv",
       "time_s,kinetic_energy_J,points,"
       "wall_normal_N,wall_tangential_N,floor_normal_N," EXAMPLE_STATE_HEADER);
-  double time = 0.0; /* s */
-  for (long sample = 1; end - time > 1e-9; sample++) {
-    if (f->placed < (int)f->portions && time >= f->placed * PERIOD - 1e-9)
-      EXAMPLE_CHECK(domain, add_portion(domain, f, time));
-    double target = fmin(end, sample * SAMPLE), step_time = time;
-    /* Down to a nanosecond of the target (no sliver step). The CSV's
-     * forces are the smoothed ones (gm_walls(3)), which a sliver step
-     * could not make spike anyway. */
-    while (target - time > 1e-9) {
-      double dt = 0.0; /* s, the largest stable step, or the first one */
-      if (gm_domain_point_count(domain) > 0)
-        EXAMPLE_CHECK(domain, gm_domain_stable_dt(domain, &dt));
-      dt = dt > 0.0 ? fmin(dt, target - time) : 1e-4;
-      EXAMPLE_CHECK(domain, gm_domain_step(domain, dt));
-      EXAMPLE_CHECK(domain, gm_domain_get_time(domain, &time, NULL));
-      if (time > end - AVERAGING_TIME)
-        record_tractions(domain, f, time - step_time);
-      step_time = time;
-    }
-    example_progress(domain, time, end, &f->options);
-    gm_summary summary = gm_summary_default();
-    gm_wall_force side = gm_wall_force_default(), floor = side;
-    EXAMPLE_CHECK(domain, gm_domain_get_summary(domain, &summary));
-    EXAMPLE_CHECK(domain, gm_domain_get_wall_force(domain, f->walls[0], &side));
-    EXAMPLE_CHECK(domain,
-                  gm_domain_get_wall_force(domain, f->walls[1], &floor));
-    if (csv) {
-      fprintf(csv, "%g,%g,%zu,%g,%g,%g", time, summary.kinetic_energy,
-              gm_domain_point_count(domain), side.smoothed_normal,
-              side.smoothed_tangential, floor.smoothed_normal);
-      example_write_states(csv, domain);
-      fputc('\n', csv);
-    }
-    if (series && sample % 10 == 0)
-      EXAMPLE_CHECK(domain, gm_series_write(series, domain));
-  }
+  f->csv = csv;
+  /* Stable steps clipped to every SAMPLE (down to a nanosecond of it: no
+   * sliver step), 1e-4 s before the first portion has points; a portion
+   * at the start of the interval where its time has come, a frame every
+   * 10 samples. */
+  const example_run_schedule schedule = {.stepping = EXAMPLE_STEPS,
+                                         .sample_times =
+                                             EXAMPLE_SAMPLE_MULTIPLES,
+                                         .t_end = end,
+                                         .sample_period = SAMPLE,
+                                         .empty_dt = 1e-4,
+                                         .series = series,
+                                         .frame_every = 10,
+                                         .frame_first = 10,
+                                         .on_failure = EXAMPLE_FAILURE_STOP,
+                                         .progress = &f->options,
+                                         .prepare = place_portion,
+                                         .step = record_step,
+                                         .sample = write_row,
+                                         .user = f};
+  gm_status status = example_run_loop(domain, &schedule, NULL);
   if (csv)
     fclose(csv);
+  f->csv = NULL;
   gm_series_destroy(series);
-  return 0;
+  return status == GM_OK ? 0 : example_fail(domain, "example_run_loop", status);
 }
 
 /* The settled fill: its mean height (m, the mean over cell-wide columns
