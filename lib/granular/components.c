@@ -168,14 +168,15 @@ void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch) {
   }
   /* The renamed edges, counting-sorted by their first end so that the
    * next steps' checks walk the point arrays in order (the reordering put
-   * neighbours next to each other). Union-find scratch is free here: the
-   * parent array counts, min_id holds the sorted edges; both are sized at
-   * the last granular step, so points added since skip the sort (it only
-   * saves time). */
+   * neighbours next to each other). Scratch of the granular phase is free
+   * here: the union-find's parent array counts, the layers' CSR offsets
+   * (8 bytes per point) hold the sorted edges; both are sized at the last
+   * granular step, so points added since skip the sort (it only saves
+   * time). */
   if (work->capacity < count)
     return;
   uint32_t *start = work->parent;
-  uint64_t *sorted = (uint64_t *)work->min_id; /* forest_count < count */
+  uint64_t *sorted = (uint64_t *)(void *)work->adjacency_start; /* < count */
   memset(start, 0, count * sizeof(uint32_t));
   for (size_t e = 0; e < work->forest_count; e++)
     start[work->forest[e] >> 32]++;
@@ -335,7 +336,8 @@ static size_t label_components(gm_domain *domain) {
                                       id_count, GM_REMOVED_POINT, count,
                                       work->label, work->component_layer);
   return gm_union_find_labels(work->parent, points->id, count, work->label,
-                              work->min_id, work->roots);
+                              (uint32_t *)work->component_layer,
+                              (uint32_t *)work->layer_stamp);
 }
 
 gm_status gm_granular_prepare(gm_domain *domain) {
@@ -345,6 +347,9 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   gm_points *points = &domain->points;
   gm_granular_work *work = &domain->granular;
   size_t count = points->count;
+  /* The labels are written straight into the step's next buffer, where
+   * they are committed with it (GM_FIELD_COMPONENT). */
+  work->label = points->buffer[points->cur ^ 1].component;
   double start = gm_monotonic_seconds();
   const gm_point_buffers *current = &points->buffer[points->cur];
   for (int k = 0; k < 2; k++) /* box centres are the points' positions */
@@ -407,12 +412,6 @@ gm_status gm_granular_prepare(gm_domain *domain) {
     if (status != GM_OK)
       return status;
   }
-  double *label_out = points->buffer[points->cur ^ 1].component;
-  if (components == 1) /* all-bits-zero is 0.0 in IEEE 754 */
-    memset(label_out, 0, count * sizeof(double));
-  else
-    for (size_t p = 0; p < count; p++)
-      label_out[p] = (double)work->label[p];
   if (layers > 1) {
     int64_t stride = gm_grid_layer_stride(&domain->grid);
     for (size_t p = 0; p < count; p++)

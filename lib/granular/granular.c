@@ -107,9 +107,9 @@ gm_status gm_domain_get_granular_summary(const gm_domain *domain,
   result.struct_size = sizeof result;
   memset(result.state_count, 0, sizeof result.state_count);
   const gm_points *points = &domain->points;
-  const double *state = points->buffer[points->cur].granular_state;
+  const uint8_t *state = points->buffer[points->cur].granular_state;
   for (size_t p = 0; p < points->count; p++) {
-    int value = state ? (int)state[p] : GM_STATE_QUASI_STATIC;
+    int value = state ? state[p] : GM_STATE_QUASI_STATIC;
     if (value >= 0 && value < 3)
       result.state_count[value]++;
   }
@@ -147,14 +147,13 @@ gm_status gm_granular_reserve(gm_domain *domain) {
     GROW_WORK(work->forest, sizeof(uint64_t));
     GROW_WORK(work->parent, sizeof(uint32_t));
     GROW_WORK(work->set_size, sizeof(uint32_t));
-    GROW_WORK(work->label, sizeof(int32_t));
-    GROW_WORK(work->min_id, sizeof(int64_t));
-    GROW_WORK(work->roots, sizeof(gm_root_order));
     GROW_WORK(work->component_size, sizeof(uint32_t));
     GROW_WORK(work->component_layer, sizeof(int32_t));
     GROW_WORK(work->layer_stamp, sizeof(int32_t));
     GROW_WORK(work->cell_order, sizeof(uint32_t));
-    GROW_WORK(work->adjacency_start, sizeof(uint32_t) * 2);
+    /* components + 1 <= capacity + 1 offsets, and the forest's edges
+     * between steps (core.h): 8 bytes per point. */
+    GROW_WORK(work->adjacency_start, sizeof(uint64_t));
     work->capacity = capacity;
   }
   size_t blocks = domain->grid.block_capacity;
@@ -183,9 +182,6 @@ void gm_granular_free(gm_domain *domain) {
   gm_free(work->forest);
   gm_free(work->parent);
   gm_free(work->set_size);
-  gm_free(work->label);
-  gm_free(work->min_id);
-  gm_free(work->roots);
   gm_free(work->component_size);
   gm_free(work->component_layer);
   gm_free(work->layer_stamp);
