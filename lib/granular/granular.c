@@ -156,14 +156,21 @@ gm_status gm_granular_reserve(gm_domain *domain) {
     GROW_WORK(work->adjacency_start, sizeof(uint64_t));
     work->capacity = capacity;
   }
-  size_t blocks = domain->grid.block_capacity;
+  /* The cell buckets of the pair search cover the blocks of the plain
+   * binning, the one the search runs on (called after it), not the node
+   * layers the step may add after the search: those can be several times
+   * as many (one full copy of the blocks per layer). Grown like the grid's
+   * blocks: the count and 4 at first, then by an eighth and 4, so a resting
+   * scene allocates only at its first step. */
+  size_t blocks = domain->grid.block_count;
   if (blocks > work->cell_capacity) {
     size_t row = GM_BLOCK_NODES + 1;
+    size_t room = blocks + 4 + (work->cell_capacity ? blocks / 8 : 0);
     if (!gm_grow((void **)&work->cell_start, row * sizeof(uint32_t),
-                 work->cell_capacity, blocks))
+                 work->cell_capacity, room))
       return gm_set_error(domain, GM_ERR_NO_MEMORY,
-                          "granular: out of memory for %zu blocks", blocks);
-    work->cell_capacity = blocks;
+                          "granular: out of memory for %zu blocks", room);
+    work->cell_capacity = room;
   }
   return GM_OK;
 }
