@@ -230,7 +230,12 @@ typedef struct gm_granular_work {
    * 1e9 + 2 ghost layers + 1 < INT32_MAX; half the bytes of int64_t
    * (16 B per point). */
   int32_t *support_low[2];
+  /* Highest node, stored only for the variants whose span varies (GIMP,
+   * CPDI); NULL for linear MPM and the B-splines, whose support always
+   * spans support_reach + 1 nodes per axis (8 B per point fewer). */
   int32_t *support_high[2];
+  int32_t support_reach; /* nodes past the lowest: 1 linear, 2 or 3 B-spline;
+                            0 with support_high stored */
   gm_interaction_domain *interaction; /* per point; CPDI only (NULL
                                          otherwise) */
   /* The same for the rectangle variants, SoA for the pair search: centre

@@ -81,7 +81,8 @@ static void rectangle_geometry(gm_domain *domain, size_t p,
       low = gm_gimp_axis_bounds(s, half[k] * grid->inv_cell, &span);
     }
     work->support_low[k][p] = (int32_t)low; /* range: core.h */
-    work->support_high[k][p] = (int32_t)(low + span - 1);
+    if (work->support_high[k]) /* else span - 1 is work->support_reach */
+      work->support_high[k][p] = (int32_t)(low + span - 1);
   }
   /* Constant: linear MPM, uGIMP and the B-splines (whose domain is the
    * initial rectangle, as uGIMP's). */
@@ -142,12 +143,10 @@ static void linear_supports(void *context, size_t begin, size_t end,
   const gm_shape_grid *grid = &domain->shape_grid;
   for (int k = 0; k < domain->dim; k++) {
     const double *position = points->buffer[points->cur].position[k];
-    int32_t *low = work->support_low[k], *high = work->support_high[k];
+    int32_t *low = work->support_low[k]; /* the highest: low + 1 (core.h) */
     double origin = grid->origin[k], inv_cell = grid->inv_cell; /* m, 1/m */
-    for (size_t p = begin; p < end; p++) {
+    for (size_t p = begin; p < end; p++)
       low[p] = (int32_t)((position[p] - origin) * inv_cell); /* >= 0 */
-      high[p] = low[p] + 1;
-    }
   }
   for (size_t p = begin; p < end; p++)
     work->granular[p] = domain->materials[points->material[p]].granular;
@@ -201,7 +200,8 @@ static void widest_support(const gm_domain *domain, int max_span[2]) {
     return;
   for (size_t p = 0; p < domain->points.count; p++)
     for (int k = 0; k < domain->dim; k++) {
-      int span = (int)(work->support_high[k][p] - work->support_low[k][p] + 1);
+      int span =
+          (int)(gm_support_high(work, k, p) - work->support_low[k][p] + 1);
       max_span[k] = span > max_span[k] ? span : max_span[k];
     }
 }

@@ -129,9 +129,12 @@ gm_status gm_granular_reserve(gm_domain *domain) {
   size_t capacity = domain->points.capacity;
   size_t old_capacity = work->capacity;
   if (capacity > old_capacity) {
+    /* The highest node only where the span varies (core.h). */
+    work->support_reach = gm_fixed_support_reach(domain->shape_grid.shape);
     for (int k = 0; k < 2; k++) {
       GROW_WORK(work->support_low[k], sizeof(int32_t));
-      GROW_WORK(work->support_high[k], sizeof(int32_t));
+      if (work->support_reach == 0)
+        GROW_WORK(work->support_high[k], sizeof(int32_t));
     }
     /* The pair test reads the parallelograms of CPDI (48 bytes per point)
      * or the boxes of the rectangle variants (16), never both

@@ -278,8 +278,9 @@ static void sizing_free(void *pointer, void *user) {
  * The granular family (_i = 1: the same block, its material granular with
  * rho_cr 1 % below rho0, so every point interacts and one parallel grid
  * holds them) adds
- *  - 84 B per point: the granular state (1 byte) and grid label (int32) in
- *    both buffers (10), the support box (4 x int32, 16), the interaction
+ *  - 76 B per point: the granular state (1 byte) and grid label (int32) in
+ *    both buffers (10), the support's lowest node (2 x int32, 8; the
+ *    highest is the next node with linear shapes), the interaction
  *    box half edges (16), the granular and visit flags (2), the spanning
  *    forest (8), union-find parent and set size (8), points per component,
  *    layer per component and the colouring's stamps (12, also the
@@ -288,7 +289,7 @@ static void sizing_free(void *pointer, void *user) {
  *  - per block, the cell bucket offsets (65 x uint32, 260 B).
  * With doubles for the state and label and the union-find's 24-byte
  * smallest-id and root-order scratch (main before issue 15's granular
- * cut) it took 134 B per point: 3.3 MB over this bound.
+ * cut) it took 134 B per point: 3.8 MB over this bound.
  * 128 x 128 cells of 2 x 2 points: 65536 points; their cells' lowest nodes
  * are nodes 1..128 per axis (node 0 is the ghost layer), 17 blocks of 8,
  * and the ring makes 18 x 18 = 324 blocks. The old sizing (grid 1.5x the
@@ -326,7 +327,7 @@ START_TEST(test_memory_is_the_sum_of_its_parts) {
     ck_assert_uint_eq(summary.component_count, 1);
   }
   const double blocks = 18.0 * 18.0 + 4.0;
-  double per_point = granular ? 272.0 + 84.0 : 272.0;    /* B */
+  double per_point = granular ? 272.0 + 76.0 : 272.0;    /* B */
   double per_block = granular ? 3232.0 + 260.0 : 3232.0; /* B */
   double bound =
       per_point * (double)count + per_block * blocks + 256.0 * 1024.0; /* B */
