@@ -996,9 +996,10 @@ GM_API gm_status gm_set_allocator(const gm_allocator *allocator);
  * point_count values). Valid until the next call that changes the domain.
  * Components that are identically zero in this geometry, and computed
  * fields (GM_FIELD_DENSITY, GM_FIELD_MATERIAL, GM_FIELD_ID,
- * GM_FIELD_DOMAIN_CORNERS; GM_FIELD_STATE and GM_FIELD_COMPONENT outside the
- * granular family), are not stored and give GM_ERR_UNSUPPORTED: copy them
- * with gm_domain_get_field. */
+ * GM_FIELD_DOMAIN_CORNERS, and GM_FIELD_STATE and GM_FIELD_COMPONENT, which
+ * the granular family stores as small integers, not doubles), are not
+ * stored as doubles and give GM_ERR_UNSUPPORTED: copy them with
+ * gm_domain_get_field. */
 GM_API gm_status gm_domain_view_field(const gm_domain *domain, gm_field field,
                                       size_t component, const double **data);
 

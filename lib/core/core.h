@@ -118,9 +118,13 @@ typedef struct gm_point_buffers {
   double *state;  /* state[i*stride+k]: one pool for all
                      materials, stride = max state_count */
   /* Granular family only (NULL otherwise): gm_point_state and parallel
-   * grid label of the step that produced this buffer. */
-  double *granular_state;
-  double *component;
+   * grid label of the step that produced this buffer, as the small
+   * integers they are (5 bytes per point instead of two doubles' 16;
+   * GM_FIELD_STATE, GM_FIELD_COMPONENT and the checkpoint convert them to
+   * doubles, exactly). A label is below the point count < INT_MAX
+   * (points.c). */
+  uint8_t *granular_state;
+  int32_t *component;
   /* GM_TRANSFER_APIC only (NULL otherwise): B_p, m^2/s, row-major dim x
    * dim (transfer.h), written by the velocity pass of G2P. */
   double *affine[GM_AFFINE_STORED];
@@ -213,10 +217,8 @@ typedef struct gm_worker_scratch {
   char pad[64];
 } gm_worker_scratch;
 
-/* Declared in granular/ (interaction.h, union_find.h); the work arrays
- * only point to them. */
+/* Declared in granular/interaction.h; the work arrays only point to it. */
 typedef struct gm_interaction_domain gm_interaction_domain;
-typedef struct gm_root_order gm_root_order;
 
 /* ----------------------------------------------------- granular scratch */
 /* Per-step work arrays of the granular family (components.c), sized with
@@ -228,7 +230,12 @@ typedef struct gm_granular_work {
    * 1e9 + 2 ghost layers + 1 < INT32_MAX; half the bytes of int64_t
    * (16 B per point). */
   int32_t *support_low[2];
+  /* Highest node, stored only for the variants whose span varies (GIMP,
+   * CPDI); NULL for linear MPM and the B-splines, whose support always
+   * spans support_reach + 1 nodes per axis (8 B per point fewer). */
   int32_t *support_high[2];
+  int32_t support_reach; /* nodes past the lowest: 1 linear, 2 or 3 B-spline;
+                            0 with support_high stored */
   gm_interaction_domain *interaction; /* per point; CPDI only (NULL
                                          otherwise) */
   /* The same for the rectangle variants, SoA for the pair search: centre
@@ -239,19 +246,24 @@ typedef struct gm_granular_work {
   uint8_t *granular;
   uint32_t *parent; /* union-find */
   uint32_t *set_size;
-  int32_t *label;  /* component of each point */
-  int64_t *min_id; /* union-find labelling scratch */
-  gm_root_order *roots;
+  /* Component of each point: not owned, the component array of the next
+   * point buffer, where the step commits it (components.c). */
+  int32_t *label;
   uint32_t *component_size; /* points per component */
-  int32_t *component_layer; /* node layer of each component */
-  int32_t *layer_stamp;     /* greedy colouring: last component per layer */
-  uint32_t *cell_order;     /* points by block, then local cell */
-  uint32_t *cell_start;     /* per block, GM_BLOCK_NODES + 1 offsets */
-  size_t cell_capacity;     /* blocks cell_start holds */
-  uint64_t *conflict;       /* candidate point pairs of the search, then the
-                               pairs of components sharing a node */
+  /* Node layer of each component; before the layers, the labelling's
+   * scratch (union_find.h), with layer_stamp. */
+  int32_t *component_layer;
+  int32_t *layer_stamp; /* greedy colouring: last component per layer */
+  uint32_t *cell_order; /* points by block, then local cell */
+  uint32_t *cell_start; /* per block, GM_BLOCK_NODES + 1 offsets */
+  size_t cell_capacity; /* blocks cell_start holds */
+  uint64_t *conflict;   /* candidate point pairs of the search, then the
+                           pairs of components sharing a node */
   size_t conflict_count, conflict_capacity;
-  uint32_t *adjacency_start; /* CSR of the conflicts per component */
+  /* CSR of the conflicts per component (components + 1 offsets); 8 bytes
+   * per point, so that between steps it also holds the kept forest's
+   * edges while gm_granular_remap_forest sorts them. */
+  uint32_t *adjacency_start;
   int32_t *adjacency;
   size_t adjacency_capacity;
   /* Spanning forest of the last search (edges p << 32 | q by point index):

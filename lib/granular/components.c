@@ -81,7 +81,8 @@ static void rectangle_geometry(gm_domain *domain, size_t p,
       low = gm_gimp_axis_bounds(s, half[k] * grid->inv_cell, &span);
     }
     work->support_low[k][p] = (int32_t)low; /* range: core.h */
-    work->support_high[k][p] = (int32_t)(low + span - 1);
+    if (work->support_high[k]) /* else span - 1 is work->support_reach */
+      work->support_high[k][p] = (int32_t)(low + span - 1);
   }
   /* Constant: linear MPM, uGIMP and the B-splines (whose domain is the
    * initial rectangle, as uGIMP's). */
@@ -142,12 +143,10 @@ static void linear_supports(void *context, size_t begin, size_t end,
   const gm_shape_grid *grid = &domain->shape_grid;
   for (int k = 0; k < domain->dim; k++) {
     const double *position = points->buffer[points->cur].position[k];
-    int32_t *low = work->support_low[k], *high = work->support_high[k];
+    int32_t *low = work->support_low[k]; /* the highest: low + 1 (core.h) */
     double origin = grid->origin[k], inv_cell = grid->inv_cell; /* m, 1/m */
-    for (size_t p = begin; p < end; p++) {
+    for (size_t p = begin; p < end; p++)
       low[p] = (int32_t)((position[p] - origin) * inv_cell); /* >= 0 */
-      high[p] = low[p] + 1;
-    }
   }
   for (size_t p = begin; p < end; p++)
     work->granular[p] = domain->materials[points->material[p]].granular;
@@ -168,14 +167,15 @@ void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch) {
   }
   /* The renamed edges, counting-sorted by their first end so that the
    * next steps' checks walk the point arrays in order (the reordering put
-   * neighbours next to each other). Union-find scratch is free here: the
-   * parent array counts, min_id holds the sorted edges; both are sized at
-   * the last granular step, so points added since skip the sort (it only
-   * saves time). */
+   * neighbours next to each other). Scratch of the granular phase is free
+   * here: the union-find's parent array counts, the layers' CSR offsets
+   * (8 bytes per point) hold the sorted edges; both are sized at the last
+   * granular step, so points added since skip the sort (it only saves
+   * time). */
   if (work->capacity < count)
     return;
   uint32_t *start = work->parent;
-  uint64_t *sorted = (uint64_t *)work->min_id; /* forest_count < count */
+  uint64_t *sorted = (uint64_t *)(void *)work->adjacency_start; /* < count */
   memset(start, 0, count * sizeof(uint32_t));
   for (size_t e = 0; e < work->forest_count; e++)
     start[work->forest[e] >> 32]++;
@@ -200,7 +200,8 @@ static void widest_support(const gm_domain *domain, int max_span[2]) {
     return;
   for (size_t p = 0; p < domain->points.count; p++)
     for (int k = 0; k < domain->dim; k++) {
-      int span = (int)(work->support_high[k][p] - work->support_low[k][p] + 1);
+      int span =
+          (int)(gm_support_high(work, k, p) - work->support_low[k][p] + 1);
       max_span[k] = span > max_span[k] ? span : max_span[k];
     }
 }
@@ -335,7 +336,8 @@ static size_t label_components(gm_domain *domain) {
                                       id_count, GM_REMOVED_POINT, count,
                                       work->label, work->component_layer);
   return gm_union_find_labels(work->parent, points->id, count, work->label,
-                              work->min_id, work->roots);
+                              (uint32_t *)work->component_layer,
+                              (uint32_t *)work->layer_stamp);
 }
 
 gm_status gm_granular_prepare(gm_domain *domain) {
@@ -345,6 +347,9 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   gm_points *points = &domain->points;
   gm_granular_work *work = &domain->granular;
   size_t count = points->count;
+  /* The labels are written straight into the step's next buffer, where
+   * they are committed with it (GM_FIELD_COMPONENT). */
+  work->label = points->buffer[points->cur ^ 1].component;
   double start = gm_monotonic_seconds();
   const gm_point_buffers *current = &points->buffer[points->cur];
   for (int k = 0; k < 2; k++) /* box centres are the points' positions */
@@ -407,12 +412,6 @@ gm_status gm_granular_prepare(gm_domain *domain) {
     if (status != GM_OK)
       return status;
   }
-  double *label_out = points->buffer[points->cur ^ 1].component;
-  if (components == 1) /* all-bits-zero is 0.0 in IEEE 754 */
-    memset(label_out, 0, count * sizeof(double));
-  else
-    for (size_t p = 0; p < count; p++)
-      label_out[p] = (double)work->label[p];
   if (layers > 1) {
     int64_t stride = gm_grid_layer_stride(&domain->grid);
     for (size_t p = 0; p < count; p++)

@@ -91,6 +91,6 @@ void gm_density_control_chunk(gm_domain *domain, size_t first, size_t count) {
       }
     }
     if (to->granular_state)
-      to->granular_state[p] = state;
+      to->granular_state[p] = (uint8_t)state;
   }
 }

@@ -107,9 +107,9 @@ gm_status gm_domain_get_granular_summary(const gm_domain *domain,
   result.struct_size = sizeof result;
   memset(result.state_count, 0, sizeof result.state_count);
   const gm_points *points = &domain->points;
-  const double *state = points->buffer[points->cur].granular_state;
+  const uint8_t *state = points->buffer[points->cur].granular_state;
   for (size_t p = 0; p < points->count; p++) {
-    int value = state ? (int)state[p] : GM_STATE_QUASI_STATIC;
+    int value = state ? state[p] : GM_STATE_QUASI_STATIC;
     if (value >= 0 && value < 3)
       result.state_count[value]++;
   }
@@ -129,9 +129,12 @@ gm_status gm_granular_reserve(gm_domain *domain) {
   size_t capacity = domain->points.capacity;
   size_t old_capacity = work->capacity;
   if (capacity > old_capacity) {
+    /* The highest node only where the span varies (core.h). */
+    work->support_reach = gm_fixed_support_reach(domain->shape_grid.shape);
     for (int k = 0; k < 2; k++) {
       GROW_WORK(work->support_low[k], sizeof(int32_t));
-      GROW_WORK(work->support_high[k], sizeof(int32_t));
+      if (work->support_reach == 0)
+        GROW_WORK(work->support_high[k], sizeof(int32_t));
     }
     /* The pair test reads the parallelograms of CPDI (48 bytes per point)
      * or the boxes of the rectangle variants (16), never both
@@ -147,24 +150,30 @@ gm_status gm_granular_reserve(gm_domain *domain) {
     GROW_WORK(work->forest, sizeof(uint64_t));
     GROW_WORK(work->parent, sizeof(uint32_t));
     GROW_WORK(work->set_size, sizeof(uint32_t));
-    GROW_WORK(work->label, sizeof(int32_t));
-    GROW_WORK(work->min_id, sizeof(int64_t));
-    GROW_WORK(work->roots, sizeof(gm_root_order));
     GROW_WORK(work->component_size, sizeof(uint32_t));
     GROW_WORK(work->component_layer, sizeof(int32_t));
     GROW_WORK(work->layer_stamp, sizeof(int32_t));
     GROW_WORK(work->cell_order, sizeof(uint32_t));
-    GROW_WORK(work->adjacency_start, sizeof(uint32_t) * 2);
+    /* components + 1 <= capacity + 1 offsets, and the forest's edges
+     * between steps (core.h): 8 bytes per point. */
+    GROW_WORK(work->adjacency_start, sizeof(uint64_t));
     work->capacity = capacity;
   }
-  size_t blocks = domain->grid.block_capacity;
+  /* The cell buckets of the pair search cover the blocks of the plain
+   * binning, the one the search runs on (called after it), not the node
+   * layers the step may add after the search: those can be several times
+   * as many (one full copy of the blocks per layer). Grown like the grid's
+   * blocks: the count and 4 at first, then by an eighth and 4, so a resting
+   * scene allocates only at its first step. */
+  size_t blocks = domain->grid.block_count;
   if (blocks > work->cell_capacity) {
     size_t row = GM_BLOCK_NODES + 1;
+    size_t room = blocks + 4 + (work->cell_capacity ? blocks / 8 : 0);
     if (!gm_grow((void **)&work->cell_start, row * sizeof(uint32_t),
-                 work->cell_capacity, blocks))
+                 work->cell_capacity, room))
       return gm_set_error(domain, GM_ERR_NO_MEMORY,
-                          "granular: out of memory for %zu blocks", blocks);
-    work->cell_capacity = blocks;
+                          "granular: out of memory for %zu blocks", room);
+    work->cell_capacity = room;
   }
   return GM_OK;
 }
@@ -183,9 +192,6 @@ void gm_granular_free(gm_domain *domain) {
   gm_free(work->forest);
   gm_free(work->parent);
   gm_free(work->set_size);
-  gm_free(work->label);
-  gm_free(work->min_id);
-  gm_free(work->roots);
   gm_free(work->component_size);
   gm_free(work->component_layer);
   gm_free(work->layer_stamp);

@@ -39,6 +39,27 @@ gm_status gm_assign_layers(gm_domain *domain, size_t components,
 /* Follows a reordering (points->order: new index k holds old order[k])
  * in the kept spanning forest; scratch: count entries. */
 void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch);
+/* Nodes past the lowest one that a support of `shape` always spans per
+ * axis (linear 1, quadratic B-spline 2, cubic 3), or 0 where it varies
+ * (GIMP, CPDI: the highest node is then stored). */
+static inline int32_t gm_fixed_support_reach(gm_shape shape) {
+  switch (shape) {
+  case GM_SHAPE_LINEAR:
+    return 1;
+  case GM_SHAPE_BSPLINE2:
+    return 2;
+  case GM_SHAPE_BSPLINE3:
+    return 3;
+  default:
+    return 0;
+  }
+}
+/* Highest node of point p's support along axis k. */
+static inline int32_t gm_support_high(const gm_granular_work *work, int k,
+                                      size_t p) {
+  return work->support_high[k] ? work->support_high[k][p]
+                               : work->support_low[k][p] + work->support_reach;
+}
 /* Sizes the granular work arrays for the points and blocks. */
 gm_status gm_granular_reserve(gm_domain *domain);
 void gm_granular_free(gm_domain *domain);

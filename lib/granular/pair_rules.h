@@ -11,9 +11,20 @@
 
 #include <math.h>
 
-/* Do the supports of p and q share a node? */
+/* Do the supports of p and q share a node? With a fixed span (no highest
+ * node stored, core.h) the lowest nodes are at most support_reach apart:
+ * the same test, since high = low + support_reach exactly. */
 static inline bool gm_supports_share_node(const gm_granular_work *work, int dim,
                                           uint32_t p, uint32_t q) {
+  if (!work->support_high[0]) {
+    int32_t reach = work->support_reach;
+    for (int k = 0; k < dim; k++) {
+      int32_t apart = work->support_low[k][p] - work->support_low[k][q];
+      if (apart > reach || -apart > reach)
+        return false;
+    }
+    return true;
+  }
   for (int k = 0; k < dim; k++)
     if (work->support_low[k][p] > work->support_high[k][q] ||
         work->support_low[k][q] > work->support_high[k][p])

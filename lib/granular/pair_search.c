@@ -162,7 +162,7 @@ gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
     for (int k = 0; k < dim; k++) {
       from[k] = work->support_low[k][p] - max_span[k] + 1;
       from[k] = from[k] < 0 ? 0 : from[k];
-      to[k] = work->support_high[k][p];
+      to[k] = gm_support_high(work, k, p);
     }
     if (half && dim > 1)
       from[1] = work->support_low[1][p];

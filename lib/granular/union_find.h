@@ -16,18 +16,15 @@ uint32_t gm_union_find_root(uint32_t *parent, uint32_t element);
 /* Joins the sets of a and b; returns 1 if they were separate, else 0. */
 int gm_union_find_join(uint32_t *parent, uint32_t *size, uint32_t a,
                        uint32_t b);
-/* A component's root and smallest id, for ordering the labels. */
-typedef struct gm_root_order {
-  int64_t min_id;
-  uint32_t root;
-} gm_root_order;
-
 /* Writes label[i] for every element and returns the component count.
- * id: count distinct keys (point ids); scratch_min: count int64 and
- * scratch_roots: count entries, both overwritten. */
+ * id: count distinct keys (point ids). scratch_first: count entries, the
+ * element of smallest id of each set, then each set's label;
+ * scratch_order: count entries, those elements sorted by id (one per
+ * component). Both overwritten; 8 bytes per element, where a table of
+ * (smallest id, root) pairs took 24. */
 size_t gm_union_find_labels(uint32_t *parent, const int64_t *id, size_t count,
-                            int32_t *label, int64_t *scratch_min,
-                            gm_root_order *scratch_roots);
+                            int32_t *label, uint32_t *scratch_first,
+                            uint32_t *scratch_order);
 
 /* The same labels without sorting, for ids that are indices into a map:
  * walks index_of_id[0..id_count) (entries equal to `absent` skipped) in id

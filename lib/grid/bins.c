@@ -159,9 +159,10 @@ static void permute_buffers(void *context, size_t begin, size_t end,
                       end);
   permute_doubles(to->volume, from->volume, order, begin, end);
   if (from->granular_state) {
-    permute_doubles(to->granular_state, from->granular_state, order, begin,
-                    end);
-    permute_doubles(to->component, from->component, order, begin, end);
+    for (size_t k = begin; k < end; k++) {
+      to->granular_state[k] = from->granular_state[order[k]];
+      to->component[k] = from->component[order[k]];
+    }
   }
   for (int k = 0; k < GM_AFFINE_STORED; k++)
     if (from->affine[k])

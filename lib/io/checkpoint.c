@@ -191,10 +191,11 @@ size_t gm_checkpoint_point_arrays(const gm_domain *domain,
   /* F_ZZ (the hoop stretch) is stored in axisymmetry only (points.c). */
   int deformation = domain->axisymmetric ? GM_F_STORED : F_ZZ;
   size_t n = 0, d = sizeof(double);
-#define SLOT(pointer, size, kind)                                              \
+#define SLOT_AS(pointer, size, kind, form)                                     \
   slots[n++] = (gm_array_slot) {                                               \
-    pointer, size, kind                                                        \
+    pointer, size, kind, form                                                  \
   }
+#define SLOT(pointer, size, kind) SLOT_AS(pointer, size, kind, GM_FORM_RAW)
   for (int k = 0; k < dim; k++)
     SLOT(b->position[k], d, GM_CHECK_POSITION);
   for (int k = 0; k < dim; k++)
@@ -211,8 +212,9 @@ size_t gm_checkpoint_point_arrays(const gm_domain *domain,
   SLOT(b->volume, d, GM_CHECK_POSITIVE);
   SLOT(b->state, points->state_stride * d, GM_CHECK_NONE);
   if (domain->def.family == GM_FAMILY_GRANULAR) {
-    SLOT(b->granular_state, d, GM_CHECK_FINITE);
-    SLOT(b->component, d, GM_CHECK_FINITE);
+    /* Doubles in the file (format unchanged), small integers in memory. */
+    SLOT_AS(b->granular_state, d, GM_CHECK_GRANULAR_STATE, GM_FORM_BYTE);
+    SLOT_AS(b->component, d, GM_CHECK_LABEL, GM_FORM_INT32);
   }
   for (int k = 0; k < gm_affine_stored(domain); k++) /* APIC's B_p */
     SLOT(b->affine[k], d, GM_CHECK_INPUT);
@@ -223,6 +225,7 @@ size_t gm_checkpoint_point_arrays(const gm_domain *domain,
   SLOT(points->id, sizeof(int64_t), GM_CHECK_ID);
   SLOT(points->material, sizeof(int32_t), GM_CHECK_MATERIAL);
 #undef SLOT
+#undef SLOT_AS
   return n;
 }
 
@@ -232,9 +235,19 @@ static void write_points(const gm_domain *domain, gm_byte_writer *out) {
   const gm_points *points = &domain->points;
   gm_array_slot slots[GM_CHECKPOINT_MAX_ARRAYS];
   size_t slot_count = gm_checkpoint_point_arrays(domain, slots);
-  for (size_t k = 0; k < slot_count; k++)
-    gm_writer_array(out, slots[k].data,
-                    points->count * slots[k].bytes_per_point);
+  for (size_t k = 0; k < slot_count; k++) {
+    if (slots[k].form == GM_FORM_RAW) {
+      gm_writer_array(out, slots[k].data,
+                      points->count * slots[k].bytes_per_point);
+      continue;
+    }
+    /* The bytes gm_writer_array writes for the same values as doubles. */
+    gm_writer_u64(out, (uint64_t)(points->count * sizeof(double)));
+    for (size_t i = 0; i < points->count; i++)
+      gm_writer_f64(out, slots[k].form == GM_FORM_BYTE
+                             ? (double)((const uint8_t *)slots[k].data)[i]
+                             : (double)((const int32_t *)slots[k].data)[i]);
+  }
   bool external = points->external_force[0] != NULL;
   gm_writer_u8(out, external);
   for (int k = 0; external && k < domain->dim; k++)

@@ -122,22 +122,33 @@ void gm_checkpoint_describe_setup(const gm_domain *domain, gm_byte_writer *out);
 /* What load checks in an array before accepting it. */
 typedef enum gm_array_check {
   GM_CHECK_NONE,        /* material state: its meaning is the material's */
-  GM_CHECK_FINITE,      /* stress, F, granular labels */
+  GM_CHECK_FINITE,      /* stress, F */
   GM_CHECK_DEFORMATION, /* F_XX: with the next three slots (and F_ZZ in
                            axisymmetry) finite, det F > 0 */
   GM_CHECK_DOMAIN_MAP,  /* CPDI's D_XX: with the next three slots finite,
                            det D > 0 */
   GM_CHECK_POSITIVE,    /* finite and > 0: volumes, masses, domain sizes */
   GM_CHECK_POSITION,    /* finite and inside the grid box */
-  GM_CHECK_INPUT,   /* velocities: host-written ones are screened by the step */
-  GM_CHECK_ID,      /* ids against the id map */
-  GM_CHECK_MATERIAL /* a registered material */
+  GM_CHECK_INPUT, /* velocities: host-written ones are screened by the step */
+  GM_CHECK_ID,    /* ids against the id map */
+  GM_CHECK_MATERIAL,       /* a registered material */
+  GM_CHECK_GRANULAR_STATE, /* a gm_point_state value */
+  GM_CHECK_LABEL           /* a parallel-grid label: an integer in
+                              [0, point count) */
 } gm_array_check;
+
+/* How an array is held in memory, against the file's bytes. */
+typedef enum gm_array_form {
+  GM_FORM_RAW,   /* the same bytes (doubles, int64 ids, int32 materials) */
+  GM_FORM_BYTE,  /* uint8_t in memory, a double in the file */
+  GM_FORM_INT32, /* int32_t in memory, a double in the file */
+} gm_array_form;
 
 typedef struct gm_array_slot {
   void *data;
-  size_t bytes_per_point;
+  size_t bytes_per_point; /* in the file */
   gm_array_check check;
+  gm_array_form form;
 } gm_array_slot;
 
 #define GM_CHECKPOINT_MAX_ARRAYS 32

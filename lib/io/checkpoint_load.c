@@ -145,6 +145,23 @@ static bool valid_reals(const unsigned char *bytes, size_t values,
   return true;
 }
 
+/* The granular state or parallel-grid label of every point is a small
+ * integer the library writes: a gm_point_state, or a label below the point
+ * count (components are numbered from 0 and each holds a point). Memory
+ * holds them as bytes and int32 (core.h), so nothing else converts
+ * exactly. */
+static bool valid_small_integers(const unsigned char *bytes, size_t count,
+                                 gm_array_check check) {
+  double limit = check == GM_CHECK_GRANULAR_STATE ? GM_STATE_DISCONNECTED
+                                                  : (double)count - 1.0;
+  for (size_t i = 0; i < count; i++) {
+    double value = real_at(bytes, i);
+    if (!(value >= 0.0 && value <= limit && value == floor(value)))
+      return false;
+  }
+  return true;
+}
+
 /* Point i's position is finite, inside the grid box, off the axis. */
 static bool valid_position(const gm_domain *domain, const loaded_state *state,
                            size_t i) {
@@ -257,6 +274,14 @@ static const char *first_invalid(const gm_domain *domain,
       if (!valid_materials(domain, state, bytes))
         return "an unknown material id";
       break;
+    case GM_CHECK_GRANULAR_STATE:
+    case GM_CHECK_LABEL:
+      if (!valid_small_integers(bytes, state->count, slots[k].check))
+        return slots[k].check == GM_CHECK_GRANULAR_STATE
+                   ? "a granular state that is not a gm_point_state"
+                   : "a parallel-grid label that is not an integer below "
+                     "the point count";
+      break;
     case GM_CHECK_NONE:
       break;
     }
@@ -300,9 +325,21 @@ static void apply_points(gm_domain *domain, const loaded_state *state) {
   gm_points *points = &domain->points;
   gm_array_slot slots[GM_CHECKPOINT_MAX_ARRAYS];
   size_t slot_count = gm_checkpoint_point_arrays(domain, slots);
-  for (size_t k = 0; k < slot_count; k++)
-    copy_bytes(slots[k].data, state->array[k],
-               state->count * slots[k].bytes_per_point);
+  for (size_t k = 0; k < slot_count; k++) {
+    if (slots[k].form == GM_FORM_RAW) {
+      copy_bytes(slots[k].data, state->array[k],
+                 state->count * slots[k].bytes_per_point);
+      continue;
+    }
+    /* Small integers as doubles (checked by valid_small_integers). */
+    for (size_t i = 0; i < state->count; i++) {
+      double value = real_at(state->array[k], i);
+      if (slots[k].form == GM_FORM_BYTE)
+        ((uint8_t *)slots[k].data)[i] = (uint8_t)value;
+      else
+        ((int32_t *)slots[k].data)[i] = (int32_t)value;
+    }
+  }
   for (int k = 0; k < domain->dim; k++) {
     if (state->external) {
       copy_bytes(points->external_force[k], state->external_force[k],

@@ -77,10 +77,6 @@ static double *stored_component(const gm_domain *domain, gm_field field,
   case GM_FIELD_DEFORMATION_GRADIENT:
     return deformation_slot[k] < 0 ? NULL
                                    : buffer->deformation[deformation_slot[k]];
-  case GM_FIELD_STATE: /* NULL outside the granular family: zeros */
-    return buffer->granular_state;
-  case GM_FIELD_COMPONENT:
-    return buffer->component;
   case GM_FIELD_AFFINE: /* NULL without APIC: zeros */
     return buffer->affine[k];
   default:
@@ -112,6 +108,10 @@ static double field_value(const gm_domain *domain, gm_field field, size_t k,
     return (double)points->material[i];
   case GM_FIELD_ID:
     return (double)points->id[i];
+  case GM_FIELD_STATE: /* stored as bytes; zeros outside the granular family */
+    return buffer->granular_state ? (double)buffer->granular_state[i] : 0.0;
+  case GM_FIELD_COMPONENT: /* stored as int32 */
+    return buffer->component ? (double)buffer->component[i] : 0.0;
   case GM_FIELD_DOMAIN_CORNERS:
     return corner_value(domain, k, i);
   case GM_FIELD_DEFORMATION_GRADIENT: {
@@ -187,8 +187,9 @@ static gm_status check_view(const gm_domain *domain, gm_field field,
                         caller, component, components);
   if (!stored_component(domain, field, component))
     return gm_set_error(mutable_domain, GM_ERR_UNSUPPORTED,
-                        "%s: field %d component %zu is not stored in this "
-                        "geometry (computed or identically zero); use "
+                        "%s: field %d component %zu is not stored as "
+                        "doubles here (computed, identically zero in this "
+                        "geometry, or small integers); use "
                         "gm_domain_get_field",
                         caller, (int)field, component);
   return GM_OK;

@@ -40,8 +40,8 @@ gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
   if (domain->points.state_stride)
     GROW(buffer->state, domain->points.state_stride * sizeof(double));
   if (domain->def.family == GM_FAMILY_GRANULAR) {
-    GROW(buffer->granular_state, sizeof(double));
-    GROW(buffer->component, sizeof(double));
+    GROW(buffer->granular_state, sizeof(uint8_t));
+    GROW(buffer->component, sizeof(int32_t));
   }
   for (int k = 0; k < gm_affine_stored(domain); k++)
     GROW(buffer->affine[k], sizeof(double));
@@ -158,8 +158,10 @@ void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
     copy_array(to->domain_map[k], from->domain_map[k], count);
   copy_array(to->volume, from->volume, count);
   copy_array(to->state, from->state, count * state_stride);
-  copy_array(to->granular_state, from->granular_state, count);
-  copy_array(to->component, from->component, count);
+  if (to->granular_state && from->granular_state) {
+    memcpy(to->granular_state, from->granular_state, count * sizeof(uint8_t));
+    memcpy(to->component, from->component, count * sizeof(int32_t));
+  }
   for (int k = 0; k < GM_AFFINE_STORED; k++)
     copy_array(to->affine[k], from->affine[k], count);
 }
@@ -373,7 +375,7 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
       buffer->affine[k][p] = 0.0;
   if (buffer->granular_state) { /* decided by the next step */
     buffer->granular_state[p] = GM_STATE_QUASI_STATIC;
-    buffer->component[p] = 0.0;
+    buffer->component[p] = 0;
   }
   buffer->deformation[F_XX][p] = 1.0;
   buffer->deformation[F_XY][p] = 0.0;

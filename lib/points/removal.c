@@ -31,8 +31,8 @@ static void move_point(gm_domain *domain, size_t to, size_t from) {
   for (int k = 0; k < 4; k++)
     move_element(buffer->domain_map[k], sizeof(double), to, from);
   move_element(buffer->volume, sizeof(double), to, from);
-  move_element(buffer->granular_state, sizeof(double), to, from);
-  move_element(buffer->component, sizeof(double), to, from);
+  move_element(buffer->granular_state, sizeof(uint8_t), to, from);
+  move_element(buffer->component, sizeof(int32_t), to, from);
   for (int k = 0; k < GM_AFFINE_STORED; k++)
     move_element(buffer->affine[k], sizeof(double), to, from);
   if (points->state_stride)

@@ -13,7 +13,8 @@
  *    wall into a sink. The restarted domain takes 3 steps of its own
  *    before the load, so its caches are stale when the file arrives.
  * 2. Refusals: every truncation of a small file, every single flipped byte,
- *    a wrong version (with a valid checksum), another setup: refused with
+ *    a wrong version (with a valid checksum), another setup, an inverted F,
+ *    a granular state or grid label the library never writes: refused with
  *    the right status, and the domain bitwise unchanged (its observable
  *    state, and the run it then continues).
  * 3. Failed saves: a missing directory, a temporary path that cannot be
@@ -701,6 +702,81 @@ START_TEST(test_refuses_inverted_tensors) {
 }
 END_TEST
 
+/* The u64 length in front of a point array of the file at `at`. */
+static uint64_t length_before(const unsigned char *data, size_t at) {
+  uint64_t length;
+  memcpy(&length, data + at - sizeof length, sizeof length);
+  return length;
+}
+
+/* The granular state and grid label are held in memory as a byte and an
+ * int32 (core.h) but written as doubles, so a sealed file with a value the
+ * library never writes (a state that is no gm_point_state, a label that is
+ * not an integer below the point count) is refused at the load, naming it,
+ * instead of being truncated into a different value. In the file the two
+ * arrays come right before the masses (gm_checkpoint_point_arrays; FLIP,
+ * so no affine arrays between): found from the masses, each length
+ * prefix checked. Before the byte and int32 storage every finite value
+ * was accepted, 1.5 included. */
+START_TEST(test_refuses_foreign_granular_values) {
+  make_temporary_directory();
+  char *good = path_in_directory("good.ckpt");
+  char *damaged = path_in_directory("label.ckpt");
+  scene saved = build(GRANULAR, 1);
+  run_steps(&saved, 5);
+  TEST_ASSERT_OK(saved.domain, gm_domain_save(saved.domain, good));
+  size_t count = gm_domain_point_count(saved.domain);
+  double *mass = malloc(count * sizeof *mass);
+  TEST_ASSERT_OK(saved.domain,
+                 gm_domain_get_field(saved.domain, GM_FIELD_MASS, mass, count));
+  const double first_two[2] = {mass[0], mass[1]}; /* kg */
+  size_t size = 0;
+  unsigned char *data = read_file(good, &size);
+  size_t masses = find_bytes(data, size, first_two, 0);
+  ck_assert_msg(masses != SIZE_MAX, "mass pattern not found");
+  size_t array_bytes = count * sizeof(double);
+  size_t labels = masses - sizeof(uint64_t) - array_bytes;
+  size_t states = labels - sizeof(uint64_t) - array_bytes;
+  ck_assert_uint_eq(length_before(data, masses), array_bytes);
+  ck_assert_uint_eq(length_before(data, labels), array_bytes);
+  ck_assert_uint_eq(length_before(data, states), array_bytes);
+  scene target = build(GRANULAR, 1);
+  run_steps(&target, 3);
+  observed before = observe(&target);
+  const struct {
+    size_t at;
+    double value;
+    const char *named;
+  } cases[] = {{states, 1.5, "granular state"},
+               {states, 3.0, "granular state"},
+               {states, -1.0, "granular state"},
+               {labels, 0.5, "parallel-grid label"},
+               {labels, (double)count, "parallel-grid label"},
+               {labels, -1.0, "parallel-grid label"}};
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    unsigned char *copy = malloc(size);
+    memcpy(copy, data, size);
+    memcpy(copy + cases[k].at, &cases[k].value, sizeof(double)); /* point 0 */
+    reseal(copy, size);
+    write_file(damaged, copy, size);
+    expect_refused(&target, &before, damaged, GM_ERR_IO, cases[k].named);
+    ck_assert_msg(last_error_mentions(target.domain, cases[k].named),
+                  "%g: message \"%s\" does not name the %s", cases[k].value,
+                  gm_domain_last_error(target.domain), cases[k].named);
+    free(copy);
+  }
+  TEST_ASSERT_OK(target.domain, gm_domain_load(target.domain, good));
+  forget(&before);
+  free(mass);
+  free(data);
+  free(good);
+  free(damaged);
+  gm_domain_destroy(saved.domain);
+  gm_domain_destroy(target.domain);
+  remove_temporary_directory();
+}
+END_TEST
+
 /* Loads the file into a scene of another setup: refused with
  * GM_ERR_INVALID_ARGUMENT, a message naming `difference` (and `detail`
  * unless NULL), the scene unchanged; then destroys the scene. */
@@ -945,6 +1021,7 @@ static Suite *checkpoint_suite(void) {
   tcase_add_test(refusals, test_refuses_damaged_files);
   tcase_add_test(refusals, test_refuses_other_setup);
   tcase_add_test(refusals, test_refuses_inverted_tensors);
+  tcase_add_test(refusals, test_refuses_foreign_granular_values);
   tcase_add_test(refusals, test_material_parameters);
   tcase_add_test(refusals, test_failed_saves_keep_previous_file);
   tcase_add_test(refusals, test_arguments);

@@ -184,6 +184,12 @@ static void check_separate_grids(const gm_domain *domain, int64_t first_id,
                     component[2] == 1.0,
                 "step %d: components %g %g %g", step, component[0],
                 component[1], component[2]);
+  /* Stored as a byte and an int32 (gm_fields(3)): copies only, no view. */
+  const double *view = NULL;
+  ck_assert_int_eq(gm_domain_view_field(domain, GM_FIELD_STATE, 0, &view),
+                   GM_ERR_UNSUPPORTED);
+  ck_assert_int_eq(gm_domain_view_field(domain, GM_FIELD_COMPONENT, 0, &view),
+                   GM_ERR_UNSUPPORTED);
 }
 
 /* Steps until the velocity has changed and the grids merged (granular),

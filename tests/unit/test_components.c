@@ -995,9 +995,9 @@ END_TEST
 START_TEST(test_labels_by_id_match_sorted) {
   enum { ELEMENTS = 3000, IDS = 4000 };
   static uint32_t parent[ELEMENTS], size[ELEMENTS], index_of_id[IDS];
-  static int64_t id[ELEMENTS], scratch_min[ELEMENTS];
+  static int64_t id[ELEMENTS];
+  static uint32_t scratch_first[ELEMENTS], scratch_order[ELEMENTS];
   static int32_t sorted[ELEMENTS], by_id[ELEMENTS], scratch[ELEMENTS];
-  static gm_root_order roots[ELEMENTS];
   lcg_state = 271828;
   int64_t pool[IDS];
   for (int k = 0; k < IDS; k++)
@@ -1018,8 +1018,8 @@ START_TEST(test_labels_by_id_match_sorted) {
   for (int u = 0; u < ELEMENTS * 3 / 4; u++)
     gm_union_find_join(parent, size, (uint32_t)(lcg_uniform() * ELEMENTS),
                        (uint32_t)(lcg_uniform() * ELEMENTS));
-  size_t sets =
-      gm_union_find_labels(parent, id, ELEMENTS, sorted, scratch_min, roots);
+  size_t sets = gm_union_find_labels(parent, id, ELEMENTS, sorted,
+                                     scratch_first, scratch_order);
   size_t sets_by_id = gm_union_find_labels_by_id(
       parent, index_of_id, IDS, UINT32_MAX, ELEMENTS, by_id, scratch);
   ck_assert_uint_eq(sets, sets_by_id);
