@@ -56,22 +56,39 @@ static GM_ALWAYS_INLINE void gather_product(const gather_view *v,
   }
 }
 
-/* CPDI corner by corner, in the entry order c, b, a of
- * gm_cpdi_support_expand. base: the block's base node. */
+/* CPDI corner by corner (support.c): each corner interpolates the nodes
+ * of its cell bilinearly, v_c = sum N_i(x_c) v_i, and the point takes
+ * v_p = share sum_c v_c and L = sum_c v_c (x) g_c: the entry sums with
+ * weight share N_i and gradient N_i g_c, factored per corner (equal to
+ * round-off). base: the block's base node. */
 static GM_ALWAYS_INLINE void
 gather_cpdi(const gather_view *v, const uint32_t *links, const int64_t base[2],
             const gm_cpdi_support *support, point_gather *sum, const int dim) {
+  double share = support->share;
   for (int c = 0; c < support->corner_count; c++) {
     int64_t x = support->cell[c][0] - base[0];
     int64_t y = dim > 1 ? support->cell[c][1] - base[1] : 0;
-    double g_x = support->corner_gradient[c][0];
-    double g_y = support->corner_gradient[c][1];
+    double velocity[2] = {0.0, 0.0};     /* m/s, v_c */
+    double acceleration[2] = {0.0, 0.0}; /* m/s^2 */
+    double empty = 0.0; /* -, the corner's weight on massless nodes */
     for (int b = 0; b < (dim > 1 ? 2 : 1); b++)
       for (int a = 0; a < 2; a++) {
+        size_t node = gm_block_node(links, v->shift, x + a, y + b);
         double value = support->axis[c][0][a] * support->axis[c][1][b];
-        gather_node(v, gm_block_node(links, v->shift, x + a, y + b),
-                    support->share * value, value * g_x, value * g_y, sum, dim);
+        empty += v->grid_mass[node] == 0.0 ? value : 0.0;
+        for (int k = 0; k < dim; k++) {
+          velocity[k] += value * v->grid_velocity[k][node];
+          acceleration[k] += value * v->grid_acceleration[k][node];
+        }
       }
+    const double *g = support->corner_gradient[c]; /* 1/m */
+    for (int k = 0; k < dim; k++) {
+      sum->velocity[k] += share * velocity[k];
+      sum->acceleration[k] += share * acceleration[k];
+      for (int b = 0; b < dim; b++)
+        sum->gradient[k][b] += velocity[k] * g[b];
+      sum->empty[k] += empty * g[k];
+    }
   }
 }
 

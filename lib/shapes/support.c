@@ -179,9 +179,9 @@ bool gm_support_bounds(const gm_shape_grid *grid, const gm_point_domain *point,
     int count = corners_in_cells(grid, point, corners, cells);
     for (int k = 0; k < grid->dim; k++) {
       double low = cells[0][k], high = cells[0][k];
-      for (int c = 1; c < count; c++) {
-        low = fmin(low, cells[c][k]);
-        high = fmax(high, cells[c][k]);
+      for (int c = 1; c < count; c++) { /* as cpdi_from_corners */
+        low = cells[c][k] < low ? cells[c][k] : low;
+        high = cells[c][k] > high ? cells[c][k] : high;
       }
       if (!(low >= -1.0 && high < (double)grid->last_node[k] + 1.0))
         return false; /* also catches NaN; keeps the casts in range */
@@ -239,17 +239,21 @@ bool gm_support_rectangle(const gm_shape_grid *grid, double x, double y,
   return true;
 }
 
-bool gm_cpdi_support_compute(const gm_shape_grid *grid,
-                             const gm_point_domain *point,
-                             gm_cpdi_support *out) {
-  double corners[4][2], cells[4][2];
-  int count = corners_in_cells(grid, point, corners, cells);
+/* CPDI from the domain's corners (m; count 4, or 2 in 1D). */
+static bool cpdi_from_corners(const gm_shape_grid *grid, double corners[4][2],
+                              int count, gm_cpdi_support *out) {
+  double cells[4][2]; /* as corners_in_cells */
+  for (int c = 0; c < count; c++)
+    for (int k = 0; k < 2; k++)
+      cells[c][k] = k < grid->dim ? in_cells(grid, k, corners[c][k]) : 0.0;
   out->lowest[1] = 0;
   for (int k = 0; k < grid->dim; k++) { /* as gm_support_bounds */
+    /* Not fmin/fmax, library calls here (no SSE4.1 by default); a NaN
+     * corner fails the checks below or the area's. */
     double low = cells[0][k], high = cells[0][k];
     for (int c = 1; c < count; c++) {
-      low = fmin(low, cells[c][k]);
-      high = fmax(high, cells[c][k]);
+      low = cells[c][k] < low ? cells[c][k] : low;
+      high = cells[c][k] > high ? cells[c][k] : high;
     }
     if (!(low >= -1.0 && high < (double)grid->last_node[k] + 1.0))
       return false; /* also catches NaN; keeps the casts in range */
@@ -298,6 +302,32 @@ bool gm_cpdi_support_compute(const gm_shape_grid *grid,
     }
   }
   return true;
+}
+
+bool gm_cpdi_support_compute(const gm_shape_grid *grid,
+                             const gm_point_domain *point,
+                             gm_cpdi_support *out) {
+  double corners[4][2];
+  gm_point_domain_corners(grid->shape, grid->dim, point, corners);
+  return cpdi_from_corners(grid, corners, grid->dim == 1 ? 2 : 4, out);
+}
+
+bool gm_cpdi_support_map(const gm_shape_grid *grid, double x, double y,
+                         const double map[4], double half_x, double half_y,
+                         gm_cpdi_support *out) {
+  /* The arithmetic of gm_point_domain_corners: r_i = D r_i0. */
+  bool planar = grid->dim > 1;
+  double r1[2] = {map[0] * half_x, planar ? map[2] * half_x : 0.0};
+  double r2[2] = {planar ? map[1] * half_y : 0.0,
+                  planar ? map[3] * half_y : 0.0};
+  double position[2] = {x, y};
+  static const double sign1[4] = {-1.0, 1.0, 1.0, -1.0};
+  static const double sign2[4] = {-1.0, -1.0, 1.0, 1.0};
+  double corners[4][2];
+  for (int c = 0; c < 4; c++)
+    for (int k = 0; k < 2; k++)
+      corners[c][k] = position[k] + sign1[c] * r1[k] + sign2[c] * r2[k];
+  return cpdi_from_corners(grid, corners, planar ? 4 : 2, out);
 }
 
 void gm_cpdi_support_expand(const gm_cpdi_support *cpdi, int dim,

@@ -148,6 +148,12 @@ bool gm_support_bspline_bounds(const gm_shape_grid *grid, double x, double y,
 bool gm_cpdi_support_compute(const gm_shape_grid *grid,
                              const gm_point_domain *point,
                              gm_cpdi_support *out);
+/* The same from the centre x, y (m; y unused in 1D), the domain map D
+ * (D_xx, D_xy, D_yx, D_yy) and the initial half edges (m), by value (see
+ * gm_support_rectangle). */
+bool gm_cpdi_support_map(const gm_shape_grid *grid, double x, double y,
+                         const double map[4], double half_x, double half_y,
+                         gm_cpdi_support *out);
 /* The entry table of a product or a CPDI support, as gm_support_compute
  * makes it (entries in the order b, a and c, b, a). */
 void gm_product_support_expand(const gm_product_support *product,
@@ -222,9 +228,12 @@ static inline bool gm_wide_cpdi_support(const gm_shape_grid *grid, int dim,
                                         const double *const deformation[4],
                                         const double *const domain_size[2],
                                         size_t p, gm_cpdi_support *out) {
-  gm_point_domain domain;
-  gm_load_point_domain(dim, position, deformation, domain_size, p, &domain);
-  return gm_cpdi_support_compute(grid, &domain, out);
+  double map[4] = {deformation[0][p], deformation[1][p], deformation[2][p],
+                   deformation[3][p]};
+  bool planar = dim > 1;
+  return gm_cpdi_support_map(
+      grid, position[0][p], planar ? position[1][p] : 0.0, map,
+      0.5 * domain_size[0][p], planar ? 0.5 * domain_size[1][p] : 0.0, out);
 }
 
 /* Bounds of point p's support from SoA arrays, as gm_wide_support. */
