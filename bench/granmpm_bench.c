@@ -18,12 +18,13 @@
  * process's RSS before the domain was created, divided by the points: it
  * includes the grid, the scratch and the transient peaks of creation.
  *
- * Usage: granmpm-bench [--quick] [--case NAME] [--apic]
+ * Usage: granmpm-bench [--quick] [--case NAME] [--apic] [--workers N]
  *   --quick      only the 1e4 and 1e5 cases (block-1e4, block-1e5,
  *                empty-1e5)
  *   --case NAME  only that case (both worker counts)
  *   --apic       the APIC velocity transfer (gm_domain_def.transfer)
  *                instead of FLIP
+ *   --workers N  only that worker count (default: 1 and 2)
  *
  * Timing: a few warm-up steps (first-touch allocation of the grid and
  * scratch happens there), then the step count is chosen so each case takes
@@ -113,6 +114,7 @@ typedef struct bench_result {
   size_t points;
   int steps;
   double seconds;
+  double cpu_seconds; /* process CPU time of the same steps, all threads */
   double peak_rss_bytes;
   double rss_increase_bytes;
   /* granular family: summed phase times (s) from the step summaries,
@@ -124,6 +126,15 @@ typedef struct bench_result {
 static double now_seconds(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* CPU time of the process (all its threads): with 1 worker the time the
+ * step actually ran, which other processes on a loaded machine do not
+ * stretch as they stretch the wall time (they still share the caches). */
+static double cpu_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
@@ -289,11 +300,12 @@ static int build_scene(const bench_case *scene, int workers,
  * 1 after reporting an error. */
 static int run_steps(gm_domain *domain, int steps, bench_result *result) {
   for (int step = 0; step < steps; step++) {
-    double start = now_seconds();
+    double start = now_seconds(), cpu_start = cpu_seconds();
     CHECK(domain, gm_domain_step(domain, 0.0)); /* dt <= 0: the stable dt */
     if (!result)
       continue;
     result->seconds += now_seconds() - start;
+    result->cpu_seconds += cpu_seconds() - cpu_start;
     gm_granular_summary summary = gm_granular_summary_default();
     CHECK(domain, gm_domain_get_granular_summary(domain, &summary));
     const double phases[5] = {summary.geometry_seconds,
@@ -339,11 +351,12 @@ static int run_case(const bench_case *scene, int workers) {
   if (measure_case(scene, workers, &result) != 0)
     return 1;
   double point_steps = (double)result.points * result.steps;
-  printf("%s,%zu,%d,%d,%.3f,%.2f,%.1f,%.0f\n", scene->name, result.points,
+  printf("%s,%zu,%d,%d,%.3f,%.2f,%.1f,%.0f,%.2f\n", scene->name, result.points,
          workers, result.steps, result.seconds,
          1e9 * result.seconds / point_steps,
          result.peak_rss_bytes / (1024.0 * 1024.0),
-         result.rss_increase_bytes / (double)result.points);
+         result.rss_increase_bytes / (double)result.points,
+         1e9 * result.cpu_seconds / point_steps);
   if (scene->family == GM_FAMILY_GRANULAR) { /* the split, ns/point-step */
     static const char *const names[5] = {"geometry", "pair_search", "labels",
                                          "layers", "density_control"};
@@ -379,8 +392,8 @@ static bool run_case_isolated(const bench_case *scene, int workers) {
 }
 
 static void print_usage(FILE *stream) {
-  fprintf(stream,
-          "usage: granmpm-bench [--quick] [--case NAME] [--apic]\ncases:");
+  fprintf(stream, "usage: granmpm-bench [--quick] [--case NAME] [--apic] "
+                  "[--workers N]\ncases:");
   for (int c = 0; c < CASE_COUNT; c++)
     fprintf(stream, " %s", bench_cases[c].name);
   fprintf(stream, "\n");
@@ -389,11 +402,18 @@ static void print_usage(FILE *stream) {
 int main(int argc, char **argv) {
   bool quick = false;
   const char *only_case = NULL;
+  int only_workers = 0; /* 0: every count of worker_counts */
   for (int a = 1; a < argc; a++) {
     if (strcmp(argv[a], "--quick") == 0) {
       quick = true;
     } else if (strcmp(argv[a], "--case") == 0 && a + 1 < argc) {
       only_case = argv[++a];
+    } else if (strcmp(argv[a], "--workers") == 0 && a + 1 < argc) {
+      only_workers = atoi(argv[++a]);
+      if (only_workers < 1) {
+        fprintf(stderr, "granmpm-bench: --workers needs a count >= 1\n");
+        return 2;
+      }
     } else if (strcmp(argv[a], "--apic") == 0) {
       bench_transfer = GM_TRANSFER_APIC;
     } else if (strcmp(argv[a], "--help") == 0) {
@@ -414,13 +434,17 @@ int main(int argc, char **argv) {
   }
 
   printf("case,points,workers,steps,seconds,ns_per_point_step,peak_rss_mb,"
-         "bytes_per_point\n");
+         "bytes_per_point,cpu_ns_per_point_step\n");
   bool all_ok = true;
   for (int c = 0; c < CASE_COUNT; c++) {
     const bench_case *scene = &bench_cases[c];
     if ((quick && !scene->quick) ||
         (only_case && strcmp(scene->name, only_case) != 0))
       continue;
+    if (only_workers > 0) {
+      all_ok = run_case_isolated(scene, only_workers) && all_ok;
+      continue;
+    }
     for (size_t w = 0; w < sizeof worker_counts / sizeof worker_counts[0]; w++)
       all_ok = run_case_isolated(scene, worker_counts[w]) && all_ok;
   }

@@ -11,88 +11,193 @@
 
 #include <math.h>
 
-void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
-                          chunk_gather *out, const gm_domain *domain,
-                          gm_worker_scratch *scratch) {
+/* The sums of one point's gather (g2p.c): acceleration and velocity,
+ * L_ab = sum v_ia dN_i/dx_b, the gradient sum of massless nodes. */
+typedef struct point_gather {
+  double acceleration[2]; /* m/s^2 */
+  double velocity[2];     /* m/s */
+  double gradient[2][2];  /* 1/s */
+  double empty[2];        /* 1/m */
+} point_gather;
+
+static GM_ALWAYS_INLINE void gather_node(const gather_view *v, size_t node,
+                                         double weight, double grad_x,
+                                         double grad_y, point_gather *sum,
+                                         const int dim) {
+  double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
+  double grad[2] = {grad_x, grad_y};
+  for (int b = 0; b < dim; b++)
+    sum->empty[b] += is_empty * grad[b];
+  for (int a = 0; a < dim; a++) {
+    double nodal = v->grid_velocity[a][node];
+    sum->acceleration[a] += weight * v->grid_acceleration[a][node];
+    sum->velocity[a] += weight * nodal;
+    for (int b = 0; b < dim; b++)
+      sum->gradient[a][b] += nodal * grad[b];
+  }
+}
+
+/* A tensor-product support node by node, in the entry order b, a of
+ * gm_product_support_expand (so the sums are bitwise those of the table). */
+static GM_ALWAYS_INLINE void gather_product(const gather_view *v,
+                                            const uint32_t *links, int64_t x0,
+                                            int64_t y0,
+                                            const gm_product_support *support,
+                                            point_gather *sum, const int dim) {
+  int span_x = support->span[0];
+  for (int b = 0; b < support->span[1]; b++) {
+    double weight_y = support->weight[1][b],
+           gradient_y = support->gradient_y[b];
+    for (int a = 0; a < span_x; a++)
+      gather_node(v, gm_block_node(links, v->shift, x0 + a, y0 + b),
+                  support->weight[0][a] * weight_y,
+                  support->gradient_x[a] * weight_y,
+                  support->weight_x_per_cell[a] * gradient_y, sum, dim);
+  }
+}
+
+/* CPDI corner by corner (support.c): each corner interpolates the nodes
+ * of its cell bilinearly, v_c = sum N_i(x_c) v_i, and the point takes
+ * v_p = share sum_c v_c and L = sum_c v_c (x) g_c: the entry sums with
+ * weight share N_i and gradient N_i g_c, factored per corner (equal to
+ * round-off). base: the block's base node. */
+static GM_ALWAYS_INLINE void
+gather_cpdi(const gather_view *v, const uint32_t *links, const int64_t base[2],
+            const gm_cpdi_support *support, point_gather *sum, const int dim) {
+  double share = support->share;
+  for (int c = 0; c < support->corner_count; c++) {
+    int64_t x = support->cell[c][0] - base[0];
+    int64_t y = dim > 1 ? support->cell[c][1] - base[1] : 0;
+    double velocity[2] = {0.0, 0.0};     /* m/s, v_c */
+    double acceleration[2] = {0.0, 0.0}; /* m/s^2 */
+    double empty = 0.0; /* -, the corner's weight on massless nodes */
+    for (int b = 0; b < (dim > 1 ? 2 : 1); b++)
+      for (int a = 0; a < 2; a++) {
+        size_t node = gm_block_node(links, v->shift, x + a, y + b);
+        double value = support->axis[c][0][a] * support->axis[c][1][b];
+        empty += v->grid_mass[node] == 0.0 ? value : 0.0;
+        for (int k = 0; k < dim; k++) {
+          velocity[k] += value * v->grid_velocity[k][node];
+          acceleration[k] += value * v->grid_acceleration[k][node];
+        }
+      }
+    const double *g = support->corner_gradient[c]; /* 1/m */
+    for (int k = 0; k < dim; k++) {
+      sum->velocity[k] += share * velocity[k];
+      sum->acceleration[k] += share * acceleration[k];
+      for (int b = 0; b < dim; b++)
+        sum->gradient[k][b] += velocity[k] * g[b];
+      sum->empty[k] += empty * g[k];
+    }
+  }
+}
+
+/* The entry table, with APIC's B_p = sum N_ip v_i (x_i - x_p)^T: node i of
+ * an entry lies at origin + (lowest + offset) h, node_x/node_y being
+ * x_i - x_p of the support's lowest node (m). */
+static void gather_entries_affine(const gather_view *v, const uint32_t *links,
+                                  int64_t x0, int64_t y0, size_t p,
+                                  const gm_support *support, point_gather *sum,
+                                  double affine[2][2]) {
   int dim = v->dim;
+  double node_x =
+      v->origin[0] + (double)support->lowest[0] * v->cell - v->position[0][p];
+  double node_y = dim > 1
+                      ? v->origin[1] + (double)support->lowest[1] * v->cell -
+                            v->position[1][p]
+                      : 0.0;
+  for (int e = 0; e < support->count; e++) {
+    size_t node = gm_block_node(links, v->shift, x0 + support->offset[0][e],
+                                y0 + support->offset[1][e]);
+    double weight = support->weight[e];
+    if (dim > 1)
+      gather_node(v, node, weight, support->gradient[0][e],
+                  support->gradient[1][e], sum, 2);
+    else
+      gather_node(v, node, weight, support->gradient[0][e], 0.0, sum, 1);
+    double offset[2] = {node_x + (double)support->offset[0][e] * v->cell,
+                        node_y + (double)support->offset[1][e] * v->cell};
+    for (int a = 0; a < dim; a++) {
+      double nodal = v->grid_velocity[a][node];
+      for (int b = 0; b < dim; b++)
+        affine[a][b] += weight * nodal * offset[b];
+    }
+  }
+}
+
+static GM_ALWAYS_INLINE void
+gather_chunk_kind(const gather_view *v, size_t first, size_t count,
+                  chunk_gather *out, const gm_domain *domain,
+                  gm_worker_scratch *scratch, const int dim) {
   const double *const *deformation = v->support_tensor;
-  gm_support support;
+  bool cpdi = v->shape_grid->shape == GM_SHAPE_CPDI;
+  /* Two blocks per axis: the block and its neighbour links. */
+  int64_t edge = dim == 1 ? 2 * GM_BLOCK_NODES : 2 << v->shift;
+  wide_support support;
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
-    bool found = gm_wide_support(v->shape_grid, dim, v->position, deformation,
-                                 v->domain_size, p, &support);
+    int64_t lowest[2], reach[2];
+    bool found =
+        gm_wide_point_support(v->shape_grid, dim, v->position, deformation,
+                              v->domain_size, p, &support, lowest, reach);
     uint32_t block = v->point_block[p];
     const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
     int64_t base[2];
     gm_block_base(v->grid, v->grid->block_key[block], base);
-    int64_t x0 = support.lowest[0] - base[0];
-    int64_t y0 = dim > 1 ? support.lowest[1] - base[1] : 0;
-    /* Two blocks per axis: the block and its neighbour links. */
-    int64_t edge = dim == 1 ? 2 * GM_BLOCK_NODES : 2 << v->shift;
-    if (!found || !gm_support_within(&support, dim, x0, y0, edge)) {
+    int64_t x0 = lowest[0] - base[0];
+    int64_t y0 = dim > 1 ? lowest[1] - base[1] : 0;
+    point_gather sum = {
+        {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
+    double affine[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* m^2/s, APIC's B_p */
+    if (!found || !gm_wide_support_fits(dim, x0, y0, reach, edge)) {
       gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
                       "step: the support of point id %lld cannot be "
                       "computed or does not fit the block it was binned in "
                       "(a degenerate domain, e.g. an edge far below a cell); "
                       "the step was not taken",
                       (long long)domain->points.id[p]);
-      support.count = 0; /* gathers nothing: the step fails anyway */
-    }
-    double acceleration[2] = {0.0, 0.0}, velocity[2] = {0.0, 0.0};
-    double gradient[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* L_ab = dv_a/dx_b */
-    double empty[2] = {0.0, 0.0}; /* gradient sum of massless nodes */
-    /* APIC's B_p = sum N_ip v_i (x_i - x_p)^T: node i of an entry lies at
-     * origin + (lowest + offset) h, node_x/node_y being x_i - x_p of the
-     * support's lowest node (m). */
-    double affine[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* m^2/s */
-    double node_x = 0.0, node_y = 0.0;
-    if (v->affine) {
-      node_x = v->origin[0] + (double)support.lowest[0] * v->cell -
-               v->position[0][p];
-      node_y = dim > 1 ? v->origin[1] + (double)support.lowest[1] * v->cell -
-                             v->position[1][p]
-                       : 0.0;
-    }
-    for (int e = 0; e < support.count; e++) {
-      size_t node = gm_block_node(links, v->shift, x0 + support.offset[0][e],
-                                  y0 + support.offset[1][e]);
-      double weight = support.weight[e];
-      double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
-      for (int b = 0; b < dim; b++)
-        empty[b] += is_empty * support.gradient[b][e];
-      double offset[2] = {node_x + (double)support.offset[0][e] * v->cell,
-                          node_y + (double)support.offset[1][e] * v->cell};
-      for (int a = 0; a < dim; a++) {
-        double nodal = v->grid_velocity[a][node];
-        acceleration[a] += weight * v->grid_acceleration[a][node];
-        velocity[a] += weight * nodal;
-        for (int b = 0; b < dim; b++)
-          gradient[a][b] += nodal * support.gradient[b][e];
-        if (v->affine)
-          for (int b = 0; b < dim; b++)
-            affine[a][b] += weight * nodal * offset[b];
-      }
+      /* gathers nothing: the step fails anyway */
+    } else if (v->affine) {
+      gm_support entries;
+      if (cpdi)
+        gm_cpdi_support_expand(&support.cpdi, dim, &entries);
+      else
+        gm_product_support_expand(&support.product, &entries);
+      gather_entries_affine(v, links, x0, y0, p, &entries, &sum, affine);
+    } else if (cpdi) {
+      gather_cpdi(v, links, base, &support.cpdi, &sum, dim);
+    } else {
+      gather_product(v, links, x0, y0, &support.product, &sum, dim);
     }
     /* Massless nodes: the point's own velocity (see gather_chunk_2d). */
     for (int a = 0; a < dim; a++)
       for (int b = 0; b < dim; b++)
-        gradient[a][b] += velocity[a] * empty[b];
+        sum.gradient[a][b] += sum.velocity[a] * sum.empty[b];
     for (int a = 0; a < 2; a++) {
-      out->acceleration[a][j] = a < dim ? acceleration[a] : 0.0;
-      out->velocity[a][j] = a < dim ? velocity[a] : 0.0;
+      out->acceleration[a][j] = a < dim ? sum.acceleration[a] : 0.0;
+      out->velocity[a][j] = a < dim ? sum.velocity[a] : 0.0;
     }
-    out->gradient[0][j] = gradient[0][0];
-    out->gradient[1][j] = gradient[0][1];
-    out->gradient[2][j] = gradient[1][0];
-    out->gradient[3][j] = gradient[1][1];
+    out->gradient[0][j] = sum.gradient[0][0];
+    out->gradient[1][j] = sum.gradient[0][1];
+    out->gradient[2][j] = sum.gradient[1][0];
+    out->gradient[3][j] = sum.gradient[1][1];
     /* Hoop strain rate v_r / r (002 sec 3). */
     out->gradient[4][j] =
-        v->axisymmetric ? velocity[0] / v->position[0][p] : 0.0;
+        v->axisymmetric ? sum.velocity[0] / v->position[0][p] : 0.0;
     out->affine[0][j] = affine[0][0];
     out->affine[1][j] = affine[0][1];
     out->affine[2][j] = affine[1][0];
     out->affine[3][j] = affine[1][1];
   }
+}
+
+void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
+                          chunk_gather *out, const gm_domain *domain,
+                          gm_worker_scratch *scratch) {
+  if (v->dim > 1)
+    gather_chunk_kind(v, first, count, out, domain, scratch, 2);
+  else
+    gather_chunk_kind(v, first, count, out, domain, scratch, 1);
 }
 
 void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,

@@ -84,39 +84,165 @@ static void affine_velocity(const gm_support *support, int dim,
   c[3] = b[2] * i_xy + b[3] * i_yy;
 }
 
-void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
-                           uint32_t block, const gm_domain *domain,
-                           gm_worker_scratch *scratch) {
+/* What one point hands the nodes of its support: per node i, mass
+ * N_i m, momentum N_i m v (FLIP) and force N_i m g + N_i f_ext - V sigma
+ * grad N_i (004 eqs 3.13-3.15). */
+typedef struct point_load {
+  double mass;          /* kg */
+  double momentum[2];   /* kg m/s */
+  double body[2];       /* N, gravity, external and hoop forces */
+  double txx, tyy, txy; /* N m, stress times volume */
+} point_load;
+
+static GM_ALWAYS_INLINE void
+add_to_node(wide_tile *tile, size_t t, double weight, double grad_x,
+            double grad_y, const point_load *load, const bool do_mass,
+            const bool do_momentum, const bool do_forces) {
+  if (do_mass)
+    tile->mass[t] += weight * load->mass;
+  if (do_momentum) {
+    tile->momentum[0][t] += weight * load->momentum[0];
+    tile->momentum[1][t] += weight * load->momentum[1];
+  }
+  if (do_forces) {
+    tile->force[0][t] +=
+        weight * load->body[0] - (load->txx * grad_x + load->txy * grad_y);
+    tile->force[1][t] +=
+        weight * load->body[1] - (load->txy * grad_x + load->tyy * grad_y);
+  }
+}
+
+/* A tensor-product support, node by node from its axis factors (the
+ * products of gm_product_support_expand, bitwise). x0, y0: the support's
+ * lowest node in tile coordinates. */
+static GM_ALWAYS_INLINE void
+scatter_product(wide_tile *tile, int64_t tile_edge, int64_t x0, int64_t y0,
+                const gm_product_support *support, const point_load *load,
+                const bool do_mass, const bool do_momentum,
+                const bool do_forces) {
+  int span_x = support->span[0];
+  for (int b = 0; b < support->span[1]; b++) {
+    double weight_y = support->weight[1][b],
+           gradient_y = support->gradient_y[b];
+    size_t row = (size_t)(x0 + tile_edge * (y0 + b));
+    for (int a = 0; a < span_x; a++)
+      add_to_node(tile, row + (size_t)a, support->weight[0][a] * weight_y,
+                  support->gradient_x[a] * weight_y,
+                  support->weight_x_per_cell[a] * gradient_y, load, do_mass,
+                  do_momentum, do_forces);
+  }
+}
+
+/* CPDI, corner by corner (support.c): corner c hands each node i of its
+ * cell the bilinear value N_i(x_c) times the corner's part of the point's
+ * mass, momentum and force, the force's being share * body - sigma V g_c:
+ * the entry sums of 004 eqs 3.13-3.15 with weight share N_i and gradient
+ * N_i g_c, factored per corner (half the multiplications of the entries;
+ * equal to round-off). base: the block's base node. */
+static GM_ALWAYS_INLINE void
+scatter_cpdi(wide_tile *tile, int64_t tile_edge, int dim, const int64_t base[2],
+             const gm_cpdi_support *support, const point_load *load,
+             const bool do_mass, const bool do_momentum, const bool do_forces) {
+  int rows = dim > 1 ? 2 : 1;
+  double share = support->share;
+  double mass = share * load->mass; /* kg */
+  double momentum[2] = {share * load->momentum[0],
+                        share * load->momentum[1]}; /* kg m/s */
+  for (int c = 0; c < support->corner_count; c++) {
+    int64_t x = support->cell[c][0] - base[0];
+    int64_t y = dim > 1 ? support->cell[c][1] - base[1] : 0;
+    double g_x = support->corner_gradient[c][0]; /* 1/m */
+    double g_y = support->corner_gradient[c][1];
+    double force[2] = {
+        /* N */
+        share * load->body[0] - (load->txx * g_x + load->txy * g_y),
+        share * load->body[1] - (load->txy * g_x + load->tyy * g_y)};
+    for (int b = 0; b < rows; b++) {
+      size_t row = (size_t)(x + tile_edge * (y + b));
+      for (int a = 0; a < 2; a++) {
+        size_t t = row + (size_t)a;
+        double value = support->axis[c][0][a] * support->axis[c][1][b];
+        if (do_mass)
+          tile->mass[t] += value * mass;
+        if (do_momentum) {
+          tile->momentum[0][t] += value * momentum[0];
+          tile->momentum[1][t] += value * momentum[1];
+        }
+        if (do_forces) {
+          tile->force[0][t] += value * force[0];
+          tile->force[1][t] += value * force[1];
+        }
+      }
+    }
+  }
+}
+
+/* The entry table with APIC's affine momentum (offsets per entry). */
+static void scatter_entries_affine(wide_tile *tile, int64_t tile_edge,
+                                   int64_t x0, int64_t y0, int dim,
+                                   const gm_support *support,
+                                   const point_load *load,
+                                   const gm_p2g_pass *pass,
+                                   const scatter_view *v, size_t p) {
+  double c[4] = {0.0, 0.0, 0.0, 0.0};       /* 1/s, B_p D_p^-1 */
+  double offset[2][GM_SUPPORT_MAX_ENTRIES]; /* m, x_i - x_p */
+  double h = v->cell;                       /* m */
+  for (int axis = 0; axis < 2; axis++) {
+    /* m, x_i - x_p of the support's lowest node */
+    double node = axis < dim
+                      ? v->origin[axis] + (double)support->lowest[axis] * h -
+                            v->position[axis][p]
+                      : 0.0;
+    for (int e = 0; e < support->count; e++)
+      offset[axis][e] =
+          axis < dim ? node + (double)support->offset[axis][e] * h : 0.0;
+  }
+  double b[4] = {v->affine[0][p], dim > 1 ? v->affine[1][p] : 0.0,
+                 dim > 1 ? v->affine[2][p] : 0.0,
+                 dim > 1 ? v->affine[3][p] : 0.0};
+  affine_velocity(support, dim, offset, b, c);
+  double m = load->mass;
+  for (int e = 0; e < support->count; e++) {
+    int64_t x = x0 + support->offset[0][e], y = y0 + support->offset[1][e];
+    size_t t = (size_t)(x + tile_edge * y);
+    double weight = support->weight[e];
+    add_to_node(tile, t, weight, support->gradient[0][e],
+                support->gradient[1][e], load, pass->mass, false, pass->forces);
+    double wm = weight * m; /* kg; m_p N_ip (v_p + C (x_i - x_p)) */
+    tile->momentum[0][t] += weight * load->momentum[0] +
+                            wm * (c[0] * offset[0][e] + c[1] * offset[1][e]);
+    tile->momentum[1][t] += weight * load->momentum[1] +
+                            wm * (c[2] * offset[0][e] + c[3] * offset[1][e]);
+  }
+}
+
+/* One block; do_* are compile-time constants in each specialisation
+ * below, so each pass kind gets its own loop (as p2g.c), and the APIC
+ * momentum goes through the entry table. */
+static GM_ALWAYS_INLINE void scatter_block_kind(
+    const scatter_view *v, const gm_p2g_pass *pass, uint32_t block,
+    const gm_domain *domain, gm_worker_scratch *scratch, wide_tile *tile,
+    const bool do_mass, const bool do_momentum, const bool do_forces) {
   int dim = v->grid->dim;
   int64_t tile_edge = dim == 1 ? WIDE_TILE_NODES : 2 << v->shift;
-  wide_tile tile;
-  memset(&tile, 0, sizeof tile);
+  bool cpdi = v->shape_grid->shape == GM_SHAPE_CPDI;
+  bool affine = v->apic && do_momentum;
   int64_t base[2];
   gm_block_base(v->grid, v->grid->block_key[block], base);
   int64_t columns = 0, rows = 1; /* extent of the touched tile nodes */
-  gm_support support;
+  wide_support support;
   for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
     size_t p = v->order[k];
     if (v->skip_rigid && v->rigid[v->material[p]])
       continue; /* rigid points take no part (rigid.c) */
-    bool found = gm_wide_support(v->shape_grid, dim, v->position,
-                                 v->deformation, v->domain_size, p, &support);
-    double m = v->mass[p];
-    double momentum[2] = {m * v->velocity[0][p],
-                          dim > 1 ? m * v->velocity[1][p] : 0.0};
-    double body[2] = {m * v->gravity[0], dim > 1 ? m * v->gravity[1] : 0.0};
-    for (int c = 0; c < dim; c++)
-      if (v->external_force[c])
-        body[c] += v->external_force[c][p];
-    double volume = v->volume[p]; /* stress times volume: N m */
-    double txx = v->stress[0][p] * volume;
-    double tyy = dim > 1 ? v->stress[1][p] * volume : 0.0;
-    double txy = dim > 1 ? v->stress[3][p] * volume : 0.0;
-    if (v->axisymmetric) /* hoop row of B (002 sec 3) */
-      body[0] -= v->stress[2][p] * volume / v->position[0][p];
-    int64_t x0 = support.lowest[0] - base[0];
-    int64_t y0 = dim > 1 ? support.lowest[1] - base[1] : 0;
-    if (!found || !gm_support_within(&support, dim, x0, y0, tile_edge)) {
+    /* The support's lowest node and its reach (nodes past it) per axis. */
+    int64_t lowest[2], reach[2];
+    bool found =
+        gm_wide_point_support(v->shape_grid, dim, v->position, v->deformation,
+                              v->domain_size, p, &support, lowest, reach);
+    int64_t x0 = lowest[0] - base[0];
+    int64_t y0 = dim > 1 ? lowest[1] - base[1] : 0;
+    if (!found || !gm_wide_support_fits(dim, x0, y0, reach, tile_edge)) {
       gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
                       "step: the support of point id %lld cannot be "
                       "computed or does not fit the block it was binned in "
@@ -125,52 +251,59 @@ void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
                       (long long)domain->points.id[p]);
       continue;
     }
-    bool affine = v->apic && pass->momentum;
-    double c[4] = {0.0, 0.0, 0.0, 0.0};       /* 1/s, B_p D_p^-1 */
-    double offset[2][GM_SUPPORT_MAX_ENTRIES]; /* m, x_i - x_p */
+    columns = x0 + reach[0] + 1 > columns ? x0 + reach[0] + 1 : columns;
+    rows = y0 + reach[1] + 1 > rows ? y0 + reach[1] + 1 : rows;
+    point_load load;
+    double m = v->mass[p];
+    load.mass = m;
+    load.momentum[0] = m * v->velocity[0][p];
+    load.momentum[1] = dim > 1 ? m * v->velocity[1][p] : 0.0;
+    load.body[0] = m * v->gravity[0];
+    load.body[1] = dim > 1 ? m * v->gravity[1] : 0.0;
+    for (int c = 0; c < dim; c++)
+      if (v->external_force[c])
+        load.body[c] += v->external_force[c][p];
+    double volume = v->volume[p]; /* stress times volume: N m */
+    load.txx = v->stress[0][p] * volume;
+    load.tyy = dim > 1 ? v->stress[1][p] * volume : 0.0;
+    load.txy = dim > 1 ? v->stress[3][p] * volume : 0.0;
+    if (v->axisymmetric) /* hoop row of B (002 sec 3) */
+      load.body[0] -= v->stress[2][p] * volume / v->position[0][p];
     if (affine) {
-      double h = v->cell; /* m */
-      for (int axis = 0; axis < 2; axis++) {
-        /* m, x_i - x_p of the support's lowest node */
-        double node = axis < dim
-                          ? v->origin[axis] + (double)support.lowest[axis] * h -
-                                v->position[axis][p]
-                          : 0.0;
-        for (int e = 0; e < support.count; e++)
-          offset[axis][e] =
-              axis < dim ? node + (double)support.offset[axis][e] * h : 0.0;
-      }
-      double b[4] = {v->affine[0][p], dim > 1 ? v->affine[1][p] : 0.0,
-                     dim > 1 ? v->affine[2][p] : 0.0,
-                     dim > 1 ? v->affine[3][p] : 0.0};
-      affine_velocity(&support, dim, offset, b, c);
-    }
-    for (int e = 0; e < support.count; e++) {
-      int64_t x = x0 + support.offset[0][e], y = y0 + support.offset[1][e];
-      columns = x + 1 > columns ? x + 1 : columns;
-      rows = y + 1 > rows ? y + 1 : rows;
-      size_t t = (size_t)(x + tile_edge * y);
-      double weight = support.weight[e];
-      double grad_x = support.gradient[0][e], grad_y = support.gradient[1][e];
-      if (pass->mass)
-        tile.mass[t] += weight * m;
-      if (pass->momentum && !affine) {
-        tile.momentum[0][t] += weight * momentum[0];
-        tile.momentum[1][t] += weight * momentum[1];
-      }
-      if (affine) {             /* m_p N_ip (v_p + C (x_i - x_p)) */
-        double wm = weight * m; /* kg */
-        tile.momentum[0][t] += weight * momentum[0] +
-                               wm * (c[0] * offset[0][e] + c[1] * offset[1][e]);
-        tile.momentum[1][t] += weight * momentum[1] +
-                               wm * (c[2] * offset[0][e] + c[3] * offset[1][e]);
-      }
-      if (pass->forces) {
-        tile.force[0][t] += weight * body[0] - (txx * grad_x + txy * grad_y);
-        tile.force[1][t] += weight * body[1] - (txy * grad_x + tyy * grad_y);
-      }
+      gm_support entries;
+      if (cpdi)
+        gm_cpdi_support_expand(&support.cpdi, dim, &entries);
+      else
+        gm_product_support_expand(&support.product, &entries);
+      scatter_entries_affine(tile, tile_edge, x0, y0, dim, &entries, &load,
+                             pass, v, p);
+    } else if (cpdi) {
+      scatter_cpdi(tile, tile_edge, dim, base, &support.cpdi, &load, do_mass,
+                   do_momentum, do_forces);
+    } else {
+      scatter_product(tile, tile_edge, x0, y0, &support.product, &load, do_mass,
+                      do_momentum, do_forces);
     }
   }
   const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
-  flush_wide_tile(v, pass, links, &tile, columns, rows, tile_edge);
+  flush_wide_tile(v, pass, links, tile, columns, rows, tile_edge);
+}
+
+void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
+                           uint32_t block, const gm_domain *domain,
+                           gm_worker_scratch *scratch) {
+  wide_tile tile;
+  memset(&tile, 0, sizeof tile);
+  if (pass->mass && pass->momentum && pass->forces)
+    scatter_block_kind(v, pass, block, domain, scratch, &tile, true, true,
+                       true);
+  else if (pass->mass && pass->momentum)
+    scatter_block_kind(v, pass, block, domain, scratch, &tile, true, true,
+                       false);
+  else if (pass->momentum && pass->forces)
+    scatter_block_kind(v, pass, block, domain, scratch, &tile, false, true,
+                       true);
+  else
+    scatter_block_kind(v, pass, block, domain, scratch, &tile, pass->mass,
+                       pass->momentum, pass->forces);
 }

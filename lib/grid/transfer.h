@@ -115,6 +115,58 @@ struct chunk_gather {
 };
 typedef struct chunk_gather chunk_gather;
 
+/* The support of one point in the wide kernels: axis factors for the
+ * tensor-product variants, the corners for CPDI. */
+typedef union wide_support {
+  gm_product_support product;
+  gm_cpdi_support cpdi;
+} wide_support;
+
+/* Point p's support (position, deformation: its domain's), with its lowest
+ * node and its reach (the farthest node past it) per axis; false if it
+ * cannot be computed (see gm_support_compute). */
+static inline bool gm_wide_point_support(const gm_shape_grid *grid, int dim,
+                                         const double *const position[2],
+                                         const double *const deformation[4],
+                                         const double *const domain_size[2],
+                                         size_t p, wide_support *support,
+                                         int64_t lowest[2], int64_t reach[2]) {
+  reach[0] = reach[1] = 0;
+  if (grid->shape != GM_SHAPE_CPDI) {
+    gm_product_support *product = &support->product;
+    bool found = gm_wide_product_support(grid, dim, position, deformation,
+                                         domain_size, p, product);
+    for (int axis = 0; axis < 2; axis++) {
+      lowest[axis] = product->lowest[axis];
+      reach[axis] = product->span[axis] - 1;
+    }
+    return found;
+  }
+  gm_cpdi_support *cpdi = &support->cpdi;
+  bool found = gm_wide_cpdi_support(grid, dim, position, deformation,
+                                    domain_size, p, cpdi);
+  for (int axis = 0; axis < 2; axis++) {
+    lowest[axis] = cpdi->lowest[axis];
+    for (int c = 0; found && axis < dim && c < cpdi->corner_count; c++) {
+      int64_t far = cpdi->cell[c][axis] + 1 - cpdi->lowest[axis];
+      reach[axis] = far > reach[axis] ? far : reach[axis];
+    }
+  }
+  return found;
+}
+
+/* Whether a support whose lowest node lies (x0, y0) nodes from a block's
+ * base stays within `edge` nodes of it along each axis (two blocks: the
+ * block and its +x/+y neighbours, which is all the scatter tile and the
+ * gather's neighbour links reach). The binning keys every point by its
+ * support, so this holds unless the keys and the supports disagree; the
+ * transfers check it anyway rather than write or read outside the tile. */
+static inline bool gm_wide_support_fits(int dim, int64_t x0, int64_t y0,
+                                        const int64_t reach[2], int64_t edge) {
+  return x0 >= 0 && y0 >= 0 && x0 + reach[0] < edge &&
+         (dim < 2 || y0 + reach[1] < edge);
+}
+
 /* Scatters one block of points with a GIMP or CPDI support (p2g_wide.c). */
 /* A support that does not fit the block's tile fails the step
  * (GM_ERR_OUT_OF_GRID on scratch) instead of writing outside it. */

@@ -58,6 +58,39 @@ typedef struct gm_support {
   double gradient[2][GM_SUPPORT_MAX_ENTRIES]; /* 1/m */
 } gm_support;
 
+/* A tensor-product support (linear MPM, uGIMP, cpGIMP, the B-splines),
+ * kept as its axis factors: node (lowest[0] + a, lowest[1] + b) has
+ *   weight      weight[0][a] * weight[1][b],
+ *   gradient x  gradient_x[a] * weight[1][b],
+ *   gradient y  weight_x_per_cell[a] * gradient_y[b],
+ * the products gm_support_compute forms for each entry (the factors hold
+ * inv_cell where it multiplied first, so the products are bitwise the
+ * same). The wide transfers loop over a and b themselves: 2 x 3 axis
+ * evaluations per point instead of a 9-entry table written and read back.
+ * In 1D span[1] = 1, weight[1][0] = 1 and gradient_y[0] = 0. */
+typedef struct gm_product_support {
+  int64_t lowest[2]; /* node index of the support's lower corner */
+  int span[2];       /* nodes per axis */
+  double weight[2][GM_SUPPORT_MAX_SPAN];         /* - */
+  double gradient_x[GM_SUPPORT_MAX_SPAN];        /* 1/m, inv_cell dS_a/ds */
+  double weight_x_per_cell[GM_SUPPORT_MAX_SPAN]; /* 1/m, inv_cell S_a */
+  double gradient_y[GM_SUPPORT_MAX_SPAN];        /* per cell, dS_b/ds */
+} gm_product_support;
+
+/* CPDI1 as its corners (see support.c): entry (c, a, b) is node
+ * (cell[c][0] + a, cell[c][1] + b) with the bilinear value
+ * N = axis[c][0][a] * axis[c][1][b] (the tent of that node at corner c),
+ * weight share * N and gradient N * corner_gradient[c]. In 1D two corners
+ * (the ends) and b = 0 only, axis[c][1][0] = 1. */
+typedef struct gm_cpdi_support {
+  int corner_count;             /* 4, or 2 in 1D */
+  int64_t lowest[2];            /* node index of the support's lower corner */
+  int64_t cell[4][2];           /* lower node of each corner's cell */
+  double axis[4][2][2];         /* - , (1 - f, f) per corner and axis */
+  double corner_gradient[4][2]; /* 1/m, g_c */
+  double share;                 /* -, 1 / corner_count */
+} gm_cpdi_support;
+
 /* The domain of point p from SoA arrays (deformation: F_xx, F_xy, F_yx,
  * F_yy; the y entries are ignored in 1D). */
 static inline void gm_load_point_domain(int dim,
@@ -92,6 +125,10 @@ bool gm_support_compute(const gm_shape_grid *grid, const gm_point_domain *point,
  * stalled on store forwarding. False as gm_support_compute. */
 bool gm_support_rectangle(const gm_shape_grid *grid, double x, double y,
                           double half_x, double half_y, gm_support *out);
+/* The same support as axis factors (gm_product_support). */
+bool gm_product_support_rectangle(const gm_shape_grid *grid, double x, double y,
+                                  double half_x, double half_y,
+                                  gm_product_support *out);
 /* Its bounds only, as gm_support_bounds. */
 bool gm_support_rectangle_bounds(const gm_shape_grid *grid, double x, double y,
                                  double half_x, double half_y,
@@ -100,9 +137,29 @@ bool gm_support_rectangle_bounds(const gm_shape_grid *grid, double x, double y,
  * 1D), by value as gm_support_rectangle. False as gm_support_compute. */
 bool gm_support_bspline(const gm_shape_grid *grid, double x, double y,
                         gm_support *out);
+/* The same support as axis factors (gm_product_support). */
+bool gm_product_support_bspline(const gm_shape_grid *grid, double x, double y,
+                                gm_product_support *out);
 /* Its bounds only, as gm_support_bounds. */
 bool gm_support_bspline_bounds(const gm_shape_grid *grid, double x, double y,
                                int64_t lowest[2], int64_t highest[2]);
+/* The CPDI support of a point by its corners (gm_cpdi_support); false
+ * as gm_support_compute. */
+bool gm_cpdi_support_compute(const gm_shape_grid *grid,
+                             const gm_point_domain *point,
+                             gm_cpdi_support *out);
+/* The same from the centre x, y (m; y unused in 1D), the domain map D
+ * (D_xx, D_xy, D_yx, D_yy) and the initial half edges (m), by value (see
+ * gm_support_rectangle). */
+bool gm_cpdi_support_map(const gm_shape_grid *grid, double x, double y,
+                         const double map[4], double half_x, double half_y,
+                         gm_cpdi_support *out);
+/* The entry table of a product or a CPDI support, as gm_support_compute
+ * makes it (entries in the order b, a and c, b, a). */
+void gm_product_support_expand(const gm_product_support *product,
+                               gm_support *out);
+void gm_cpdi_support_expand(const gm_cpdi_support *cpdi, int dim,
+                            gm_support *out);
 /* Current half edges (m) of point p of a rectangle variant: the initial
  * ones, stretched by |F_xx|, |F_yy| for cpGIMP, 0 for linear MPM. */
 static inline void gm_rectangle_half_edges(gm_shape shape, int dim,
@@ -148,22 +205,35 @@ static inline bool gm_wide_support(const gm_shape_grid *grid, int dim,
                               out);
 }
 
-/* Whether a support whose lowest node lies (x0, y0) nodes from a block's
- * base stays within `edge` nodes of it along each axis (two blocks: the
- * block and its +x/+y neighbours, which is all the scatter tile and the
- * gather's neighbour links reach). The binning keys every point by its
- * support, so this holds unless the keys and the supports disagree; the
- * transfers check it anyway rather than write or read outside the tile. */
-static inline bool gm_support_within(const gm_support *support, int dim,
-                                     int64_t x0, int64_t y0, int64_t edge) {
-  if (x0 < 0 || y0 < 0)
-    return false;
-  int64_t reach[2] = {0, 0};
-  for (int e = 0; e < support->count; e++)
-    for (int k = 0; k < dim; k++)
-      reach[k] =
-          support->offset[k][e] > reach[k] ? support->offset[k][e] : reach[k];
-  return x0 + reach[0] < edge && (dim < 2 || y0 + reach[1] < edge);
+/* The support of point p of a tensor-product variant (every variant but
+ * CPDI) from SoA arrays, as gm_wide_support. */
+static inline bool gm_wide_product_support(const gm_shape_grid *grid, int dim,
+                                           const double *const position[2],
+                                           const double *const deformation[4],
+                                           const double *const domain_size[2],
+                                           size_t p, gm_product_support *out) {
+  double y = dim > 1 ? position[1][p] : 0.0;
+  if (gm_shape_is_bspline(grid->shape))
+    return gm_product_support_bspline(grid, position[0][p], y, out);
+  double half[2];
+  gm_rectangle_half_edges(grid->shape, dim, domain_size, deformation, p, half);
+  return gm_product_support_rectangle(grid, position[0][p], y, half[0], half[1],
+                                      out);
+}
+
+/* The CPDI support of point p from SoA arrays (deformation: the domain
+ * map D), as gm_wide_support. */
+static inline bool gm_wide_cpdi_support(const gm_shape_grid *grid, int dim,
+                                        const double *const position[2],
+                                        const double *const deformation[4],
+                                        const double *const domain_size[2],
+                                        size_t p, gm_cpdi_support *out) {
+  double map[4] = {deformation[0][p], deformation[1][p], deformation[2][p],
+                   deformation[3][p]};
+  bool planar = dim > 1;
+  return gm_cpdi_support_map(
+      grid, position[0][p], planar ? position[1][p] : 0.0, map,
+      0.5 * domain_size[0][p], planar ? 0.5 * domain_size[1][p] : 0.0, out);
 }
 
 /* Bounds of point p's support from SoA arrays, as gm_wide_support. */

@@ -687,6 +687,46 @@ START_TEST(test_ugimp_closed_form) {
 }
 END_TEST
 
+/* The closed form of a domain no longer than a cell (gm_gimp_axis for
+ * l <= 1/2, shape_gimp.h) against the average written with the
+ * antiderivative of the tent, (Phi(u + l) - Phi(u - l)) / (2 l), and its
+ * derivative (N(u + l) - N(u - l)) / (2 l), node by node, in cells. Both
+ * start from s +- l - node, which carries the rounding of s (an ulp of s,
+ * s up to 300 cells here), and the antiderivative form divides that
+ * rounding by 2 l (measured: at most 6e-14 apart for l = 1/8, 1/4, 1/2;
+ * 4.8e-12 in a gradient at l = 1e-3, s = 139). The tolerance,
+ * eps s (16 + 4 / l), fails any wrong term (each is O(e^2 / l) or
+ * O(e / l), e up to 2 l: 1e-3 at the smallest l). */
+START_TEST(test_gimp_short_domain_form) {
+  lcg_state = 4242;
+  static const double halves[] = {0.5, 0.25, 0.125, 0.3, 0.49, 1e-3};
+  for (size_t h = 0; h < sizeof halves / sizeof halves[0]; h++) {
+    double l = halves[h]; /* cells */
+    for (int sample = 0; sample < SAMPLE_COUNT; sample++) {
+      double s = 1.0 + 299.0 * lcg_uniform(); /* cells from node 0 */
+      int span;
+      int64_t lowest = gm_gimp_axis_bounds(s, l, &span);
+      ck_assert(span == 2 || span == 3);
+      double weight[3], gradient[3];
+      gm_gimp_axis(s, l, lowest, span, weight, gradient);
+      double tolerance = DBL_EPSILON * s * (16.0 + 4.0 / l);
+      for (int n = 0; n < span; n++) {
+        double upper = s + l - (double)(lowest + n);
+        double lower = s - l - (double)(lowest + n);
+        double average =
+            (gm_tent_integral(upper) - gm_tent_integral(lower)) / (2.0 * l);
+        double slope = (gm_tent(upper) - gm_tent(lower)) / (2.0 * l);
+        REQUIRE(fabs(weight[n] - average) <= tolerance &&
+                    fabs(gradient[n] - slope) <= tolerance,
+                "l %g, s %.17g, node %d: weight %.17g against %.17g, "
+                "gradient %.17g against %.17g",
+                l, s, n, weight[n], average, gradient[n], slope);
+      }
+    }
+  }
+}
+END_TEST
+
 /* uGIMP with a vanishing domain tends to the tent of linear MPM: the
  * average of the tent over [x - l, x + l] differs from its value at x only
  * where a kink lies inside, by at most l / (2 h) (at the peak: 004 eq 3.27
@@ -896,6 +936,7 @@ static Suite *shape_variants_suite(void) {
   tcase_add_loop_test(random, test_random_points, 0, 8);
   tcase_add_loop_test(random, test_gimp_gradient_is_weight_derivative, 0, 4);
   tcase_add_test(random, test_ugimp_closed_form);
+  tcase_add_test(random, test_gimp_short_domain_form);
   tcase_add_test(random, test_ugimp_small_domain_limit);
   suite_add_tcase(suite, random);
   TCase *bounds = tcase_create("bounds");
