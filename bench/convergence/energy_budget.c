@@ -30,7 +30,9 @@
  * Scenes (the first argument):
  *   collapse  the planar column collapse of examples/column_collapse (a, L0,
  *             grid box, walls, fill, 6 tau_c in 200 rows, the connected
- *             deposit's front), Mohr-Coulomb, rho 1800, nu 0.3, E 0.5 MPa
+ *             deposit's front), Mohr-Coulomb, rho 1800, nu 0.3, E 0.5 MPa;
+ *             --floor wall|face as the example, or slip (a frictionless
+ *             box face: no floor friction, to tell the floor's share)
  *   bar       an elastic free-free bar (1 m x 0.1 m, E 1 MPa, rho 1000, no
  *             gravity, no walls) started in its first axial mode,
  *             v_x = v0 cos(pi x / L): KE + E_el must stay KE(0)
@@ -120,7 +122,8 @@ typedef struct options {
   double aspect, length, friction_deg, dilation_deg, youngs, poisson;
   double gap, speed; /* drop: m; slide: m/s */
   double cfl;        /* Courant number, 0: the library's 0.5 */
-  const char *floor; /* face | wall */
+  const char *floor; /* collapse: wall (Coulomb wall, mu = tan phi) |
+                        face (no-slip box face) | slip (frictionless face) */
   const char *history;
 } options;
 
@@ -307,7 +310,7 @@ static int build(budget_run *run, double *t_end) {
     def.cfl = o->cfl;
   gm_fill_def fill = gm_fill_def_default();
   fill.points_per_cell_axis = o->ppc;
-  int plastic = 1, face_floor = 1, back_wall = 0;
+  int plastic = 1, face_floor = 1, slip_floor = 0, back_wall = 0;
   if (strcmp(o->scene, "collapse") == 0) {
     /* examples/column_collapse: size_scene and build_scene (a <= 1.8) */
     double height = o->aspect * o->length;
@@ -320,6 +323,7 @@ static int build(budget_run *run, double *t_end) {
     fill.upper[0] = o->length;
     fill.upper[1] = height;
     face_floor = strcmp(o->floor, "face") == 0;
+    slip_floor = strcmp(o->floor, "slip") == 0; /* frictionless box face */
     back_wall = 1;
     *t_end = 6.0 * sqrt(height / GRAVITY);
   } else if (strcmp(o->scene, "bar") == 0) {
@@ -359,12 +363,14 @@ static int build(budget_run *run, double *t_end) {
   }
   if (face_floor)
     def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
+  if (slip_floor)
+    def.walls[GM_FACE_YMIN] = GM_WALL_SLIP;
   CHECK(NULL, gm_domain_create(&def, &run->domain));
   gm_domain *domain = run->domain;
   int material = add_material(run, plastic);
   if (material < 0)
     return 2;
-  if (strcmp(o->scene, "collapse") == 0 && !face_floor)
+  if (strcmp(o->scene, "collapse") == 0 && !face_floor && !slip_floor)
     CHECK(domain, add_wall(domain, 0.0, 1.0, tan(o->friction_deg * PI / 180)));
   if (back_wall)
     CHECK(domain, add_wall(domain, 1.0, 0.0, 0.0));
