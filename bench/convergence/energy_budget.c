@@ -33,8 +33,8 @@
  *             deposit's front), Mohr-Coulomb, rho 1800, nu 0.3, E 0.5 MPa;
  *             --floor wall|face as the example, or slip (a frictionless
  *             box face: no floor friction, to tell the floor's share)
- *   bar       an elastic free-free bar (1 m x 0.1 m, E 1 MPa, rho 1000, no
- *             gravity, no walls) started in its first axial mode,
+ *   bar       an elastic free-free bar (1 m x 0.1 m, E --youngs, rho 1000,
+ *             no gravity, no walls) started in its first axial mode,
  *             v_x = v0 cos(pi x / L): KE + E_el must stay KE(0)
  *   drop      an elastic block (0.15 m square, the collapse's material made
  *             elastic) falling from rest --gap above the no-slip floor:
@@ -43,15 +43,20 @@
  *             the no-slip floor under gravity: it must come to rest, with
  *             KE(0) + dPE dissipated
  *
- * Prints BUDGET (end of the run, J/m and shares of dPE + KE(0)) and, for the
+ * Prints BUDGET (end of the run, J/m), SHARES (of dPE + KE(0)), PHASES (the
+ * budget at 1..6 tau_c of the collapse, or sixths of the run), CHECK (the
+ * sum of the final positions in %a, to compare with --builtin) and, for the
  * collapse, RESULT runout; --history FILE writes one CSV row per output row.
+ * Other options: --cell --ppc --method --family --workers --rows --t-end
+ * --aspect --friction --dilation --youngs --cfl --gap --speed --floor.
  * Build and run from the worktree after `make`:
  *   gcc -std=c11 -O2 -Iinclude bench/convergence/energy_budget.c \
  *     -Lbuild/lib/.libs -lgranmpm -lm -o energy_budget
  *   LD_LIBRARY_PATH=build/lib/.libs ./energy_budget collapse --aspect 1.3 \
  *     --method bspline2 --friction 37 --floor face --family plain \
  *     --cell 0.015 --ppc 2
- * bench/convergence/energy.sh runs the sweep of section 15.
+ * bench/convergence/energy.sh runs the sweep of section 15,
+ * energy_validate.sh the scenes with a known budget.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
