@@ -1,0 +1,620 @@
+/*
+ * energy_budget.c - the energy budget of a run, integrated in time, every
+ * term in J/m (plane strain, unit thickness), for docs/convergence.md
+ * section 15:
+ *
+ *   dPE   released potential energy, sum m g (y0 - y) = M g (yc0 - yc)
+ *   KE    kinetic energy of the points (gm_summary)
+ *   W_int internal (stress) work, the sum over steps and points of
+ *         V sigma_mid : d_eps, sigma_mid = (sigma_old + sigma_new) / 2 with
+ *         sigma_old the Jaumann-rotated stress the batch delivers, d_eps its
+ *         strain increment and V = m / rho (rho at the end of the step),
+ *         shear components counted twice (tensor shear strains)
+ *   E_el  elastic energy, sum V w with w = ((1 + nu) s:s - nu (tr s)^2)/(2E)
+ *         the isotropic strain-energy density of the point stress, as the
+ *         column_collapse example's second ENERGY line
+ *   W_p   = W_int - (E_el - E_el(0)), the plastic dissipation
+ *   num   = dPE + KE(0) - KE - W_int: > 0 is energy the discretisation
+ *         removed (transfers, grid, and the nodes the no-slip floor holds),
+ *         < 0 energy it created
+ *
+ * The material is registered as a USER material (gm_material_def) whose
+ * update calls the library's public gm_mohr_coulomb_update (or
+ * gm_elastic_update) on the batch and accumulates V sigma_mid : d_eps per
+ * worker; --builtin registers the built-in material instead (no W_int), to
+ * check that the wrapper leaves the run bitwise unchanged. In the granular
+ * family points in the stress-free state do not call the material, and
+ * stress the family zeroes is not seen by W_int: their E_el loss shows up in
+ * W_p, and the plain family gives the clean budget.
+ *
+ * Scenes (the first argument):
+ *   collapse  the planar column collapse of examples/column_collapse (a, L0,
+ *             grid box, walls, fill, 6 tau_c in 200 rows, the connected
+ *             deposit's front), Mohr-Coulomb, rho 1800, nu 0.3, E 0.5 MPa;
+ *             --floor wall|face as the example, or slip (a frictionless
+ *             box face: no floor friction, to tell the floor's share)
+ *   bar       an elastic free-free bar (1 m x 0.1 m, E --youngs, rho 1000,
+ *             no gravity, no walls) started in its first axial mode,
+ *             v_x = v0 cos(pi x / L): KE + E_el must stay KE(0)
+ *   drop      an elastic block (0.15 m square, the collapse's material made
+ *             elastic) falling from rest --gap above the no-slip floor:
+ *             free fall until t = sqrt(2 gap / g), then landing
+ *   slide     a Mohr-Coulomb block (0.3 m x 0.06 m) launched at --speed on
+ *             the no-slip floor under gravity: it must come to rest, with
+ *             KE(0) + dPE dissipated
+ *
+ * Prints BUDGET (end of the run, J/m), SHARES (of dPE + KE(0)), PHASES (the
+ * budget at 1..6 tau_c of the collapse, or sixths of the run), CHECK (the
+ * sum of the final positions in %a, to compare with --builtin) and, for the
+ * collapse, RESULT runout; --history FILE writes one CSV row per output row.
+ * Other options: --cell --ppc --method --family --workers --rows --t-end
+ * --aspect --friction --dilation --youngs --cfl --gap --speed --floor.
+ * Build and run from the worktree after `make`:
+ *   gcc -std=c11 -O2 -Iinclude bench/convergence/energy_budget.c \
+ *     -Lbuild/lib/.libs -lgranmpm -lm -o energy_budget
+ *   LD_LIBRARY_PATH=build/lib/.libs ./energy_budget collapse --aspect 1.3 \
+ *     --method bspline2 --friction 37 --floor face --family plain \
+ *     --cell 0.015 --ppc 2
+ * bench/convergence/energy.sh runs the sweep of section 15,
+ * energy_validate.sh the scenes with a known budget.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#include <granmpm.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const double PI = 3.14159265358979323846;
+static const double GRAVITY = 9.81;                   /* m/s^2 */
+static const double CRITICAL_RATIO = 2235.0 / 2250.0; /* 000 Table 1 */
+enum { MAX_WORKERS = 64, PAD = 8 }; /* one cache line per worker */
+enum { PHASE_COUNT = 6 };           /* budgets at 1..6 tau_c */
+
+/* The wrapped material and its accumulated work. */
+typedef struct budget_material {
+  int plastic;                        /* 1: Mohr-Coulomb, 0: elastic */
+  gm_mohr_coulomb_def mc;             /* used when plastic */
+  gm_elastic_def elastic;             /* used otherwise */
+  const double *mass_by_id;           /* kg/m, indexed by point id */
+  double work[MAX_WORKERS * PAD];     /* J/m, W_int per worker */
+  long long calls[MAX_WORKERS * PAD]; /* point updates per worker */
+} budget_material;
+
+/* sigma : d_eps of one point, Voigt rows, shear rows counted twice because
+ * the batch holds tensor (not engineering) shear strains. */
+static double contract(const gm_material_batch *batch, size_t i) {
+  double sum = 0.0;
+  for (int c = 0; c < 6; c++)
+    sum += (c < 3 ? 1.0 : 2.0) * batch->stress[c][i] *
+           batch->strain_increment[c][i];
+  return sum;
+}
+
+/* User update: W_int += V (sigma_old + sigma_new)/2 : d_eps, split as half
+ * the old stress's work before the wrapped update and half the new one's
+ * after (no scratch copy of the old stress needed). */
+static int budget_update(const gm_material_batch *batch, void *user,
+                         char *message, size_t message_size) {
+  budget_material *material = user;
+  double old_work = 0.0, new_work = 0.0;
+  for (size_t i = 0; i < batch->count; i++)
+    old_work += material->mass_by_id[batch->point_id[i]] / batch->density[i] *
+                contract(batch, i);
+  int status =
+      material->plastic
+          ? gm_mohr_coulomb_update(batch, &material->mc, message, message_size)
+          : gm_elastic_update(batch, &material->elastic, message, message_size);
+  if (status != 0)
+    return status;
+  for (size_t i = 0; i < batch->count; i++)
+    new_work += material->mass_by_id[batch->point_id[i]] / batch->density[i] *
+                contract(batch, i);
+  int slot = PAD * (batch->worker < MAX_WORKERS ? batch->worker : 0);
+  material->work[slot] += 0.5 * (old_work + new_work);
+  material->calls[slot] += (long long)batch->count;
+  return 0;
+}
+
+typedef struct options {
+  const char *scene; /* collapse | bar | drop | slide */
+  gm_shape shape;
+  gm_family family;
+  int ppc, workers, rows, builtin;
+  double cell, t_end; /* m, s (0: the scene's default) */
+  double aspect, length, friction_deg, dilation_deg, youngs, poisson;
+  double gap, speed; /* drop: m; slide: m/s */
+  double cfl;        /* Courant number, 0: the library's 0.5 */
+  const char *floor; /* collapse: wall (Coulomb wall, mu = tan phi) |
+                        face (no-slip box face) | slip (frictionless face) */
+  const char *history;
+} options;
+
+/* Everything the rows need. */
+typedef struct budget_run {
+  const options *opt;
+  gm_domain *domain;
+  budget_material *material;
+  double density;            /* kg/m^3 of the material */
+  double youngs, poisson;    /* of the elastic energy density */
+  double mass, centre_start; /* kg/m, m */
+  double kinetic_start;      /* J/m */
+  double elastic_start;      /* J/m */
+  double length;             /* L0 of the collapse (m) */
+  size_t count, column_count;
+  double *positions, *stresses, *volumes;
+  unsigned char *occupied;
+  FILE *history;
+} budget_run;
+
+static double total_work(const budget_material *material) {
+  double sum = 0.0;
+  for (int w = 0; w < MAX_WORKERS; w++)
+    sum += material->work[PAD * w];
+  return sum;
+}
+
+/* Elastic energy sum V w of every point (J/m). */
+static double elastic_energy(budget_run *run) {
+  size_t n = run->count;
+  if (gm_domain_get_field(run->domain, GM_FIELD_STRESS, run->stresses, 6 * n) !=
+          GM_OK ||
+      gm_domain_get_field(run->domain, GM_FIELD_VOLUME, run->volumes, n) !=
+          GM_OK)
+    return NAN;
+  double energy = 0.0, nu = run->poisson;
+  for (size_t i = 0; i < n; i++) {
+    const double *t = run->stresses + 6 * i;
+    double trace = t[0] + t[1] + t[2];
+    double squares = t[0] * t[0] + t[1] * t[1] + t[2] * t[2] +
+                     2.0 * (t[3] * t[3] + t[4] * t[4] + t[5] * t[5]);
+    energy += run->volumes[i] * ((1.0 + nu) * squares - nu * trace * trace) /
+              (2.0 * run->youngs);
+  }
+  return energy;
+}
+
+/* The right edge of the deposit connected to the back wall (m), as
+ * examples/column_collapse measures it: cell columns walked from x = 0 to
+ * the first empty one, half a point spacing beyond the outermost centre. */
+static double deposit_front(budget_run *run) {
+  size_t n = run->count;
+  double cell = run->opt->cell, half = 0.5 * cell / run->opt->ppc;
+  if (gm_domain_get_field(run->domain, GM_FIELD_POSITION, run->positions,
+                          2 * n) != GM_OK)
+    return NAN;
+  memset(run->occupied, 0, run->column_count);
+  for (size_t i = 0; i < n; i++) {
+    double column = floor(run->positions[2 * i] / cell);
+    if (column >= 0.0 && column < (double)run->column_count)
+      run->occupied[(size_t)column] = 1;
+  }
+  size_t first_empty = 0;
+  while (first_empty < run->column_count && run->occupied[first_empty])
+    first_empty++;
+  double limit = (double)first_empty * cell, front = 0.0;
+  for (size_t i = 0; i < n; i++)
+    if (run->positions[2 * i] < limit)
+      front = fmax(front, run->positions[2 * i] + half);
+  return front;
+}
+
+/* One budget: the terms at the current time (J/m). */
+typedef struct budget {
+  double time, released, kinetic, work, elastic, plastic, numerical, front;
+} budget;
+
+static budget measure(budget_run *run) {
+  budget b = {0};
+  gm_summary summary = gm_summary_default();
+  gm_domain_get_time(run->domain, &b.time, NULL);
+  gm_domain_get_summary(run->domain, &summary);
+  b.released = run->mass * GRAVITY *
+               (run->centre_start - summary.centre_of_mass[1]) *
+               (strcmp(run->opt->scene, "bar") != 0);
+  b.kinetic = summary.kinetic_energy;
+  b.work = run->material ? total_work(run->material) : NAN;
+  b.elastic = elastic_energy(run);
+  b.plastic = b.work - (b.elastic - run->elastic_start);
+  b.numerical = b.released + run->kinetic_start - b.kinetic - b.work;
+  b.front = strcmp(run->opt->scene, "collapse") == 0 ? deposit_front(run) : NAN;
+  return b;
+}
+
+static void write_history(budget_run *run, const budget *b) {
+  if (!run->history)
+    return;
+  fprintf(run->history, "%.6g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.6g\n", b->time,
+          b->released, b->kinetic, b->work, b->elastic, b->plastic,
+          b->numerical, b->front);
+}
+
+static int fail(gm_domain *domain, const char *what, gm_status status) {
+  fprintf(stderr, "%s: %s (%s)\n", what, gm_strerror(status),
+          domain ? gm_domain_last_error(domain) : gm_last_create_error());
+  return 1;
+}
+#define CHECK(domain, call)                                                    \
+  do {                                                                         \
+    gm_status check_status_ = (call);                                          \
+    if (check_status_ != GM_OK)                                                \
+      return fail((domain), #call, check_status_);                             \
+  } while (0)
+
+/* Registers the material (wrapped or built in); returns its id or -1. */
+static int add_material(budget_run *run, int plastic) {
+  const options *o = run->opt;
+  gm_domain *domain = run->domain;
+  budget_material *m = run->material;
+  m->plastic = plastic;
+  m->mc = gm_mohr_coulomb_def_default();
+  m->mc.youngs_modulus = o->youngs;
+  m->mc.poisson_ratio = o->poisson;
+  m->mc.density = run->density;
+  m->mc.friction_angle = o->friction_deg * PI / 180.0;
+  m->mc.dilation_angle = o->dilation_deg * PI / 180.0;
+  m->mc.bagnold_viscosity = 0.0;
+  m->elastic = gm_elastic_def_default();
+  m->elastic.youngs_modulus = o->youngs;
+  m->elastic.poisson_ratio = o->poisson;
+  m->elastic.density = run->density;
+  int id = -1;
+  gm_status status;
+  if (o->builtin)
+    status = plastic ? gm_domain_add_mohr_coulomb(domain, &m->mc, &id)
+                     : gm_domain_add_elastic(domain, &m->elastic, &id);
+  else {
+    gm_material_def def = gm_material_def_default();
+    def.name = plastic ? "mohr_coulomb_budget" : "elastic_budget";
+    def.update = budget_update;
+    def.user = m;
+    def.state_count = plastic ? GM_MOHR_COULOMB_STATE_COUNT : 0;
+    /* the same expression as the built-in's, so the same stable dt */
+    def.p_wave_modulus = o->youngs * (1.0 - o->poisson) /
+                         ((1.0 + o->poisson) * (1.0 - 2.0 * o->poisson));
+    def.density = run->density;
+    status = gm_domain_add_material(domain, &def, &id);
+  }
+  if (status != GM_OK) {
+    fail(domain, "adding the material", status);
+    return -1;
+  }
+  if (o->family != GM_FAMILY_PLAIN) {
+    gm_granular_def granular = gm_granular_def_default();
+    granular.critical_density = CRITICAL_RATIO * run->density;
+    status = gm_domain_set_granular(domain, id, &granular);
+    if (status != GM_OK) {
+      fail(domain, "gm_domain_set_granular", status);
+      return -1;
+    }
+  }
+  return id;
+}
+
+static gm_status add_wall(gm_domain *domain, double normal_x, double normal_y,
+                          double friction) {
+  gm_wall_def wall = gm_wall_def_default();
+  wall.normal[0] = normal_x;
+  wall.normal[1] = normal_y;
+  wall.friction_static = wall.friction_kinetic = friction;
+  int wall_id = -1;
+  return gm_domain_add_wall(domain, &wall, &wall_id);
+}
+
+/* Builds the scene's domain and points; sets the default t_end. */
+static int build(budget_run *run, double *t_end) {
+  const options *o = run->opt;
+  gm_domain_def def = gm_domain_def_default();
+  def.cell_size = o->cell;
+  def.shape = o->shape;
+  def.family = o->family;
+  def.worker_count = o->workers;
+  if (o->cfl > 0.0)
+    def.cfl = o->cfl;
+  gm_fill_def fill = gm_fill_def_default();
+  fill.points_per_cell_axis = o->ppc;
+  int plastic = 1, face_floor = 1, slip_floor = 0, back_wall = 0;
+  if (strcmp(o->scene, "collapse") == 0) {
+    /* examples/column_collapse: size_scene and build_scene (a <= 1.8) */
+    double height = o->aspect * o->length;
+    double law =
+        o->aspect <= 1.8 ? 1.2 * o->aspect : 1.9 * pow(o->aspect, 2.0 / 3.0);
+    def.extent[0] = o->length * (2.0 + 2.0 * law);
+    def.extent[1] = 1.25 * height + 4.0 * o->cell;
+    def.gravity[1] = -GRAVITY;
+    run->density = 1800.0;
+    fill.upper[0] = o->length;
+    fill.upper[1] = height;
+    face_floor = strcmp(o->floor, "face") == 0;
+    slip_floor = strcmp(o->floor, "slip") == 0; /* frictionless box face */
+    back_wall = 1;
+    *t_end = 6.0 * sqrt(height / GRAVITY);
+  } else if (strcmp(o->scene, "bar") == 0) {
+    def.extent[0] = 1.4;
+    def.extent[1] = 0.5;
+    def.origin[0] = -0.2;
+    def.origin[1] = -0.2;
+    run->density = 1000.0;
+    fill.upper[0] = 1.0;
+    fill.upper[1] = 0.1;
+    plastic = face_floor = 0;
+    *t_end = 2.0 * 2.0 / sqrt(o->youngs / run->density); /* 2 periods */
+  } else if (strcmp(o->scene, "drop") == 0) {
+    def.extent[0] = 0.6;
+    def.extent[1] = o->gap + 0.45;
+    def.gravity[1] = -GRAVITY;
+    run->density = 1800.0;
+    fill.lower[0] = 0.15;
+    fill.upper[0] = 0.3;
+    fill.lower[1] = o->gap;
+    fill.upper[1] = o->gap + 0.15;
+    plastic = 0;
+    *t_end = sqrt(2.0 * o->gap / GRAVITY) + 0.3;
+  } else if (strcmp(o->scene, "slide") == 0) {
+    def.extent[0] = 1.5;
+    def.extent[1] = 0.3;
+    def.gravity[1] = -GRAVITY;
+    run->density = 1800.0;
+    fill.upper[0] = 0.3;
+    fill.upper[1] = 0.06;
+    fill.velocity[0] = o->speed;
+    *t_end = 1.0;
+  } else {
+    fprintf(stderr, "scene '%s' is not collapse, bar, drop or slide\n",
+            o->scene);
+    return 2;
+  }
+  if (face_floor)
+    def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
+  if (slip_floor)
+    def.walls[GM_FACE_YMIN] = GM_WALL_SLIP;
+  CHECK(NULL, gm_domain_create(&def, &run->domain));
+  gm_domain *domain = run->domain;
+  int material = add_material(run, plastic);
+  if (material < 0)
+    return 2;
+  if (strcmp(o->scene, "collapse") == 0 && !face_floor && !slip_floor)
+    CHECK(domain, add_wall(domain, 0.0, 1.0, tan(o->friction_deg * PI / 180)));
+  if (back_wall)
+    CHECK(domain, add_wall(domain, 1.0, 0.0, 0.0));
+  fill.material = material;
+  CHECK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
+  run->count = gm_domain_point_count(domain);
+  size_t n = run->count;
+  run->positions = malloc(2 * n * sizeof *run->positions);
+  run->stresses = malloc(6 * n * sizeof *run->stresses);
+  run->volumes = malloc(n * sizeof *run->volumes);
+  run->column_count = (size_t)ceil(def.extent[0] / o->cell) + 2;
+  run->occupied = malloc(run->column_count);
+  double *masses = malloc(n * sizeof *masses);
+  int64_t *ids = malloc(n * sizeof *ids);
+  if (!run->positions || !run->stresses || !run->volumes || !run->occupied ||
+      !masses || !ids)
+    return 2;
+  CHECK(domain, gm_domain_get_field(domain, GM_FIELD_MASS, masses, n));
+  CHECK(domain, gm_domain_get_ids(domain, ids, n));
+  int64_t max_id = 0;
+  for (size_t i = 0; i < n; i++)
+    max_id = ids[i] > max_id ? ids[i] : max_id;
+  double *by_id = calloc((size_t)max_id + 1, sizeof *by_id);
+  if (!by_id)
+    return 2;
+  for (size_t i = 0; i < n; i++)
+    by_id[ids[i]] = masses[i];
+  run->material->mass_by_id = by_id;
+  if (strcmp(o->scene, "bar") == 0) {
+    /* first free-free axial mode, v_x = v0 cos(pi x / L), v0 = 0.01 m/s */
+    double *velocities = calloc(2 * n, sizeof *velocities);
+    CHECK(domain, gm_domain_get_field(domain, GM_FIELD_POSITION, run->positions,
+                                      2 * n));
+    for (size_t i = 0; i < n; i++)
+      velocities[2 * i] = 0.01 * cos(PI * run->positions[2 * i] / 1.0);
+    CHECK(domain,
+          gm_domain_set_field(domain, GM_FIELD_VELOCITY, velocities, 2 * n));
+    free(velocities);
+  }
+  gm_summary summary = gm_summary_default();
+  gm_domain_get_summary(domain, &summary);
+  run->mass = summary.mass;
+  run->centre_start = summary.centre_of_mass[1];
+  run->kinetic_start = summary.kinetic_energy;
+  run->youngs = o->youngs;
+  run->poisson = o->poisson;
+  run->elastic_start = elastic_energy(run);
+  run->length = o->length;
+  free(masses);
+  free(ids);
+  return 0;
+}
+
+static int parse_shape(const char *word, gm_shape *shape) {
+  static const char *const names[] = {"linear", "ugimp",    "cpgimp",
+                                      "cpdi",   "bspline2", "bspline3"};
+  for (int k = 0; k < 6; k++)
+    if (strcmp(word, names[k]) == 0) {
+      *shape = (gm_shape)k;
+      return 0;
+    }
+  return 1;
+}
+
+static int parse(int argc, char **argv, options *o) {
+  if (argc < 2) {
+    fprintf(stderr,
+            "usage: %s collapse|bar|drop|slide [--option value]...\n"
+            "(see the top of energy_budget.c)\n",
+            argv[0]);
+    return 2;
+  }
+  o->scene = argv[1];
+  for (int k = 2; k < argc; k++) {
+    const char *name = argv[k];
+    if (strcmp(name, "--builtin") == 0) {
+      o->builtin = 1;
+      continue;
+    }
+    if (k + 1 >= argc) {
+      fprintf(stderr, "%s needs a value\n", name);
+      return 2;
+    }
+    const char *value = argv[++k];
+    double number = atof(value);
+    if (strcmp(name, "--cell") == 0)
+      o->cell = number;
+    else if (strcmp(name, "--ppc") == 0)
+      o->ppc = atoi(value);
+    else if (strcmp(name, "--workers") == 0)
+      o->workers = atoi(value);
+    else if (strcmp(name, "--rows") == 0)
+      o->rows = atoi(value);
+    else if (strcmp(name, "--t-end") == 0)
+      o->t_end = number;
+    else if (strcmp(name, "--aspect") == 0)
+      o->aspect = number;
+    else if (strcmp(name, "--friction") == 0)
+      o->friction_deg = number;
+    else if (strcmp(name, "--dilation") == 0)
+      o->dilation_deg = number;
+    else if (strcmp(name, "--youngs") == 0)
+      o->youngs = number;
+    else if (strcmp(name, "--cfl") == 0)
+      o->cfl = number;
+    else if (strcmp(name, "--gap") == 0)
+      o->gap = number;
+    else if (strcmp(name, "--speed") == 0)
+      o->speed = number;
+    else if (strcmp(name, "--floor") == 0)
+      o->floor = value;
+    else if (strcmp(name, "--history") == 0)
+      o->history = value;
+    else if (strcmp(name, "--method") == 0) {
+      if (parse_shape(value, &o->shape)) {
+        fprintf(stderr, "--method %s unknown\n", value);
+        return 2;
+      }
+    } else if (strcmp(name, "--family") == 0) {
+      if (strcmp(value, "plain") == 0)
+        o->family = GM_FAMILY_PLAIN;
+      else if (strcmp(value, "granular") == 0)
+        o->family = GM_FAMILY_GRANULAR;
+      else if (strcmp(value, "stress_free") == 0)
+        o->family = GM_FAMILY_STRESS_FREE;
+      else {
+        fprintf(stderr, "--family %s unknown\n", value);
+        return 2;
+      }
+    } else {
+      fprintf(stderr, "unknown option %s\n", name);
+      return 2;
+    }
+  }
+  if (o->cell <= 0.0 || o->ppc < 1 || o->ppc > 16 || o->workers < 1 ||
+      o->workers > MAX_WORKERS || o->rows < 1 || o->aspect <= 0.0 ||
+      o->aspect > 1.8 || o->youngs <= 0.0) {
+    fprintf(stderr, "an option is out of range (cell > 0, ppc 1..16, "
+                    "workers 1..64, rows >= 1, 0 < aspect <= 1.8, E > 0)\n");
+    return 2;
+  }
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  options o = {.shape = GM_SHAPE_UGIMP,
+               .family = GM_FAMILY_GRANULAR,
+               .ppc = 2,
+               .workers = 1,
+               .rows = 200,
+               .cell = 0.0075,
+               .aspect = 1.3,
+               .length = 0.15,
+               .friction_deg = 35.0,
+               .youngs = 5e5,
+               .poisson = 0.3,
+               .gap = 0.1,
+               .speed = 1.0,
+               .floor = "wall"};
+  int status = parse(argc, argv, &o);
+  if (status != 0)
+    return status;
+  static budget_material material; /* large; zeroed */
+  budget_run run = {.opt = &o, .material = &material};
+  double t_end = 0.0;
+  status = build(&run, &t_end);
+  if (status != 0)
+    return status;
+  if (o.t_end > 0.0)
+    t_end = o.t_end;
+  if (o.history) {
+    run.history = fopen(o.history, "w");
+    if (!run.history) {
+      perror(o.history);
+      return 2;
+    }
+    fprintf(run.history, "time_s,released_J,kinetic_J,internal_work_J,"
+                         "elastic_J,plastic_J,numerical_J,front_m\n");
+  }
+  budget b = measure(&run);
+  double front_start = b.front;
+  write_history(&run, &b);
+  /* The budget at the first row at or past each whole tau_c (collapse) or
+   * each sixth of the run (other scenes): when the numerical term grows. */
+  double period = strcmp(o.scene, "collapse") == 0
+                      ? sqrt(o.aspect * o.length / GRAVITY)
+                      : t_end / 6.0;
+  budget phase[PHASE_COUNT];
+  int phases = 0;
+  for (int row = 1; row <= o.rows; row++) {
+    double target = row == o.rows ? t_end : t_end * row / o.rows;
+    gm_status step = gm_domain_advance(run.domain, target, 0.0, NULL, NULL);
+    if (step != GM_OK)
+      return fail(run.domain, "gm_domain_advance", step);
+    b = measure(&run);
+    write_history(&run, &b);
+    while (phases < PHASE_COUNT &&
+           (b.time >= (phases + 1) * period * (1.0 - 1e-9) || row == o.rows))
+      phase[phases++] = b;
+  }
+  if (run.history)
+    fclose(run.history);
+  double input = b.released + run.kinetic_start;
+  long long calls = 0;
+  for (int w = 0; w < MAX_WORKERS; w++)
+    calls += material.calls[PAD * w];
+  uint64_t steps = 0;
+  gm_domain_get_time(run.domain, NULL, &steps);
+  printf("BUDGET scene=%s points=%zu steps=%llu point_updates=%lld "
+         "released_J=%.6g kinetic_start_J=%.6g kinetic_J=%.6g "
+         "internal_work_J=%.6g elastic_start_J=%.6g elastic_J=%.6g "
+         "plastic_J=%.6g numerical_J=%.6g\n",
+         o.scene, run.count, (unsigned long long)steps, calls, b.released,
+         run.kinetic_start, b.kinetic, b.work, run.elastic_start, b.elastic,
+         b.plastic, b.numerical);
+  printf("SHARES of dPE + KE(0) = %.6g J/m: kinetic=%.4f elastic_change=%.4f "
+         "plastic=%.4f numerical=%.4f\n",
+         input, b.kinetic / input, (b.elastic - run.elastic_start) / input,
+         b.plastic / input, b.numerical / input);
+  printf("PHASES t_s,released_J,kinetic_J,plastic_J,numerical_J,front_m:");
+  for (int k = 0; k < phases; k++)
+    printf(" %.4g,%.5g,%.5g,%.5g,%.5g,%.5g", phase[k].time, phase[k].released,
+           phase[k].kinetic, phase[k].plastic, phase[k].numerical,
+           phase[k].front);
+  printf("\n");
+  /* a fingerprint of the final positions, to compare --builtin runs */
+  double sum = 0.0;
+  if (gm_domain_get_field(run.domain, GM_FIELD_POSITION, run.positions,
+                          2 * run.count) == GM_OK)
+    for (size_t i = 0; i < 2 * run.count; i++)
+      sum += run.positions[i];
+  printf("CHECK position_sum=%a\n", sum);
+  if (strcmp(o.scene, "collapse") == 0)
+    printf("RESULT runout=%.6f\n", (b.front - front_start) / o.length);
+  gm_domain_destroy(run.domain);
+  free((void *)material.mass_by_id);
+  free(run.positions);
+  free(run.stresses);
+  free(run.volumes);
+  free(run.occupied);
+  return 0;
+}
