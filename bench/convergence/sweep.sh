@@ -4,6 +4,8 @@
 #
 # usage: sweep.sh LABEL "CELLS" "PPCS" [column_collapse options...]
 # e.g.   sweep.sh baseline "0.015 0.0075" "1 2 3" --aspect 1.3
+# (--geometry axisym among the options runs the axisymmetric collapse; the
+# run-out and height columns are then (r_inf - R0)/R0 and H_inf/R0)
 # Prints CSV: label,cell_m,ppc,runout,farthest,thick_0.01,thick_0.02,
 # thick_0.05,final_height,stop_tau,hidden_ke,seconds. Runs JOBS (default 2)
 # cases at a time; COLLAPSE is the example binary. The options after PPCS

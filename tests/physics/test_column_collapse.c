@@ -25,6 +25,19 @@
  * (softer than the example's default) halves the number of steps; the
  * elastic settlement rho g H0 / E stays ~1 % of H0.
  *
+ * The axisymmetric column of examples/column_collapse --geometry axisym
+ * (a cylinder of radius R0 about the axis x = r = 0, which replaces the
+ * back wall) is checked the same way against Lube, Huppert, Sparks &
+ * Hallworth (2004, JFM 508:175): (r_inf - R0)/R0 ~ 1.6 a^(1/2) at a = 3
+ * (form confirmed, coefficient recalled: docs/references.md). Measured
+ * when added: 2.734 against 2.771 (-1.3 %) at R0/10. With the example's
+ * defaults at a = 3 every run of docs/convergence.md sec. 16 lies within
+ * -1 ... +12 % of the fit (2.805, 2.923, 3.038 on R0/10, R0/20, R0/40;
+ * 2.73-3.09 over 1 x 1 to 4 x 4 at R0/20), inside the 15 %. The run-out
+ * is not converged (+4 % per halving), so this checks the scene and the
+ * geometry (the planar a = 3 columns above run 43-51 % beyond this law), not a
+ * converged answer; a = 1 is left out (-13 % at R0/10, growing).
+ *
  * Asserted, for each column:
  *  - the deposit has stopped: the front moved less than 1 % of L0 in the
  *    last tau_c (tau_c = sqrt(H0/g)) of a 6 tau_c run, so the measured
@@ -58,16 +71,17 @@ static const double CPDI_MARGIN = 0.05;      /* relative, see the top */
 enum { ROW_COUNT = 60 };
 
 typedef struct collapse_case {
-  double aspect; /* a = H0 / L0 */
-  double length; /* L0, m */
+  double aspect;    /* a = H0 / L0 (H0 / R0 in axisymmetry) */
+  double length;    /* L0, m (the radius R0 in axisymmetry) */
+  int axisymmetric; /* nonzero: a cylinder about the axis x = r = 0 */
 } collapse_case;
 
 /* a = 1 in the linear regime (uGIMP only); a = 3 and a = 6 in the
  * a^(2/3) one, each with uGIMP and CPDI (test_cpdi_as_close_as_ugimp).
  * The a = 6 column is 5 cells wide so that it fits the time budget. */
-static const collapse_case CASES[] = {{1.0, 0.15}};
+static const collapse_case CASES[] = {{1.0, 0.15, 0}};
 enum { CASE_COUNT = sizeof CASES / sizeof CASES[0] };
-static const collapse_case TALL_CASES[] = {{3.0, 0.1}, {6.0, 0.05}};
+static const collapse_case TALL_CASES[] = {{3.0, 0.1, 0}, {6.0, 0.05, 0}};
 enum { TALL_COUNT = sizeof TALL_CASES / sizeof TALL_CASES[0] };
 /* Granular quadratic B-splines (the domains of interaction are the points'
  * initial rectangles scaled, as uGIMP's) at a = 1 and a = 3. Measured
@@ -76,8 +90,17 @@ enum { TALL_COUNT = sizeof TALL_CASES / sizeof TALL_CASES[0] };
  * through the planar floor (gm_walls(3)). */
 /* a = 1 is left out: after the merge with the stored CPDI domains its front
  * still moved 0.037 L0 in the last tau_c of this test's run (open). */
-static const collapse_case BSPLINE_CASES[] = {{3.0, 0.1}};
+static const collapse_case BSPLINE_CASES[] = {{3.0, 0.1, 0}};
 enum { BSPLINE_COUNT = sizeof BSPLINE_CASES / sizeof BSPLINE_CASES[0] };
+/* The axisymmetric collapse (examples/column_collapse --geometry axisym),
+ * uGIMP, against Lube et al. 2004 in its a^(1/2) regime: a = 3 only. At
+ * a = 1 the run-out is 13 % short at L0/10 and grows under refinement and
+ * with the points per cell (docs/convergence.md sec. 16), so a check there
+ * would not hold clearly. */
+static const collapse_case AXISYMMETRIC_CASES[] = {{3.0, 0.1, 1}};
+enum {
+  AXISYMMETRIC_COUNT = sizeof AXISYMMETRIC_CASES / sizeof AXISYMMETRIC_CASES[0]
+};
 
 /* Lube et al. 2005, in the two fitted regimes only. */
 static double lube_runout(double aspect) {
@@ -86,16 +109,39 @@ static double lube_runout(double aspect) {
   return aspect <= 1.8 ? 1.2 * aspect : 1.9 * pow(aspect, 2.0 / 3.0);
 }
 
+/* Lube, Huppert, Sparks & Hallworth 2004 (JFM 508:175), axisymmetric
+ * (r_inf - R0)/R0: 1.24 a for a <~ 1.7, 1.6 a^(1/2) above. The form is
+ * confirmed by a secondary source, the coefficients are recalled
+ * (docs/references.md). */
+static double lube2004_runout(double aspect) {
+  return aspect <= 1.7 ? 1.24 * aspect : 1.6 * sqrt(aspect);
+}
+
+static double law_runout(const collapse_case *scene) {
+  return scene->axisymmetric ? lube2004_runout(scene->aspect)
+                             : lube_runout(scene->aspect);
+}
+
+static const char *law_name(const collapse_case *scene) {
+  return scene->axisymmetric ? "Lube et al. 2004" : "Lube et al. 2005";
+}
+
 static gm_domain *build_collapse(const collapse_case *scene, gm_shape shape) {
   double height = scene->aspect * scene->length; /* H0, m */
   gm_domain_def def = gm_domain_def_default();
   /* Twice the law's run-out, and room above the column. */
-  def.extent[0] = scene->length * (2.0 + 2.0 * lube_runout(scene->aspect));
+  def.extent[0] = scene->length * (2.0 + 2.0 * law_runout(scene));
   def.extent[1] = 1.25 * height + 4.0 * CELL;
   def.cell_size = CELL;
   def.gravity[1] = -GRAVITY;
   def.shape = shape;
   def.family = GM_FAMILY_GRANULAR;
+  /* The axis replaces the back wall: its nodes' radial velocity is held
+   * at zero (gm_domain_create(3)). */
+  if (scene->axisymmetric) {
+    def.geometry = GM_GEOMETRY_AXISYMMETRIC;
+    def.walls[GM_FACE_XMIN] = GM_WALL_SLIP;
+  }
   gm_domain *domain = test_create_domain(&def);
 
   gm_mohr_coulomb_def material = gm_mohr_coulomb_def_default();
@@ -116,10 +162,12 @@ static gm_domain *build_collapse(const collapse_case *scene, gm_shape shape) {
   floor.friction_static = floor.friction_kinetic =
       tan(FRICTION_DEG * PI / 180.0);
   TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &floor, &wall_id));
-  gm_wall_def back = gm_wall_def_default(); /* x = 0, frictionless */
-  back.normal[0] = 1.0;
-  back.normal[1] = 0.0;
-  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &back, &wall_id));
+  if (!scene->axisymmetric) {
+    gm_wall_def back = gm_wall_def_default(); /* x = 0, frictionless */
+    back.normal[0] = 1.0;
+    back.normal[1] = 0.0;
+    TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &back, &wall_id));
+  }
 
   gm_fill_def fill = gm_fill_def_default();
   fill.material = id;
@@ -174,7 +222,7 @@ static collapse_result run_collapse(const collapse_case *scene,
   collapse_result result = {GM_OK, 0.0, 0.0, 0.0, ""};
   double height = scene->aspect * scene->length;
   double tau_c = sqrt(height / GRAVITY); /* s */
-  double extent = scene->length * (2.0 + 2.0 * lube_runout(scene->aspect));
+  double extent = scene->length * (2.0 + 2.0 * law_runout(scene));
   gm_domain *domain = build_collapse(scene, shape);
   double front[ROW_COUNT + 1]; /* m, at t = k RUN_TAU tau_c / ROW_COUNT */
   front[0] = deposit_front(domain, extent);
@@ -207,20 +255,21 @@ static double check_against_law(const collapse_case *scene, gm_shape shape,
   const char *name = test_shape_name(shape);
   ck_assert_msg(result->status == GM_OK, "a = %g, %s: failed at t = %.4f s: %s",
                 scene->aspect, name, result->end_time, result->message);
-  double law = lube_runout(scene->aspect);
+  double law = law_runout(scene);
   double error = (result->runout - law) / law;
-  printf("a = %g, %s, L0 = %g m, cell %g m: run-out %.4f, Lube et al. 2005 "
-         "%.4f (%+.1f %%)\n",
-         scene->aspect, name, scene->length, CELL, result->runout, law,
+  printf("a = %g, %s%s, L0 = %g m, cell %g m: run-out %.4f, %s %.4f (%+.1f "
+         "%%)\n",
+         scene->aspect, name, scene->axisymmetric ? " axisymmetric" : "",
+         scene->length, CELL, result->runout, law_name(scene), law,
          100.0 * error);
   ck_assert_msg(fabs(result->late_motion) < SETTLED_FRACTION * scene->length,
                 "a = %g, %s: the front still moved %.4g L0 in the last tau_c",
                 scene->aspect, name, result->late_motion / scene->length);
   ck_assert_msg(fabs(error) <= LAW_TOLERANCE,
-                "a = %g, %s: run-out (L_inf - L0)/L0 = %.4f, Lube et al. 2005 "
-                "%.4f (%+.1f %%, tolerance %.0f %%)",
-                scene->aspect, name, result->runout, law, 100.0 * error,
-                100.0 * LAW_TOLERANCE);
+                "a = %g, %s: run-out (L_inf - L0)/L0 = %.4f, %s %.4f (%+.1f "
+                "%%, tolerance %.0f %%)",
+                scene->aspect, name, result->runout, law_name(scene), law,
+                100.0 * error, 100.0 * LAW_TOLERANCE);
   return error;
 }
 
@@ -257,6 +306,13 @@ START_TEST(test_bspline_runout) {
 }
 END_TEST
 
+START_TEST(test_axisymmetric_runout) {
+  const collapse_case *scene = &AXISYMMETRIC_CASES[_i];
+  collapse_result result = run_collapse(scene, GM_SHAPE_UGIMP);
+  check_against_law(scene, GM_SHAPE_UGIMP, &result);
+}
+END_TEST
+
 static Suite *collapse_suite(void) {
   Suite *suite = suite_create("column_collapse");
   TCase *tcase = tcase_create("lube_2005");
@@ -265,6 +321,7 @@ static Suite *collapse_suite(void) {
   tcase_add_loop_test(tcase, test_runout_follows_lube, 0, CASE_COUNT);
   tcase_add_loop_test(tcase, test_cpdi_as_close_as_ugimp, 0, TALL_COUNT);
   tcase_add_loop_test(tcase, test_bspline_runout, 0, BSPLINE_COUNT);
+  tcase_add_loop_test(tcase, test_axisymmetric_runout, 0, AXISYMMETRIC_COUNT);
   suite_add_tcase(suite, tcase);
   return suite;
 }
