@@ -649,6 +649,66 @@ static size_t find_bytes(const unsigned char *data, size_t size,
   return SIZE_MAX;
 }
 
+/* A sealed granular file and a target scene at another state, for the
+ * tests that damage one value of the file: the file is saved after 5
+ * steps, the target has taken 3. */
+typedef struct {
+  char *good;
+  char *damaged;
+  scene saved;
+  scene target;
+  observed before;
+  unsigned char *data;
+  size_t size;
+} damage_fixture;
+
+static damage_fixture damage_fixture_open(void) {
+  damage_fixture fixture;
+  make_temporary_directory();
+  fixture.good = path_in_directory("good.ckpt");
+  fixture.damaged = path_in_directory("damaged.ckpt");
+  fixture.saved = build(GRANULAR, 1);
+  run_steps(&fixture.saved, 5);
+  TEST_ASSERT_OK(fixture.saved.domain,
+                 gm_domain_save(fixture.saved.domain, fixture.good));
+  fixture.data = read_file(fixture.good, &fixture.size);
+  fixture.target = build(GRANULAR, 1);
+  run_steps(&fixture.target, 3);
+  fixture.before = observe(&fixture.target);
+  return fixture;
+}
+
+/* Writes the good file with `value` over the 8 bytes at `at`, resealed,
+ * and expects the target to refuse it unchanged with a message naming
+ * `named`. */
+static void expect_damage_refused(const damage_fixture *fixture, size_t at,
+                                  double value, const char *named) {
+  unsigned char *copy = malloc(fixture->size);
+  memcpy(copy, fixture->data, fixture->size);
+  memcpy(copy + at, &value, sizeof value);
+  reseal(copy, fixture->size);
+  write_file(fixture->damaged, copy, fixture->size);
+  expect_refused(&fixture->target, &fixture->before, fixture->damaged,
+                 GM_ERR_IO, named);
+  ck_assert_msg(last_error_mentions(fixture->target.domain, named),
+                "%g: message \"%s\" does not name the %s", value,
+                gm_domain_last_error(fixture->target.domain), named);
+  free(copy);
+}
+
+/* The target still loads the good file after every refusal. */
+static void damage_fixture_close(damage_fixture *fixture) {
+  TEST_ASSERT_OK(fixture->target.domain,
+                 gm_domain_load(fixture->target.domain, fixture->good));
+  forget(&fixture->before);
+  free(fixture->data);
+  free(fixture->good);
+  free(fixture->damaged);
+  gm_domain_destroy(fixture->saved.domain);
+  gm_domain_destroy(fixture->target.domain);
+  remove_temporary_directory();
+}
+
 /* A sealed file whose F or CPDI map is inverted at one point (a file the
  * library never writes: the step refuses det F <= 0) is refused at the
  * load, naming the tensor, instead of loading a domain that can never
@@ -657,48 +717,22 @@ static size_t find_bytes(const unsigned char *data, size_t size,
  * reset in 5 steps), so the first two points' F_XX appear twice: F's
  * array first, the map's second. */
 START_TEST(test_refuses_inverted_tensors) {
-  make_temporary_directory();
-  char *good = path_in_directory("good.ckpt");
-  char *damaged = path_in_directory("inverted.ckpt");
-  scene saved = build(GRANULAR, 1);
-  run_steps(&saved, 5);
-  TEST_ASSERT_OK(saved.domain, gm_domain_save(saved.domain, good));
-  size_t count = gm_domain_point_count(saved.domain);
+  damage_fixture fixture = damage_fixture_open();
+  gm_domain *saved = fixture.saved.domain;
+  size_t count = gm_domain_point_count(saved);
   double *f = malloc(count * 9 * sizeof *f);
-  TEST_ASSERT_OK(saved.domain, gm_domain_get_field(
-                                   saved.domain, GM_FIELD_DEFORMATION_GRADIENT,
-                                   f, count * 9));
+  TEST_ASSERT_OK(
+      saved,
+      gm_domain_get_field(saved, GM_FIELD_DEFORMATION_GRADIENT, f, count * 9));
   const double first_two[2] = {f[0], f[9]}; /* F_XX of points 0 and 1 */
-  size_t size = 0;
-  unsigned char *data = read_file(good, &size);
-  scene target = build(GRANULAR, 1);
-  run_steps(&target, 3);
-  observed before = observe(&target);
   const char *named[2] = {"det F", "CPDI domain"};
   for (int tensor = 0; tensor < 2; tensor++) {
-    size_t at = find_bytes(data, size, first_two, tensor);
+    size_t at = find_bytes(fixture.data, fixture.size, first_two, tensor);
     ck_assert_msg(at != SIZE_MAX, "F_XX pattern %d not found", tensor);
-    double flipped = -first_two[0];
-    unsigned char *copy = malloc(size);
-    memcpy(copy, data, size);
-    memcpy(copy + at, &flipped, sizeof flipped);
-    reseal(copy, size);
-    write_file(damaged, copy, size);
-    expect_refused(&target, &before, damaged, GM_ERR_IO, named[tensor]);
-    ck_assert_msg(last_error_mentions(target.domain, named[tensor]),
-                  "message \"%s\" does not name %s",
-                  gm_domain_last_error(target.domain), named[tensor]);
-    free(copy);
+    expect_damage_refused(&fixture, at, -first_two[0], named[tensor]);
   }
-  TEST_ASSERT_OK(target.domain, gm_domain_load(target.domain, good));
-  forget(&before);
   free(f);
-  free(data);
-  free(good);
-  free(damaged);
-  gm_domain_destroy(saved.domain);
-  gm_domain_destroy(target.domain);
-  remove_temporary_directory();
+  damage_fixture_close(&fixture);
 }
 END_TEST
 
@@ -719,30 +753,20 @@ static uint64_t length_before(const unsigned char *data, size_t at) {
  * prefix checked. Before the byte and int32 storage every finite value
  * was accepted, 1.5 included. */
 START_TEST(test_refuses_foreign_granular_values) {
-  make_temporary_directory();
-  char *good = path_in_directory("good.ckpt");
-  char *damaged = path_in_directory("label.ckpt");
-  scene saved = build(GRANULAR, 1);
-  run_steps(&saved, 5);
-  TEST_ASSERT_OK(saved.domain, gm_domain_save(saved.domain, good));
-  size_t count = gm_domain_point_count(saved.domain);
+  damage_fixture fixture = damage_fixture_open();
+  gm_domain *saved = fixture.saved.domain;
+  size_t count = gm_domain_point_count(saved);
   double *mass = malloc(count * sizeof *mass);
-  TEST_ASSERT_OK(saved.domain,
-                 gm_domain_get_field(saved.domain, GM_FIELD_MASS, mass, count));
+  TEST_ASSERT_OK(saved, gm_domain_get_field(saved, GM_FIELD_MASS, mass, count));
   const double first_two[2] = {mass[0], mass[1]}; /* kg */
-  size_t size = 0;
-  unsigned char *data = read_file(good, &size);
-  size_t masses = find_bytes(data, size, first_two, 0);
+  size_t masses = find_bytes(fixture.data, fixture.size, first_two, 0);
   ck_assert_msg(masses != SIZE_MAX, "mass pattern not found");
   size_t array_bytes = count * sizeof(double);
   size_t labels = masses - sizeof(uint64_t) - array_bytes;
   size_t states = labels - sizeof(uint64_t) - array_bytes;
-  ck_assert_uint_eq(length_before(data, masses), array_bytes);
-  ck_assert_uint_eq(length_before(data, labels), array_bytes);
-  ck_assert_uint_eq(length_before(data, states), array_bytes);
-  scene target = build(GRANULAR, 1);
-  run_steps(&target, 3);
-  observed before = observe(&target);
+  ck_assert_uint_eq(length_before(fixture.data, masses), array_bytes);
+  ck_assert_uint_eq(length_before(fixture.data, labels), array_bytes);
+  ck_assert_uint_eq(length_before(fixture.data, states), array_bytes);
   const struct {
     size_t at;
     double value;
@@ -753,27 +777,11 @@ START_TEST(test_refuses_foreign_granular_values) {
                {labels, 0.5, "parallel-grid label"},
                {labels, (double)count, "parallel-grid label"},
                {labels, -1.0, "parallel-grid label"}};
-  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
-    unsigned char *copy = malloc(size);
-    memcpy(copy, data, size);
-    memcpy(copy + cases[k].at, &cases[k].value, sizeof(double)); /* point 0 */
-    reseal(copy, size);
-    write_file(damaged, copy, size);
-    expect_refused(&target, &before, damaged, GM_ERR_IO, cases[k].named);
-    ck_assert_msg(last_error_mentions(target.domain, cases[k].named),
-                  "%g: message \"%s\" does not name the %s", cases[k].value,
-                  gm_domain_last_error(target.domain), cases[k].named);
-    free(copy);
-  }
-  TEST_ASSERT_OK(target.domain, gm_domain_load(target.domain, good));
-  forget(&before);
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) /* point 0 */
+    expect_damage_refused(&fixture, cases[k].at, cases[k].value,
+                          cases[k].named);
   free(mass);
-  free(data);
-  free(good);
-  free(damaged);
-  gm_domain_destroy(saved.domain);
-  gm_domain_destroy(target.domain);
-  remove_temporary_directory();
+  damage_fixture_close(&fixture);
 }
 END_TEST
 
