@@ -12,6 +12,12 @@
  * candidate axes (a convex polygon pair is disjoint iff some edge normal
  * separates them), instead of the paper's edge walk (Fig. A2), which
  * misses one domain nested inside the other.
+ *
+ * In 3D (issue 16) a domain is a parallelepiped: centre and three
+ * half-edge vectors (a box for the rectangular variants, F r1, F r2, F r3
+ * for CPDI). Its overlap test is the same theorem with the 15 candidate
+ * axes of two convex polyhedra: the 3 face normals of each and the 9
+ * cross products of an edge of one with an edge of the other.
  */
 #ifndef GM_INTERACTION_H
 #define GM_INTERACTION_H
@@ -36,5 +42,21 @@ void gm_interaction_domain_of(gm_shape shape, int dim,
  * parallelograms (rectangles included). */
 bool gm_interaction_overlap(int dim, const gm_interaction_domain *a,
                             const gm_interaction_domain *b);
+
+/* A 3D domain of interaction: corners centre +- r1 +- r2 +- r3. */
+typedef struct gm_interaction_domain3 {
+  double centre[3];       /* m */
+  double half_edge[3][3]; /* m, r1, r2, r3 */
+} gm_interaction_domain3;
+
+/* Scales d about its centre so its volume is `volume` (m^3); `volume` <= 0
+ * or a domain of zero volume is left as it is. */
+void gm_interaction_scale3(gm_interaction_domain3 *d, double volume);
+
+/* Do the interiors of a and b intersect? Exact up to round-off in the
+ * projections; domains that only touch do not overlap, and a domain of
+ * zero volume has no interior, so it overlaps nothing. */
+bool gm_interaction_overlap3(const gm_interaction_domain3 *a,
+                             const gm_interaction_domain3 *b);
 
 #endif
