@@ -34,6 +34,7 @@
 #include "materials/invariants.h"
 #include "materials/principal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -96,6 +97,10 @@ static double dot3(const double a[3], const double b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+static double max_abs3(const double a[3]) {
+  return fmax(fabs(a[0]), fmax(fabs(a[1]), fabs(a[2])));
+}
+
 static mc_edge make_edge(const mc_plane *a, mc_plane b) {
   mc_edge edge;
   edge.plane = b;
@@ -143,6 +148,19 @@ static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
     return false;
   double multiplier_a = (fa * bb - ab * fb) / determinant;
   double multiplier_b = (aa * fb - ba * fa) / determinant;
+  /* A multiplier negative only by round-off (its stress change below the
+   * rounding of the trial's largest principal value) is zero: the
+   * main-plane return then lands on the edge itself, to the last bit on
+   * either side, and rejecting the edge sent such a point to the apex (a
+   * zero stress for a cohesionless material in compression). */
+  double rounding = 64.0 * DBL_EPSILON *
+                    fmax(fabs(trial[0]), fmax(fabs(trial[1]), fabs(trial[2])));
+  if (multiplier_a < 0.0 &&
+      -multiplier_a * max_abs3(a->elastic_flow) <= rounding)
+    multiplier_a = 0.0;
+  if (multiplier_b < 0.0 &&
+      -multiplier_b * max_abs3(b->elastic_flow) <= rounding)
+    multiplier_b = 0.0;
   if (multiplier_a < 0.0 || multiplier_b < 0.0)
     return false;
   for (int i = 0; i < 3; i++)
