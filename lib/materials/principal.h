@@ -20,14 +20,32 @@ typedef struct gm_principal {
   double vector[3][3];
 } gm_principal;
 
-/* Decomposes the symmetric tensor `voigt`. When yz = zx = 0 exactly (plane
- * strain, axisymmetry, 1D: the library passes those rows as zeros) it uses
- * the closed form of gm_principal_in_plane and gm_principal_decompose_planar;
- * otherwise cyclic Jacobi rotations. Both are accurate to round-off of the
- * tensor norm, also for repeated eigenvalues. Returns 0, or -1 if the
- * rotations did not annihilate the off-diagonal part within the sweep limit
- * (only possible for non-finite input). */
+/* Decomposes the symmetric tensor `voigt` in closed form (principal.c): when
+ * yz = zx = 0 exactly (plane strain, axisymmetry, 1D: the library passes
+ * those rows as zeros) by gm_principal_in_plane and
+ * gm_principal_decompose_planar, otherwise by the trigonometric root of the
+ * characteristic cubic farthest from the other two, its eigenvector from
+ * cross products and the remaining pair as a Mohr circle in the plane
+ * orthogonal to it. Accurate to round-off of the tensor norm, also for
+ * repeated eigenvalues (tests/unit/test_principal.c). Returns 0, or -1 for
+ * non-finite input. */
 int gm_principal_decompose(const double voigt[6], gm_principal *out);
+
+/* The same decomposition by cyclic Jacobi rotations (principal_jacobi.c):
+ * the iterative reference the closed form is tested and measured against.
+ * Returns 0, or -1 if the rotations did not annihilate the off-diagonal part
+ * within the sweep limit (only possible for non-finite input). */
+int gm_principal_decompose_jacobi(const double voigt[6], gm_principal *out);
+
+/* The principal values alone, descending, from the trigonometric solution
+ * of the cubic (no eigenvectors; one acos, cos and sin). The largest and
+ * smallest are within *error (units of the tensor, >= 0) of the exact
+ * values: a double root of the cubic is only known to O(sqrt(eps)) of the
+ * norm, so *error is 1e-6 of the largest entry. For a yield test that needs
+ * only the extremes; a decision within *error of the surface takes
+ * gm_principal_decompose. */
+void gm_principal_estimate(const double voigt[6], double values[3],
+                           double *error);
 
 /* The xy block of a tensor with yz = zx = 0 (units of the tensor): its
  * eigenvalues are centre + radius and centre - radius (Mohr's circle),

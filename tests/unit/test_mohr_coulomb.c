@@ -196,10 +196,12 @@ static gm_mohr_coulomb_def make_def(double phi, double psi, double eta) {
 /* ------------------------------------------------------ principal stresses */
 
 /* Known eigenvalues (some repeated) under random rotations are recovered,
- * and composing them on the computed basis rebuilds the tensor. Jacobi is
- * backward stable: errors are a few eps times the tensor norm, so 1e-13 of
- * the norm (about 450 eps) is a safe bound that still catches any bug. */
-/* The loop runs twice: _i = 0 with general rotations (Jacobi path), _i = 1
+ * and composing them on the computed basis rebuilds the tensor. The
+ * decomposition is backward stable: errors are a few eps times the tensor norm,
+ * so 1e-13 of the norm (about 450 eps) is a safe bound that still catches any
+ * bug. */
+/* The loop runs twice: _i = 0 with general rotations (the general closed
+ * form; tests/unit/test_principal.c compares it with Jacobi), _i = 1
  * with rotations about z (yz = zx = 0: the closed-form Mohr-circle path),
  * where the repeated pairs are the in-plane pair (n % 3 == 1: the circle
  * has radius 0) and an in-plane value equal to zz (n % 5 == 3), same
@@ -813,7 +815,7 @@ START_TEST(test_return_onto_edge_is_not_apex) {
                   "(returned to the apex?)",
                   n, mean, mean_trial);
     gm_principal principal;
-    ck_assert_int_eq(gm_principal_decompose(out, &principal), 0);
+    ck_assert_int_eq(gm_principal_decompose_jacobi(out, &principal), 0);
     ck_assert_double_le(fabs(yield_value(principal.value, sin_phi, 0.0)),
                         1e-12 * scale);
   }
