@@ -26,7 +26,7 @@
  * axisymmetric points (yz = zx = 0) take a closed form (return_planar: a
  * Mohr circle, no eigen-solver, no eigenvectors). General 3D stresses
  * (any of yz, zx non-zero) are first decided from their principal values
- * alone (gm_principal_estimate, the trigonometric solution of the cubic);
+ * alone (gm_principal_estimate, from the characteristic cubic);
  * only points outside or within the estimate's error of the surface take
  * the full closed-form decomposition of principal.c, whose eigenvectors
  * carry the return back to the stress components. Every step of the return
@@ -364,13 +364,13 @@ static mc_outcome return_point(const mc_constants *k, const mc_planes *planes,
    * (f below -error |n|, |n| <= 2 bounding the yield value's error); only
    * the rest pay for the eigenvectors, and the decision is then taken on
    * the accurate values. */
+  gm_principal_cubic cubic;
   double estimate[3], error;
-  gm_principal_estimate(stress, estimate, &error);
+  gm_principal_estimate(stress, &cubic, estimate, &error);
   if (plane_value(&planes->main, k, estimate) <= -2.0 * error)
     return MC_ELASTIC;
   gm_principal trial;
-  if (gm_principal_decompose(stress, &trial) != 0)
-    return MC_NOT_FINITE;
+  gm_principal_decompose_cubic(&cubic, &trial);
   if (plane_value(&planes->main, k, trial.value) <= 0.0)
     return MC_ELASTIC;
   plastic_correction(k, planes, &trial, stress, plastic_shear);

@@ -9,24 +9,26 @@
  *
  * A general tensor is scaled by its largest entry and split into its mean
  * m = tr(A)/3 and deviator D = A - m I. With p = sqrt(D:D / 6) and
- * h = det(D) / (2 p^3), the eigenvalues of D are the roots of the
- * characteristic cubic x^3 - 3 p^2 x - 2 p^3 h = 0, which the
- * trigonometric (Viete) solution gives as
- *   x_k = 2 p cos(theta - 2 pi k / 3),  theta = acos(h) / 3, k = 0, 1, -1.
- * A root of the cubic computed from rounded coefficients moves by
- * O(eps / gap^2): fine for a simple root, but a double root moves by
- * O(sqrt(eps)) p, so only one root is taken from the cubic: the one
- * farthest from the other two (the largest when h >= 0, the smallest
- * otherwise), which is at least sqrt(3) p away from both. Its eigenvector
- * is the largest cross product of two rows of D - x I (the rows span the
- * plane orthogonal to it, D - x I having two eigenvalues of size >= sqrt(3)
- * p). The other pair is the eigen-problem of D restricted to that plane:
- * a 2x2 symmetric block in an orthonormal basis of the plane, solved as a
- * Mohr circle like the planar case, which is accurate however close the
- * two values are (at a zero radius every direction of the plane is
- * principal). Cost: one acos, one cos, one sin and five square roots,
- * against a variable number of Jacobi rotations (principal_jacobi.c, kept
- * as the reference the tests compare with).
+ * h = det(D) / (2 p^3) in [-1, 1], the eigenvalues of D are p y for the
+ * roots y of the characteristic cubic y^3 - 3 y - 2 h = 0, which the
+ * trigonometric (Viete) solution writes y_k = 2 cos(theta - 2 pi k / 3),
+ * theta = acos(h) / 3. A root of the cubic computed from rounded
+ * coefficients moves by O(eps / gap^2): fine for a simple root, but a
+ * double root moves by O(sqrt(eps)), so only one root is taken from the
+ * cubic: the one farthest from the other two (the largest, in [sqrt 3, 2],
+ * when h >= 0; the smallest otherwise), which is at least sqrt(3) p away
+ * from both. It is computed without trigonometric calls (a quadratic
+ * guess in |h| polished by two Halley steps: three library calls of acos,
+ * cos and sin cost more than the rest of the decomposition). Its
+ * eigenvector is the largest cross product of two rows of D - p y I (the
+ * rows span the plane orthogonal to it, D - p y I having two eigenvalues
+ * of size >= sqrt(3) p). The other pair is the eigen-problem of D
+ * restricted to that plane: a 2x2 symmetric block in an orthonormal basis
+ * of the plane, solved as a Mohr circle like the planar case, which is
+ * accurate however close the two values are (at a zero radius every
+ * direction of the plane is principal). Cost: five square roots and a
+ * handful of divisions, against a variable number of Jacobi rotations
+ * (principal_jacobi.c, kept as the reference the tests compare with).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -81,21 +83,31 @@ void gm_principal_decompose_planar(const double voigt[6],
   out->vector[z_slot][2] = 1.0;
 }
 
-/* The scaled deviator of a general tensor and the roots of its cubic. */
-typedef struct principal_cubic {
-  double scale;       /* max |A_ij| (units of the tensor), > 0 */
-  double mean;        /* tr(A) / (3 scale) */
-  double deviator[6]; /* A / scale - mean I, Voigt order */
-  double radius;      /* p = sqrt(D:D / 6), 0 for an isotropic tensor */
-  double cosine;      /* cos(theta), theta = acos(h) / 3 in [0, pi/3] */
-  double sine;        /* sin(theta) */
-} principal_cubic;
+/* The largest root of y^3 - 3 y - 2 t for t in [0, 1], in [sqrt 3, 2]
+ * (2 cos(acos(t) / 3)) without trigonometric calls: a quadratic through
+ * t = 0, 1/2, 1 (within 2e-3 of it), then two Halley steps, each cubing
+ * the error (the root is simple, P' = 3 y^2 - 3 >= 6 there), so 2e-3
+ * becomes ~1e-9 and then round-off. */
+static double largest_root(double t) {
+  double y = 1.7320508075688772 + t * (0.3213883853 - 0.0534391928 * t);
+  for (int step = 0; step < 2; step++) {
+    double value = y * y * y - 3.0 * y - 2.0 * t; /* P(y) */
+    double slope = 3.0 * y * y - 3.0;             /* P'(y) */
+    double curvature = 6.0 * y;                   /* P''(y) */
+    y -= 2.0 * value * slope / (2.0 * slope * slope - value * curvature);
+  }
+  return y;
+}
 
-/* Fills the cubic of a finite tensor with a non-zero entry. */
-static void principal_cubic_of(const double voigt[6], principal_cubic *cubic) {
-  double scale = 0.0;
+/* Fills the cubic of a finite tensor whose largest |entry| is scale. */
+static void cubic_of(const double voigt[6], double scale,
+                     gm_principal_cubic *cubic) {
+  cubic->scale = scale;
+  cubic->mean = cubic->radius = cubic->root = 0.0;
   for (int c = 0; c < 6; c++)
-    scale = fmax(scale, fabs(voigt[c]));
+    cubic->deviator[c] = 0.0;
+  if (scale == 0.0)
+    return;
   double inverse = 1.0 / scale;
   double a[6];
   for (int c = 0; c < 6; c++)
@@ -114,45 +126,55 @@ static void principal_cubic_of(const double voigt[6], principal_cubic *cubic) {
                    2.0 * (d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
   double radius = sqrt(squares * (1.0 / 6.0));
   cubic->radius = radius;
-  cubic->cosine = 1.0;
-  cubic->sine = 0.0;
+  cubic->root = 0.0;
   if (radius == 0.0)
     return;
   /* det D of [[d0, d3, d5], [d3, d1, d4], [d5, d4, d2]]. */
   double determinant = d[0] * (d[1] * d[2] - d[4] * d[4]) -
                        d[3] * (d[3] * d[2] - d[4] * d[5]) +
                        d[5] * (d[3] * d[4] - d[1] * d[5]);
+  /* h = det(D / p) / 2 is in [-1, 1] exactly; round-off may step past. */
   double half = 0.5 * determinant / (radius * radius * radius);
-  /* |h| <= 1 exactly; round-off may step past it. */
-  half = fmin(1.0, fmax(-1.0, half));
-  double theta = acos(half) * (1.0 / 3.0);
-  cubic->cosine = cos(theta);
-  cubic->sine = sin(theta);
+  half = half > 1.0 ? 1.0 : half < -1.0 ? -1.0 : half;
+  /* The roots for -h are those for h negated: the smallest root for h < 0
+   * is minus the largest for -h. */
+  cubic->root = half >= 0.0 ? largest_root(half) : -largest_root(-half);
 }
 
-/* sqrt(3) */
-#define PRINCIPAL_SQRT3 1.73205080756887729353
-
-void gm_principal_estimate(const double voigt[6], double values[3],
-                           double *error) {
-  principal_cubic cubic;
+/* Largest |entry| (plain comparisons: the entries are finite, and fmax
+ * is a library call where the compiler must keep its NaN rules). */
+static double max_abs(const double voigt[6]) {
   double scale = 0.0;
-  for (int c = 0; c < 6; c++)
-    scale = fmax(scale, fabs(voigt[c]));
-  if (scale == 0.0) {
-    values[0] = values[1] = values[2] = 0.0;
-    *error = 0.0;
-    return;
+  for (int c = 0; c < 6; c++) {
+    double size = fabs(voigt[c]);
+    scale = size > scale ? size : scale;
   }
-  principal_cubic_of(voigt, &cubic);
-  double p = cubic.radius, c = cubic.cosine, s = cubic.sine;
-  double m = cubic.mean;
-  values[0] = cubic.scale * (m + 2.0 * p * c);
-  values[1] = cubic.scale * (m + p * (PRINCIPAL_SQRT3 * s - c));
-  values[2] = cubic.scale * (m - p * (PRINCIPAL_SQRT3 * s + c));
+  return scale;
+}
+
+void gm_principal_estimate(const double voigt[6], gm_principal_cubic *cubic,
+                           double values[3], double *error) {
+  double scale = max_abs(voigt);
+  cubic_of(voigt, scale, cubic);
+  double p = cubic->radius, y = cubic->root, m = cubic->mean;
+  /* The other two roots solve y'^2 + y y' + y^2 - 3 = 0 (the cubic
+   * divided by y' - y): (-y +- sqrt(12 - 3 y^2)) / 2. Near a double root
+   * the square root cancels to ~sqrt(eps): the stated error covers it. */
+  double discriminant = 12.0 - 3.0 * y * y;
+  double split = discriminant > 0.0 ? 0.5 * sqrt(discriminant) : 0.0;
+  double first = -0.5 * y + split, second = -0.5 * y - split;
+  if (y > 0.0) {
+    values[0] = scale * (m + p * y);
+    values[1] = scale * (m + p * first);
+    values[2] = scale * (m + p * second);
+  } else {
+    values[0] = scale * (m + p * first);
+    values[1] = scale * (m + p * second);
+    values[2] = scale * (m + p * y);
+  }
   /* A double root of the cubic moves by ~ sqrt(eps) p = 1.5e-8 p: a bound
    * 60 times that, in units of the tensor. */
-  *error = 1e-6 * cubic.scale;
+  *error = 1e-6 * scale;
 }
 
 static double dot(const double a[3], const double b[3]) {
@@ -206,23 +228,19 @@ static void set_vector(gm_principal *out, int slot, double value,
     out->vector[slot][c] = vector[c];
 }
 
-/* The general tensor (some of yz, zx non-zero, all finite). */
-static void decompose_general(const double voigt[6], gm_principal *out) {
-  principal_cubic cubic;
-  principal_cubic_of(voigt, &cubic);
-  const double *d = cubic.deviator;
-  double scale = cubic.scale, mean = cubic.mean, p = cubic.radius;
+void gm_principal_decompose_cubic(const gm_principal_cubic *cubic,
+                                  gm_principal *out) {
+  const double *d = cubic->deviator;
+  double scale = cubic->scale, mean = cubic->mean, p = cubic->radius;
   if (p == 0.0) { /* isotropic: every direction is principal */
     static const double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     for (int k = 0; k < 3; k++)
       set_vector(out, k, scale * mean, axes[k]);
     return;
   }
-  /* The simple root: the largest when h >= 0 (theta <= pi/6), else the
-   * smallest. cos(theta) >= sqrt(3)/2 exactly when theta <= pi/6. */
-  bool largest = cubic.cosine >= 0.5 * PRINCIPAL_SQRT3;
-  double root = largest ? 2.0 * p * cubic.cosine
-                        : -p * (PRINCIPAL_SQRT3 * cubic.sine + cubic.cosine);
+  /* The simple root: the largest when h >= 0, else the smallest. */
+  bool largest = cubic->root > 0.0;
+  double root = p * cubic->root;
   double isolated[3];
   isolated_vector(d, root, isolated);
   /* An orthonormal basis (u, w) of the plane orthogonal to it: u from the
@@ -281,7 +299,9 @@ int gm_principal_decompose(const double voigt[6], gm_principal *out) {
     gm_principal_decompose_planar(voigt, &circle, out);
     return 0;
   }
-  decompose_general(voigt, out);
+  gm_principal_cubic cubic;
+  cubic_of(voigt, max_abs(voigt), &cubic);
+  gm_principal_decompose_cubic(&cubic, out);
   return 0;
 }
 

@@ -2,7 +2,7 @@
  * test_principal.c - the closed-form spectral decomposition of a symmetric
  * 3x3 tensor (lib/materials/principal.c) against the iterative Jacobi one
  * (principal_jacobi.c) and against the definition, on general tensors (yz
- * or zx non-zero: the trigonometric root, cross products and the Mohr
+ * or zx non-zero: the simple root of the cubic, cross products and the Mohr
  * circle of the remaining pair).
  *
  * What is checked, for every tensor A (Voigt, norm |A| = sqrt(A:A)):
@@ -264,8 +264,10 @@ START_TEST(test_diagonal_and_exact_tensors) {
 END_TEST
 
 /* gm_principal_estimate: its extremes lie within its stated error of the
- * accurate values, on the hardest family (a double root, where the cubic
- * alone loses half the digits) and on random tensors. */
+ * accurate values, and gm_principal_decompose_cubic finishes the
+ * decomposition bit for bit as gm_principal_decompose does, on the hardest
+ * family (a double root, where the cubic alone loses half the digits) and on
+ * random tensors. */
 START_TEST(test_estimate_within_its_error) {
   lcg_state = 31337u;
   double worst = 0.0; /* |estimate - accurate| / error */
@@ -277,10 +279,15 @@ START_TEST(test_estimate_within_its_error) {
     if (voigt[GM_YZ] == 0.0 && voigt[GM_ZX] == 0.0)
       continue;
     double estimate[3], error;
-    gm_principal_estimate(voigt, estimate, &error);
+    gm_principal_cubic cubic;
+    gm_principal_estimate(voigt, &cubic, estimate, &error);
+    gm_principal finished;
+    gm_principal_decompose_cubic(&cubic, &finished);
     gm_principal accurate;
     ck_assert_int_eq(gm_principal_decompose(voigt, &accurate), 0);
     ck_assert_double_le(error, 1e-6 * voigt_norm(voigt));
+    /* Finishing from the cubic is the decomposition itself. */
+    ck_assert_mem_eq(&finished, &accurate, sizeof finished);
     for (int k = 0; k < 3; k += 2) {
       double miss = fabs(estimate[k] - accurate.value[k]);
       worst = fmax(worst, miss / error);
