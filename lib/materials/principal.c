@@ -85,9 +85,10 @@ void gm_principal_decompose_planar(const double voigt[6],
 
 /* The largest root of y^3 - 3 y - 2 t for t in [0, 1], in [sqrt 3, 2]
  * (2 cos(acos(t) / 3)) without trigonometric calls: a quadratic through
- * t = 0, 1/2, 1 (within 2e-3 of it), then two Halley steps, each cubing
- * the error (the root is simple, P' = 3 y^2 - 3 >= 6 there), so 2e-3
- * becomes ~1e-9 and then round-off. */
+ * t = 0, 1/2, 1 (within 1.03e-3 of it on [0, 1]), then two Halley steps,
+ * each cubing the error (the root is simple, P' = 3 y^2 - 3 >= 6 there):
+ * 5.5e-10 after the first, under an ulp after the second (checked on a
+ * grid of 1e5 values of t against 2 cos(acos(t) / 3)). */
 static double largest_root(double t) {
   double y = 1.7320508075688772 + t * (0.3213883853 - 0.0534391928 * t);
   for (int step = 0; step < 2; step++) {
@@ -104,10 +105,11 @@ static void cubic_of(const double voigt[6], double scale,
                      gm_principal_cubic *cubic) {
   cubic->scale = scale;
   cubic->mean = cubic->radius = cubic->root = 0.0;
-  for (int c = 0; c < 6; c++)
-    cubic->deviator[c] = 0.0;
-  if (scale == 0.0)
+  if (scale == 0.0) { /* the zero tensor: isotropic */
+    for (int c = 0; c < 6; c++)
+      cubic->deviator[c] = 0.0;
     return;
+  }
   double inverse = 1.0 / scale;
   double a[6];
   for (int c = 0; c < 6; c++)
@@ -120,13 +122,11 @@ static void cubic_of(const double voigt[6], double scale,
   d[3] = a[3];
   d[4] = a[4];
   d[5] = a[5];
-  cubic->scale = scale;
   cubic->mean = mean;
   double squares = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] +
                    2.0 * (d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
   double radius = sqrt(squares * (1.0 / 6.0));
   cubic->radius = radius;
-  cubic->root = 0.0;
   if (radius == 0.0)
     return;
   /* det D of [[d0, d3, d5], [d3, d1, d4], [d5, d4, d2]]. */
