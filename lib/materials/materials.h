@@ -75,4 +75,18 @@ gm_status gm_check_positive(gm_domain *domain, const char *def_name,
                             const char *field, double value, const char *unit,
                             bool zero_allowed);
 
+/* The objective stress increment of one step of a general 3D motion
+ * (jaumann.c; 002 sec 4.1, 004 eqs 3.20-3.21): velocity_gradient is L_ij =
+ * dv_i/dx_j (1/s), row-major like GM_FIELD_DEFORMATION_GRADIENT, dt in s.
+ * gm_jaumann_rotate replaces the stress (Pa, Voigt) by
+ * sigma + (W sigma - sigma W) dt, W = (L - L^T)/2, which keeps its trace
+ * exactly and its other invariants to O((|W| dt)^2); on a state with
+ * W_yz = W_zx = 0 and yz = zx = 0 it is bitwise the plane rotation of
+ * grid/stress_update.c. gm_strain_increment writes D dt = (L + L^T) dt / 2
+ * (tensor shear components). */
+void gm_jaumann_rotate(const double velocity_gradient[9], double dt,
+                       double stress[6]);
+void gm_strain_increment(const double velocity_gradient[9], double dt,
+                         double increment[6]);
+
 #endif

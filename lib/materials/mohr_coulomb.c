@@ -24,8 +24,15 @@
  * Cost: the elastic predictor runs as one vectorised loop per chunk of
  * points; the corrector then decides each point. 1D, plane-strain and
  * axisymmetric points (yz = zx = 0) take a closed form (return_planar: a
- * Mohr circle, no eigen-solver, no eigenvectors); only general 3D stresses
- * use the Jacobi decomposition of principal.c.
+ * Mohr circle, no eigen-solver, no eigenvectors). General 3D stresses
+ * (any of yz, zx non-zero) are first decided from their principal values
+ * alone (gm_principal_estimate, from the characteristic cubic);
+ * only points outside or within the estimate's error of the surface take
+ * the full closed-form decomposition of principal.c, whose eigenvectors
+ * carry the return back to the stress components. Every step of the return
+ * (predictor, principal values, planes, recomposition) is frame
+ * indifferent, so the update of a rotated state is the rotated update
+ * (tests/unit/test_materials_3d.c).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -34,6 +41,7 @@
 #include "materials/invariants.h"
 #include "materials/principal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -96,6 +104,10 @@ static double dot3(const double a[3], const double b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+static double max_abs3(const double a[3]) {
+  return fmax(fabs(a[0]), fmax(fabs(a[1]), fabs(a[2])));
+}
+
 static mc_edge make_edge(const mc_plane *a, mc_plane b) {
   mc_edge edge;
   edge.plane = b;
@@ -143,6 +155,19 @@ static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
     return false;
   double multiplier_a = (fa * bb - ab * fb) / determinant;
   double multiplier_b = (aa * fb - ba * fa) / determinant;
+  /* A multiplier negative only by round-off (its stress change below the
+   * rounding of the trial's largest principal value) is zero: the
+   * main-plane return then lands on the edge itself, to the last bit on
+   * either side, and rejecting the edge sent such a point to the apex (a
+   * zero stress for a cohesionless material in compression). */
+  double rounding = 64.0 * DBL_EPSILON *
+                    fmax(fabs(trial[0]), fmax(fabs(trial[1]), fabs(trial[2])));
+  if (multiplier_a < 0.0 &&
+      -multiplier_a * max_abs3(a->elastic_flow) <= rounding)
+    multiplier_a = 0.0;
+  if (multiplier_b < 0.0 &&
+      -multiplier_b * max_abs3(b->elastic_flow) <= rounding)
+    multiplier_b = 0.0;
   if (multiplier_a < 0.0 || multiplier_b < 0.0)
     return false;
   for (int i = 0; i < 3; i++)
@@ -335,9 +360,17 @@ static mc_outcome return_point(const mc_constants *k, const mc_planes *planes,
     return MC_NOT_FINITE;
   if (stress[GM_YZ] == 0.0 && stress[GM_ZX] == 0.0)
     return return_planar(k, planes, stress, plastic_shear);
+  /* General 3D: the principal values alone decide a point clearly inside
+   * (f below -error |n|, |n| <= 2 bounding the yield value's error); only
+   * the rest pay for the eigenvectors, and the decision is then taken on
+   * the accurate values. */
+  gm_principal_cubic cubic;
+  double estimate[3], error;
+  gm_principal_estimate(stress, &cubic, estimate, &error);
+  if (plane_value(&planes->main, k, estimate) <= -2.0 * error)
+    return MC_ELASTIC;
   gm_principal trial;
-  if (gm_principal_decompose(stress, &trial) != 0)
-    return MC_NOT_FINITE;
+  gm_principal_decompose_cubic(&cubic, &trial);
   if (plane_value(&planes->main, k, trial.value) <= 0.0)
     return MC_ELASTIC;
   plastic_correction(k, planes, &trial, stress, plastic_shear);

@@ -20,14 +20,53 @@ typedef struct gm_principal {
   double vector[3][3];
 } gm_principal;
 
-/* Decomposes the symmetric tensor `voigt`. When yz = zx = 0 exactly (plane
- * strain, axisymmetry, 1D: the library passes those rows as zeros) it uses
- * the closed form of gm_principal_in_plane and gm_principal_decompose_planar;
- * otherwise cyclic Jacobi rotations. Both are accurate to round-off of the
- * tensor norm, also for repeated eigenvalues. Returns 0, or -1 if the
- * rotations did not annihilate the off-diagonal part within the sweep limit
- * (only possible for non-finite input). */
+/* Decomposes the symmetric tensor `voigt` in closed form (principal.c): when
+ * yz = zx = 0 exactly (plane strain, axisymmetry, 1D: the library passes
+ * those rows as zeros) by gm_principal_in_plane and
+ * gm_principal_decompose_planar, otherwise by the root of the
+ * characteristic cubic farthest from the other two, its eigenvector from
+ * cross products and the remaining pair as a Mohr circle in the plane
+ * orthogonal to it. Accurate to round-off of the tensor norm, also for
+ * repeated eigenvalues (tests/unit/test_principal.c). Returns 0, or -1 for
+ * non-finite input. */
 int gm_principal_decompose(const double voigt[6], gm_principal *out);
+
+/* The same decomposition by cyclic Jacobi rotations (principal_jacobi.c):
+ * the iterative reference the closed form is tested and measured against.
+ * Returns 0, or -1 if the rotations did not annihilate the off-diagonal part
+ * within the sweep limit (only possible for non-finite input). */
+int gm_principal_decompose_jacobi(const double voigt[6], gm_principal *out);
+
+/* A general tensor prepared for its decomposition: scaled by its largest
+ * entry, split into mean and deviator, and the simple root of the
+ * deviator's characteristic cubic (principal.c). */
+typedef struct gm_principal_cubic {
+  double scale;       /* max |A_ij| (units of the tensor), >= 0 */
+  double mean;        /* tr(A) / (3 scale) */
+  double deviator[6]; /* A / scale - mean I, Voigt order */
+  double radius;      /* p = sqrt(D:D / 6), 0 for an isotropic tensor */
+  double root;        /* y, the simple root of y^3 - 3 y - 2 h (h =
+                         det(D) / (2 p^3)) in units of p: in [sqrt 3, 2]
+                         when h >= 0 (the largest), in [-2, -sqrt 3]
+                         otherwise (the smallest) */
+} gm_principal_cubic;
+
+/* The principal values alone, descending, of a finite tensor (the simple
+ * root of the cubic, then the quadratic left for the other two; no
+ * eigenvectors, no trigonometric calls), and in *cubic what
+ * gm_principal_decompose_cubic needs to finish the decomposition without
+ * starting over. The largest and smallest values are within *error (units
+ * of the tensor, >= 0) of the exact ones: a double root of the cubic is
+ * only known to O(sqrt(eps)) of the norm, so *error is 1e-6 of the largest
+ * entry. For a yield test that needs only the extremes; a decision within
+ * *error of the surface takes the accurate values. */
+void gm_principal_estimate(const double voigt[6], gm_principal_cubic *cubic,
+                           double values[3], double *error);
+
+/* The closed-form decomposition of the tensor whose cubic this is (what
+ * gm_principal_decompose does to a general tensor). */
+void gm_principal_decompose_cubic(const gm_principal_cubic *cubic,
+                                  gm_principal *out);
 
 /* The xy block of a tensor with yz = zx = 0 (units of the tensor): its
  * eigenvalues are centre + radius and centre - radius (Mohr's circle),

@@ -196,10 +196,12 @@ static gm_mohr_coulomb_def make_def(double phi, double psi, double eta) {
 /* ------------------------------------------------------ principal stresses */
 
 /* Known eigenvalues (some repeated) under random rotations are recovered,
- * and composing them on the computed basis rebuilds the tensor. Jacobi is
- * backward stable: errors are a few eps times the tensor norm, so 1e-13 of
- * the norm (about 450 eps) is a safe bound that still catches any bug. */
-/* The loop runs twice: _i = 0 with general rotations (Jacobi path), _i = 1
+ * and composing them on the computed basis rebuilds the tensor. The
+ * decomposition is backward stable: errors are a few eps times the tensor norm,
+ * so 1e-13 of the norm (about 450 eps) is a safe bound that still catches any
+ * bug. */
+/* The loop runs twice: _i = 0 with general rotations (the general closed
+ * form; tests/unit/test_principal.c compares it with Jacobi), _i = 1
  * with rotations about z (yz = zx = 0: the closed-form Mohr-circle path),
  * where the repeated pairs are the in-plane pair (n % 3 == 1: the circle
  * has radius 0) and an in-plane value equal to zz (n % 5 == 3), same
@@ -752,6 +754,75 @@ END_TEST
 
 /* A non-finite stress or a batch without the state slot is a fatal (< 0)
  * failure whose message names the point id or the cause. */
+/* A trial whose main-plane return lands exactly on the triaxial
+ * compression edge (sigma_1 = sigma_2 after the return, in exact
+ * arithmetic): round-off then breaks the ordering by an ulp on one side or
+ * the other and makes the second plane's multiplier -1e-20 or so. Such a
+ * point belongs on the edge (or the main plane: the same stress to
+ * round-off), never at the apex, which for c = 0 is the zero stress. With
+ * psi = 0 every non-apex return keeps the mean stress, so the returned mean
+ * must equal the trial's to round-off (1e-12 of |sigma|), and f = 0.
+ * Before the fix 74 (planar path, _i = 0) and 66 (general path, _i = 1)
+ * of these 4000 states went to the apex. The edge is reached
+ * from sigma = (s2 + delta, s2, s3): with b = (1, 0, -1), D b = 2 G b and
+ * n . D b = 4 G, the return moves sigma_1 by -f / 2 and keeps sigma_2, so it
+ * lands on the edge when delta = f / 2, f = f0 + (1 + sin phi) delta with
+ * f0 = (1 + sin phi) s2 - (1 - sin phi) s3, i.e. delta = f0 / (1 - sin phi)
+ * (f0 > 0 when s3 < s2 (1 + sin phi) / (1 - sin phi)). */
+START_TEST(test_return_onto_edge_is_not_apex) {
+  bool general = _i == 1;
+  test_lcg lcg = {general ? 8080u : 9090u};
+  gm_mohr_coulomb_def def = gm_mohr_coulomb_def_default();
+  def.youngs_modulus = 1e7;
+  def.friction_angle = 0.5;
+  def.dilation_angle = 0.0;
+  def.bagnold_viscosity = 0.0;
+  double sin_phi = sin(def.friction_angle);
+  enum { STATES = 4000 };
+  test_points points = points_create(STATES);
+  double trial[STATES][6];
+  for (int n = 0; n < STATES; n++) {
+    double s2 = -lcg_range(&lcg, 1e3, 2e4); /* Pa */
+    double s3 = s2 * lcg_range(&lcg, 3.0, 6.0);
+    double f0 = (1.0 + sin_phi) * s2 - (1.0 - sin_phi) * s3;
+    double values[3] = {s2 + f0 / (1.0 - sin_phi), s2, s3};
+    double r[3][3];
+    if (general)
+      random_rotation(&lcg, r);
+    else /* the principal axes along x, y, z in a random order */
+      memset(r, 0, sizeof r);
+    if (!general) {
+      int first = n % 3, second = (first + 1 + (n / 3) % 2) % 3;
+      r[first][0] = r[second][1] = r[3 - first - second][2] = 1.0;
+    }
+    rotate_diagonal(r, values, trial[n]);
+    for (int c = 0; c < 6; c++)
+      points.stress[c][n] = trial[n][c];
+  }
+  gm_material_batch batch = points_batch(&points, 1e-4);
+  char message[256];
+  ck_assert_int_eq(
+      gm_mohr_coulomb_update(&batch, &def, message, sizeof message), 0);
+  for (int n = 0; n < STATES; n++) {
+    double out[6];
+    for (int c = 0; c < 6; c++)
+      out[c] = points.stress[c][n];
+    double scale = voigt_norm(trial[n]);
+    double mean_trial = (trial[n][0] + trial[n][1] + trial[n][2]) / 3.0;
+    double mean = (out[0] + out[1] + out[2]) / 3.0;
+    ck_assert_msg(fabs(mean - mean_trial) <= 1e-12 * scale,
+                  "state %d: mean stress %g after the return, %g before "
+                  "(returned to the apex?)",
+                  n, mean, mean_trial);
+    gm_principal principal;
+    ck_assert_int_eq(gm_principal_decompose_jacobi(out, &principal), 0);
+    ck_assert_double_le(fabs(yield_value(principal.value, sin_phi, 0.0)),
+                        1e-12 * scale);
+  }
+  points_free(&points);
+}
+END_TEST
+
 START_TEST(test_update_failures) {
   gm_mohr_coulomb_def def = make_def(30.0 * DEG, 0.0, 0.0);
   test_points p = points_create(2);
@@ -780,6 +851,7 @@ static Suite *mohr_coulomb_suite(void) {
   tcase_add_test(tc, test_bagnold_strength);
   tcase_add_loop_test(tc, test_simple_shear_flows_at_sin_phi, 0, 3);
   tcase_add_test(tc, test_update_failures);
+  tcase_add_loop_test(tc, test_return_onto_edge_is_not_apex, 0, 2);
   suite_add_tcase(suite, tc);
   return suite;
 }
