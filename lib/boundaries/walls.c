@@ -42,7 +42,8 @@
 #define GM_STRIP_REACH (2.0 - GM_ON_ROW)
 /* Doubles per friction strip: normal impulse, tangential momentum, the
  * largest material gap of its pushed nodes, and the node whose traction
- * entry takes the friction of the row a cell in front (+1; 0: none). */
+ * entry takes the friction of the rows a cell or more in front (+1; 0:
+ * none). */
 #define GM_STRIP_SUMS 4
 #include <stdlib.h>
 #include <string.h>

@@ -55,9 +55,9 @@ typedef struct update_context {
  * 0.4, floor 0.875 cells above a row, slid 2.7 % too far, which was the
  * friction lost in the strips (walls.c, gm_walls_share_friction) and is
  * gone since the second row of the bottom points' cells joins them
- * (+0.62 % now). Over 20 floor offsets at 25, 30 and 40 deg the worst USL
- * and USF slides with this rule are +1.28 % and +0.99 %
- * (tests/physics/test_wall_offsets.c). */
+ * (+0.62 % now). Over the offsets of tests/physics/test_wall_offsets.c
+ * and 20 floor offsets at 25, 30 and 40 deg the worst USL and USF slides
+ * with this rule are +1.28 % and +0.99 %. */
 static bool wall_friction(int mode) {
   return mode == GM_GRID_FULL;
 }
