@@ -26,24 +26,45 @@ typedef struct update_context {
   bool wall_friction; /* planar walls apply Coulomb friction (see below) */
 } update_context;
 
-/* Whether the planar walls' Coulomb friction acts in this grid update.
- * Always in the full update, where it changes the momentum. A re-map
- * (GM_GRID_VELOCITY_ONLY) rebuilds nodal velocities from point velocities
- * that already carry that friction. In MUSL those re-mapped velocities
- * move the points (002 sec 4.4 step 9), so friction applied to them again
- * takes it a second time from the displacement, though not from the
- * momentum: a block sliding at 40 deg on mu = 0.5 with the floor 0.7 cells
- * above a node row hops on the wall (its bottom points sit 0.05 cells
- * below a node row and cross it), every landing gives the re-mapped
- * velocities a normal approach, and friction on it made the block slide
- * 2.2 % short (0.1 % without; tests/physics/test_wall_offsets.c). There
- * the re-map keeps its velocities out of the walls only. In USL and USF
- * the re-map sets only the strain rate, and friction stays in it: taken
- * out there too, the USL block at 30 deg on mu = 0.4, floor 0.875 cells
- * above a row, slid 2.7 % too far against 1.5 % with it (measured, not
- * explained). */
-static bool wall_friction(const gm_domain *domain, int mode) {
-  return mode == GM_GRID_FULL || domain->def.scheme != GM_SCHEME_MUSL;
+/* Whether the planar walls' Coulomb friction acts in this grid update:
+ * in the full update only, in every scheme. Coulomb's law bounds the
+ * tangential impulse a contact exchanges by mu times the normal impulse
+ * it exchanges in the same step (Bardenhagen, Brackbill & Sulsky 2000,
+ * CMAME 187: 529-541, nodal friction on the momentum change; 004 algorithm
+ * 3.1). The full update is the only pass in which the wall exchanges
+ * momentum with the material (and the only one its impulse report
+ * counts). A re-map (GM_GRID_VELOCITY_ONLY: the momenta re-mapped from the
+ * updated points in USL and MUSL, USF's velocities before the stress
+ * update) rebuilds nodal velocities from point velocities that already
+ * carry the step's friction; the walls keep those velocities out of the
+ * plane, but that correction is kinematic, no impulse, and friction on it
+ * would be friction without a normal impulse of its own: taken a second
+ * time, from MUSL's displacement (its re-mapped velocities move the
+ * points, 002 sec 4.4 step 9) or from USL's and USF's strain rate.
+ * Nairn, Hammerquist & Smith (2020, CMAME 362: 112859) likewise correct
+ * for contact more than once per step (after the extrapolation to the
+ * grid and after the momentum update); keeping the corrections of
+ * velocities that exchange no momentum to the normal direction is this
+ * library's rule.
+ *
+ * Measured before this rule was one (the re-maps of USL and USF applied
+ * friction, MUSL's did not): with friction in MUSL's re-map a block at 40
+ * deg on mu = 0.5, floor 0.7 cells above a row, slid 2.2 % short (it hops
+ * on the wall and every landing gave the re-mapped velocities a normal
+ * approach); without friction in USL's re-map a block at 30 deg on mu =
+ * 0.4, floor 0.875 cells above a row, slid 2.7 % too far, which was the
+ * friction lost in the strips (walls.c, gm_walls_share_friction) and is
+ * gone since the second row of the bottom points' cells joins them
+ * (+0.62 % now). Over the offsets of tests/physics/test_wall_offsets.c
+ * and 20 floor offsets at 25, 30 and 40 deg the worst USL and USF slides
+ * with this rule are +1.28 % and +0.99 %. With 1 x 1 and 3 x 3 points
+ * per cell (30 deg, floor offsets 0-0.9 cells) the worst is +1.93 % (USL,
+ * 1 x 1, 0.6 cells; +0.35 % at half the stable dt, so the contact's
+ * chatter) and +1.64 % (USL, 3 x 3, 0.8 cells); friction in every re-map
+ * gave +0.63 % and +1.34 % there but +1.89 % in MUSL with 2 x 2: it damps
+ * the chatter rather than adding friction, and is not used. */
+static bool wall_friction(int mode) {
+  return mode == GM_GRID_FULL;
 }
 
 /* The box faces and the symmetry axis on node (ix, iy): which velocity
@@ -256,7 +277,7 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
 }
 
 void gm_grid_update(gm_domain *domain, double dt, int mode) {
-  update_context ctx = {domain, dt, mode, wall_friction(domain, mode)};
+  update_context ctx = {domain, dt, mode, wall_friction(mode)};
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks, &ctx);
   if (ctx.wall_friction) /* serial: worker-independent */
     gm_walls_share_friction(domain, dt, mode);
