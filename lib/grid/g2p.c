@@ -21,8 +21,20 @@ typedef struct g2p_context {
   gather_view view;
 } g2p_context;
 
-static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
-                            chunk_gather *out) {
+/* What a pass needs from the gather decides what it computes:
+ * acceleration only for the FLIP update, the velocity gradient (and the
+ * nodal masses of its empty-node correction) only for the deformation or
+ * APIC's C_p. A quantity is summed alone, so leaving the others out
+ * changes no bit of it; the move pass then reads 4 nodal fields instead
+ * of 5, the deform pass 3, and neither keeps the unused sums in registers
+ * (profile of libblock at 1e5 points: the general gather spilled them to
+ * the stack). with_acceleration and with_gradient are constants in each
+ * specialisation below. */
+static GM_ALWAYS_INLINE void gather_chunk_2d_kind(const gather_view *v,
+                                                  size_t first, size_t count,
+                                                  chunk_gather *out,
+                                                  const bool with_acceleration,
+                                                  const bool with_gradient) {
   const double *restrict px = v->position[0] + first;
   const double *restrict py = v->position[1] + first;
   const uint32_t *restrict point_block = v->point_block + first;
@@ -55,18 +67,30 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
     double empty_x = 0, empty_y = 0; /* gradient sum of massless nodes */
     for (int n = 0; n < 4; n++) {
       double nvx = gvx[node[n]], nvy = gvy[node[n]];
-      double empty = gm[node[n]] == 0.0 ? 1.0 : 0.0;
-      ax += weight[n] * gax[node[n]];
-      ay += weight[n] * gay[node[n]];
+      if (with_acceleration) {
+        ax += weight[n] * gax[node[n]];
+        ay += weight[n] * gay[node[n]];
+      }
       vx += weight[n] * nvx;
       vy += weight[n] * nvy;
-      lxx += nvx * grad_x[n];
-      lxy += nvx * grad_y[n];
-      lyx += nvy * grad_x[n];
-      lyy += nvy * grad_y[n];
-      empty_x += empty * grad_x[n];
-      empty_y += empty * grad_y[n];
+      if (with_gradient) {
+        double empty = gm[node[n]] == 0.0 ? 1.0 : 0.0;
+        lxx += nvx * grad_x[n];
+        lxy += nvx * grad_y[n];
+        lyx += nvy * grad_x[n];
+        lyy += nvy * grad_y[n];
+        empty_x += empty * grad_x[n];
+        empty_y += empty * grad_y[n];
+      }
     }
+    if (with_acceleration) {
+      out->acceleration[0][j] = ax;
+      out->acceleration[1][j] = ay;
+    }
+    out->velocity[0][j] = vx;
+    out->velocity[1][j] = vy;
+    if (!with_gradient)
+      continue;
     /* A point exactly on a cell edge has zero weight, hence possibly no
      * mass, on the nodes across it; their velocity is undefined (stored as
      * 0) yet their gradient is not zero. Give them the point's own
@@ -75,10 +99,6 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
     lxy += vx * empty_y;
     lyx += vy * empty_x;
     lyy += vy * empty_y;
-    out->acceleration[0][j] = ax;
-    out->acceleration[1][j] = ay;
-    out->velocity[0][j] = vx;
-    out->velocity[1][j] = vy;
     out->gradient[0][j] = lxx;
     out->gradient[1][j] = lxy;
     out->gradient[2][j] = lyx;
@@ -86,6 +106,23 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
     /* Hoop strain rate v_r / r (002 sec 3, last row of B). */
     out->gradient[4][j] = axisymmetric ? vx / px[j] : 0.0;
   }
+}
+
+/* The pass kinds of the three schemes (step.c): FLIP velocities and moves
+ * (acceleration and velocity), deformation (velocity and gradient), and
+ * APIC's velocity pass (velocity and C_p = L, no acceleration). */
+static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
+                            chunk_gather *out, bool flip, bool deform) {
+  bool gradient = deform || (flip && v->apic);
+  bool acceleration = flip && !v->apic;
+  if (acceleration && gradient)
+    gather_chunk_2d_kind(v, first, count, out, true, true);
+  else if (acceleration)
+    gather_chunk_2d_kind(v, first, count, out, true, false);
+  else if (gradient)
+    gather_chunk_2d_kind(v, first, count, out, false, true);
+  else /* a move alone (not a pass of any scheme): velocity only */
+    gather_chunk_2d_kind(v, first, count, out, false, false);
 }
 
 static void gather_chunk_1d(const gather_view *v, size_t first, size_t count,
@@ -370,7 +407,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
     else if (v->dim == 1)
       gather_chunk_1d(v, first, count, g);
     else
-      gather_chunk_2d(v, first, count, g);
+      gather_chunk_2d(v, first, count, g, flip, deform);
     if (flip)
       flip_chunk(v, first, count, g, dt);
     if (move)
