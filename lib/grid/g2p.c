@@ -329,6 +329,15 @@ static bool deform_chunk(gm_domain *domain, const gather_view *v,
   }
   if (positive)
     return true;
+  gm_report_inverted_chunk(domain, v, scratch, first, count, dt);
+  return false;
+}
+
+void gm_report_inverted_chunk(gm_domain *domain, const gather_view *v,
+                              gm_worker_scratch *scratch, size_t first,
+                              size_t count, double dt) {
+  const double *initial_volume = v->initial_volume + first;
+  const double *volume = v->next_volume + first;
   for (size_t j = 0; j < count; j++) {
     double jacobian = volume[j] / initial_volume[j];
     if (jacobian > 0.0 && jacobian < INFINITY)
@@ -343,7 +352,6 @@ static bool deform_chunk(gm_domain *domain, const gather_view *v,
     if (scratch->error_index == first + j && isfinite(jacobian))
       scratch->error_inverted = true;
   }
-  return false;
 }
 
 /* Signal-speed bound of the chunk's new state: the largest c_p^2 and the
@@ -415,7 +423,18 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
     /* A chunk with an inverted point skips its material call: the step
      * fails anyway, and materials never see a non-positive density. */
     bool deformed = true;
-    if (deform && deform_chunk(domain, v, scratch, first, count, g, dt)) {
+    if (deform && gm_elastic_chunk_fits(domain, v, ctx->pass, first, count)) {
+      /* Linear elastic plane points: F, V, Jaumann and Hooke in one loop
+       * (deform_elastic.c), bitwise the arithmetic of the general path. */
+      deformed =
+          gm_deform_elastic_chunk(domain, v, scratch, first, count, g, dt);
+      if (deformed && domain->def.family != GM_FAMILY_PLAIN) {
+        double start = gm_monotonic_seconds();
+        gm_density_control_chunk(domain, first, count);
+        scratch->density_control_seconds += gm_monotonic_seconds() - start;
+      }
+    } else if (deform &&
+               deform_chunk(domain, v, scratch, first, count, g, dt)) {
       const double *gradient[5] = {g->gradient[0], g->gradient[1],
                                    g->gradient[2], g->gradient[3],
                                    g->gradient[4]};
