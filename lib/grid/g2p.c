@@ -424,7 +424,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
      * fails anyway, and materials never see a non-positive density. */
     bool deformed = true;
     if (deform && gm_elastic_chunk_fits(domain, v, ctx->pass, first, count)) {
-      /* Linear elastic plane points: F, V, Jaumann and Hooke in one loop
+      /* Elastic plane points: F, V, Jaumann and Hooke in two fused loops
        * (deform_elastic.c), bitwise the arithmetic of the general path. */
       deformed =
           gm_deform_elastic_chunk(domain, v, scratch, first, count, g, dt);

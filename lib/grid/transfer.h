@@ -186,7 +186,7 @@ void gm_report_inverted_chunk(gm_domain *domain, const gather_view *v,
                               gm_worker_scratch *scratch, size_t first,
                               size_t count, double dt);
 /* The fused deformation pass of deform_elastic.c: whether a chunk may take
- * it (linear shapes, plane strain, committed F and stress, one material
+ * it (plane strain, no CPDI domain map, committed F and stress, one material
  * whose update is gm_elastic_update), and the pass itself, which returns
  * false (the inverted points reported) when some det F is not positive. */
 bool gm_elastic_chunk_fits(const gm_domain *domain, const gather_view *v,

@@ -10,7 +10,8 @@
  *
  * Scenes (plane strain, linear shapes, h = 0.01 m, 2 x 2 points per cell):
  * a block spinning at 20 rad/s on a slip floor under gravity (Jaumann spin
- * and large rotations), with USL, MUSL and FLIP blended with PIC; two
+ * and large rotations), with USL, MUSL and FLIP blended with PIC, and with
+ * uGIMP and quadratic B-splines instead of linear shapes; two
  * elastic materials side by side, whose shared chunks mix materials; and
  * a block thrown at 10 m/s into a fixed floor with a dt that inverts F
  * (the step fails, or with retries halves dt and succeeds).
@@ -42,6 +43,7 @@ typedef struct scene {
   bool two_materials;
   gm_wall_type floor;
   int max_retries;
+  gm_shape shape;
 } scene;
 
 static const gm_elastic_def *elastic_law(int which) {
@@ -83,6 +85,7 @@ static gm_domain *make_domain(const scene *s, bool builtin) {
   def.scheme = s->scheme;
   def.pic_fraction = s->pic_fraction;
   def.max_retries = s->max_retries;
+  def.shape = s->shape;
   gm_domain *domain = NULL;
   TEST_ASSERT_OK(NULL, gm_domain_create(&def, &domain));
   int first = add_law(domain, 0, builtin);
@@ -172,19 +175,38 @@ static void run_pair(const scene *s, int steps, const char *what) {
 }
 
 START_TEST(spinning_block_usl) {
-  scene s = {GM_SCHEME_USL, 0.0, 20.0, 0.0, false, GM_WALL_SLIP, 3};
+  scene s = {GM_SCHEME_USL, 0.0,          20.0, 0.0,
+             false,         GM_WALL_SLIP, 3,    GM_SHAPE_LINEAR};
   run_pair(&s, 300, "spinning block, USL");
 }
 END_TEST
 
 START_TEST(spinning_block_musl_pic) {
-  scene s = {GM_SCHEME_MUSL, 0.2, 20.0, 0.0, false, GM_WALL_SLIP, 3};
+  scene s = {GM_SCHEME_MUSL, 0.2,          20.0, 0.0,
+             false,          GM_WALL_SLIP, 3,    GM_SHAPE_LINEAR};
   run_pair(&s, 300, "spinning block, MUSL, PIC 0.2");
 }
 END_TEST
 
+/* The fast path starts from the gathered gradient, whatever the shape:
+ * GIMP's and the B-splines' deformation passes take it too. */
+START_TEST(spinning_block_ugimp) {
+  scene s = {GM_SCHEME_USL, 0.0,          20.0, 0.0,
+             false,         GM_WALL_SLIP, 3,    GM_SHAPE_UGIMP};
+  run_pair(&s, 200, "spinning block, uGIMP");
+}
+END_TEST
+
+START_TEST(spinning_block_bspline2) {
+  scene s = {GM_SCHEME_USL, 0.0,          20.0, 0.0,
+             false,         GM_WALL_SLIP, 3,    GM_SHAPE_BSPLINE2};
+  run_pair(&s, 200, "spinning block, quadratic B-splines");
+}
+END_TEST
+
 START_TEST(two_materials_mixed_chunks) {
-  scene s = {GM_SCHEME_USL, 0.0, 5.0, 0.0, true, GM_WALL_SLIP, 3};
+  scene s = {GM_SCHEME_USL, 0.0,          5.0, 0.0,
+             true,          GM_WALL_SLIP, 3,   GM_SHAPE_LINEAR};
   run_pair(&s, 300, "two elastic materials");
 }
 END_TEST
@@ -194,7 +216,8 @@ END_TEST
  * with the same status and message and leave the committed state as it
  * was; with retries both halve dt the same way and agree afterwards. */
 static void impact(int max_retries) {
-  scene s = {GM_SCHEME_USL, 0.0, 0.0, 10.0, false, GM_WALL_FIXED, max_retries};
+  scene s = {GM_SCHEME_USL, 0.0,           0.0,         10.0,
+             false,         GM_WALL_FIXED, max_retries, GM_SHAPE_LINEAR};
   gm_domain *fused = make_domain(&s, true);
   gm_domain *general = make_domain(&s, false);
   double dt = 10.0 * fixed_dt();
@@ -237,6 +260,8 @@ static Suite *suite(void) {
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, spinning_block_usl);
   tcase_add_test(tc, spinning_block_musl_pic);
+  tcase_add_test(tc, spinning_block_ugimp);
+  tcase_add_test(tc, spinning_block_bspline2);
   tcase_add_test(tc, two_materials_mixed_chunks);
   tcase_add_test(tc, impact_fails_alike);
   tcase_add_test(tc, impact_retries_alike);
