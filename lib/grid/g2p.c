@@ -46,8 +46,10 @@ static GM_ALWAYS_INLINE void gather_chunk_2d_kind(const gather_view *v,
   const double *restrict gm = v->grid_mass;
   double origin_x = v->origin[0], origin_y = v->origin[1];
   double inv_cell = v->inv_cell;
-  int shift = v->shift;
-  int64_t mask = ((int64_t)1 << shift) - 1;
+  /* 2D blocks are always 8 x 8 nodes (domain.c): a constant shift lets
+   * the node lookup fold its masks and multiplies. */
+  const int shift = GM_BLOCK_SHIFT_2D;
+  const int64_t mask = ((int64_t)1 << shift) - 1;
   bool axisymmetric = v->axisymmetric;
   for (size_t j = 0; j < count; j++) {
     double wx[2], dx[2], wy[2], dy[2];
