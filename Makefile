@@ -10,6 +10,8 @@
 #                        (YARDSTICK_ARGS=--full; bench/README.md), after
 #                        bench-triad
 #   make bench-triad     the machine's triad bandwidth (bench/results/)
+#   make bench-alternate builds of the library stepped in turn in one process
+#                        (ALTERNATE_ARGS; bench/README.md)
 #   make install PREFIX=/usr/local DESTDIR=
 #   make abi-check       compare the library ABI with abi/libgranmpm.abi
 #   make distcheck       build, test and check the release tarball
@@ -23,7 +25,7 @@ CONFIGURE_FLAGS ?=
 TOP := $(CURDIR)
 
 FORWARD := all check demo demo-bar demo-collapse bench bench-chart \
-	bench-yardstick bench-triad install \
+	bench-yardstick bench-triad bench-alternate install \
 	uninstall abi-check abi-dump check-valgrind installcheck
 # Forwarded without prefix/DESTDIR: a command-line prefix would reach
 # distcheck's own install step through MAKEFLAGS and override its private

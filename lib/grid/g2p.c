@@ -21,8 +21,20 @@ typedef struct g2p_context {
   gather_view view;
 } g2p_context;
 
-static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
-                            chunk_gather *out) {
+/* What a pass needs from the gather decides what it computes:
+ * acceleration only for the FLIP update, the velocity gradient (and the
+ * nodal masses of its empty-node correction) only for the deformation or
+ * APIC's C_p. A quantity is summed alone, so leaving the others out
+ * changes no bit of it; the move pass then reads 4 nodal fields instead
+ * of 5, the deform pass 3, and neither keeps the unused sums in registers
+ * (profile of libblock at 1e5 points: the general gather spilled them to
+ * the stack). with_acceleration and with_gradient are constants in each
+ * specialisation below. */
+static GM_ALWAYS_INLINE void gather_chunk_2d_kind(const gather_view *v,
+                                                  size_t first, size_t count,
+                                                  chunk_gather *out,
+                                                  const bool with_acceleration,
+                                                  const bool with_gradient) {
   const double *restrict px = v->position[0] + first;
   const double *restrict py = v->position[1] + first;
   const uint32_t *restrict point_block = v->point_block + first;
@@ -34,8 +46,10 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
   const double *restrict gm = v->grid_mass;
   double origin_x = v->origin[0], origin_y = v->origin[1];
   double inv_cell = v->inv_cell;
-  int shift = v->shift;
-  int64_t mask = ((int64_t)1 << shift) - 1;
+  /* 2D blocks are always 8 x 8 nodes (domain.c): a constant shift lets
+   * the node lookup fold its masks and multiplies. */
+  const int shift = GM_BLOCK_SHIFT_2D;
+  const int64_t mask = ((int64_t)1 << shift) - 1;
   bool axisymmetric = v->axisymmetric;
   for (size_t j = 0; j < count; j++) {
     double wx[2], dx[2], wy[2], dy[2];
@@ -55,18 +69,30 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
     double empty_x = 0, empty_y = 0; /* gradient sum of massless nodes */
     for (int n = 0; n < 4; n++) {
       double nvx = gvx[node[n]], nvy = gvy[node[n]];
-      double empty = gm[node[n]] == 0.0 ? 1.0 : 0.0;
-      ax += weight[n] * gax[node[n]];
-      ay += weight[n] * gay[node[n]];
+      if (with_acceleration) {
+        ax += weight[n] * gax[node[n]];
+        ay += weight[n] * gay[node[n]];
+      }
       vx += weight[n] * nvx;
       vy += weight[n] * nvy;
-      lxx += nvx * grad_x[n];
-      lxy += nvx * grad_y[n];
-      lyx += nvy * grad_x[n];
-      lyy += nvy * grad_y[n];
-      empty_x += empty * grad_x[n];
-      empty_y += empty * grad_y[n];
+      if (with_gradient) {
+        double empty = gm[node[n]] == 0.0 ? 1.0 : 0.0;
+        lxx += nvx * grad_x[n];
+        lxy += nvx * grad_y[n];
+        lyx += nvy * grad_x[n];
+        lyy += nvy * grad_y[n];
+        empty_x += empty * grad_x[n];
+        empty_y += empty * grad_y[n];
+      }
     }
+    if (with_acceleration) {
+      out->acceleration[0][j] = ax;
+      out->acceleration[1][j] = ay;
+    }
+    out->velocity[0][j] = vx;
+    out->velocity[1][j] = vy;
+    if (!with_gradient)
+      continue;
     /* A point exactly on a cell edge has zero weight, hence possibly no
      * mass, on the nodes across it; their velocity is undefined (stored as
      * 0) yet their gradient is not zero. Give them the point's own
@@ -75,10 +101,6 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
     lxy += vx * empty_y;
     lyx += vy * empty_x;
     lyy += vy * empty_y;
-    out->acceleration[0][j] = ax;
-    out->acceleration[1][j] = ay;
-    out->velocity[0][j] = vx;
-    out->velocity[1][j] = vy;
     out->gradient[0][j] = lxx;
     out->gradient[1][j] = lxy;
     out->gradient[2][j] = lyx;
@@ -86,6 +108,23 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
     /* Hoop strain rate v_r / r (002 sec 3, last row of B). */
     out->gradient[4][j] = axisymmetric ? vx / px[j] : 0.0;
   }
+}
+
+/* The pass kinds of the three schemes (step.c): FLIP velocities and moves
+ * (acceleration and velocity), deformation (velocity and gradient), and
+ * APIC's velocity pass (velocity and C_p = L, no acceleration). */
+static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
+                            chunk_gather *out, bool flip, bool deform) {
+  bool gradient = deform || (flip && v->apic);
+  bool acceleration = flip && !v->apic;
+  if (acceleration && gradient)
+    gather_chunk_2d_kind(v, first, count, out, true, true);
+  else if (acceleration)
+    gather_chunk_2d_kind(v, first, count, out, true, false);
+  else if (gradient)
+    gather_chunk_2d_kind(v, first, count, out, false, true);
+  else /* a move alone (not a pass of any scheme): velocity only */
+    gather_chunk_2d_kind(v, first, count, out, false, false);
 }
 
 static void gather_chunk_1d(const gather_view *v, size_t first, size_t count,
@@ -292,6 +331,15 @@ static bool deform_chunk(gm_domain *domain, const gather_view *v,
   }
   if (positive)
     return true;
+  gm_report_inverted_chunk(domain, v, scratch, first, count, dt);
+  return false;
+}
+
+void gm_report_inverted_chunk(gm_domain *domain, const gather_view *v,
+                              gm_worker_scratch *scratch, size_t first,
+                              size_t count, double dt) {
+  const double *initial_volume = v->initial_volume + first;
+  const double *volume = v->next_volume + first;
   for (size_t j = 0; j < count; j++) {
     double jacobian = volume[j] / initial_volume[j];
     if (jacobian > 0.0 && jacobian < INFINITY)
@@ -306,7 +354,6 @@ static bool deform_chunk(gm_domain *domain, const gather_view *v,
     if (scratch->error_index == first + j && isfinite(jacobian))
       scratch->error_inverted = true;
   }
-  return false;
 }
 
 /* Signal-speed bound of the chunk's new state: the largest c_p^2 and the
@@ -370,7 +417,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
     else if (v->dim == 1)
       gather_chunk_1d(v, first, count, g);
     else
-      gather_chunk_2d(v, first, count, g);
+      gather_chunk_2d(v, first, count, g, flip, deform);
     if (flip)
       flip_chunk(v, first, count, g, dt);
     if (move)
@@ -378,7 +425,18 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
     /* A chunk with an inverted point skips its material call: the step
      * fails anyway, and materials never see a non-positive density. */
     bool deformed = true;
-    if (deform && deform_chunk(domain, v, scratch, first, count, g, dt)) {
+    if (deform && gm_elastic_chunk_fits(domain, v, ctx->pass, first, count)) {
+      /* Elastic plane points: F, V, Jaumann and Hooke in two fused loops
+       * (deform_elastic.c), bitwise the arithmetic of the general path. */
+      deformed =
+          gm_deform_elastic_chunk(domain, v, scratch, first, count, g, dt);
+      if (deformed && domain->def.family != GM_FAMILY_PLAIN) {
+        double start = gm_monotonic_seconds();
+        gm_density_control_chunk(domain, first, count);
+        scratch->density_control_seconds += gm_monotonic_seconds() - start;
+      }
+    } else if (deform &&
+               deform_chunk(domain, v, scratch, first, count, g, dt)) {
       const double *gradient[5] = {g->gradient[0], g->gradient[1],
                                    g->gradient[2], g->gradient[3],
                                    g->gradient[4]};

@@ -68,5 +68,9 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                             size_t first, size_t count, double dt,
                             const double *const velocity_gradient[5],
                             bool in_place);
+/* Names every point of [first, first+count) whose new stress (next buffer)
+ * is not finite (stress_update.c). */
+void gm_check_stress_chunk(gm_domain *domain, gm_worker_scratch *scratch,
+                           size_t first, size_t count, double dt);
 
 #endif

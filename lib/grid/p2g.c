@@ -65,15 +65,26 @@ static void check_inputs(gm_domain *domain, gm_worker_scratch *scratch,
 /* A block's points are first summed into a stack tile of the block's
  * nodes plus the one-node halo its cells reach (9 x 9 in 2D), where the
  * four nodes of a cell are at i, i+1, i+T, i+T+1: no neighbour lookups per
- * point, and pairs of adjacent nodes vectorise. The tile is then added to
- * the grid once per block. */
+ * point. The tile is then added to the grid once per block. A tile node
+ * holds its fields side by side (one base pointer for the whole tile: the
+ * kernel has fewer live pointers than x86-64 has registers, where five
+ * separate field arrays made it spill; and a point's updates of one node
+ * share a cache line). Each field of each node is still summed alone, in
+ * point order, so the sums are bitwise those of separate arrays. */
 #define TILE       (GM_BLOCK_EDGE_2D + 1)
 #define TILE_NODES (TILE * TILE)
 
+enum {
+  TILE_MASS,       /* kg */
+  TILE_MOMENTUM_X, /* kg m/s */
+  TILE_MOMENTUM_Y,
+  TILE_FORCE_X, /* N */
+  TILE_FORCE_Y,
+  TILE_FIELDS
+};
+
 typedef struct scatter_tile {
-  double mass[TILE_NODES];        /* kg */
-  double momentum[2][TILE_NODES]; /* kg m/s */
-  double force[2][TILE_NODES];    /* N */
+  double node[TILE_NODES][TILE_FIELDS];
 } scatter_tile;
 
 /* Adds tile node (tx, ty) of field values to the grid through the links. */
@@ -90,13 +101,14 @@ static void flush_tile(const scatter_view *v, const uint32_t *links,
       size_t node = (size_t)block * GM_BLOCK_NODES +
                     (size_t)(tx % GM_BLOCK_EDGE_2D) +
                     GM_BLOCK_EDGE_2D * (size_t)(ty % GM_BLOCK_EDGE_2D);
+      const double *sums = tile->node[t];
       if (do_mass)
-        v->grid_mass[node] += tile->mass[t];
+        v->grid_mass[node] += sums[TILE_MASS];
       for (int k = 0; k < 2; k++) {
         if (do_momentum)
-          v->grid_momentum[k][node] += tile->momentum[k][t];
+          v->grid_momentum[k][node] += sums[TILE_MOMENTUM_X + k];
         if (do_forces)
-          v->grid_force[k][node] += tile->force[k][t];
+          v->grid_force[k][node] += sums[TILE_FORCE_X + k];
       }
     }
   }
@@ -139,9 +151,7 @@ scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
   /* APIC's C_p (1/s) in linear MPM: see above. */
   const double *restrict c_xx = v->affine[0], *restrict c_xy = v->affine[1];
   const double *restrict c_yx = v->affine[2], *restrict c_yy = v->affine[3];
-  double *restrict tm = tile->mass;
-  double *restrict tpx = tile->momentum[0], *restrict tpy = tile->momentum[1];
-  double *restrict tfx = tile->force[0], *restrict tfy = tile->force[1];
+  double(*restrict tn)[TILE_FIELDS] = tile->node;
   const uint32_t *restrict order = v->order;
   int64_t mask = GM_BLOCK_EDGE_2D - 1;
   double origin_x = v->origin[0], origin_y = v->origin[1];
@@ -149,14 +159,9 @@ scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
   double gravity_x = v->gravity[0], gravity_y = v->gravity[1];
   double cell = v->cell; /* m */
   bool axisymmetric = v->axisymmetric, has_external = fx_ext != NULL;
-  for (int t = 0; t < TILE_NODES; t++) {
-    if (do_mass)
-      tm[t] = 0.0;
-    if (do_momentum)
-      tpx[t] = tpy[t] = 0.0;
-    if (do_forces)
-      tfx[t] = tfy[t] = 0.0;
-  }
+  for (int t = 0; t < TILE_NODES; t++)
+    for (int f = 0; f < TILE_FIELDS; f++)
+      tn[t][f] = 0.0;
   for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
     size_t p = order[k];
     if (v->skip_rigid && v->rigid[v->material[p]])
@@ -169,15 +174,15 @@ scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
     for (int b = 0; b < 2; b++) {
       size_t row = t + (size_t)(TILE * b);
       if (do_mass) {
-        tm[row] += wx[0] * wy[b] * m;
-        tm[row + 1] += wx[1] * wy[b] * m;
+        tn[row][TILE_MASS] += wx[0] * wy[b] * m;
+        tn[row + 1][TILE_MASS] += wx[1] * wy[b] * m;
       }
       if (do_momentum && !apic) {
         double mvx = m * vx[p] * wy[b], mvy = m * vy[p] * wy[b];
-        tpx[row] += wx[0] * mvx;
-        tpx[row + 1] += wx[1] * mvx;
-        tpy[row] += wx[0] * mvy;
-        tpy[row + 1] += wx[1] * mvy;
+        tn[row][TILE_MOMENTUM_X] += wx[0] * mvx;
+        tn[row + 1][TILE_MOMENTUM_X] += wx[1] * mvx;
+        tn[row][TILE_MOMENTUM_Y] += wx[0] * mvy;
+        tn[row + 1][TILE_MOMENTUM_Y] += wx[1] * mvy;
       }
       if (do_momentum && apic) { /* m_p N (v_p + C_p (x_i - x_p)) */
         double ox[2], oy[2];     /* m, x_i - x_p per axis */
@@ -187,8 +192,8 @@ scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
         double node_vy = vy[p] + c_yy[p] * oy[b];
         for (int a = 0; a < 2; a++) {
           double weight = wx[a] * wy[b] * m; /* kg */
-          tpx[row + a] += weight * (node_vx + c_xx[p] * ox[a]);
-          tpy[row + a] += weight * (node_vy + c_yx[p] * ox[a]);
+          tn[row + a][TILE_MOMENTUM_X] += weight * (node_vx + c_xx[p] * ox[a]);
+          tn[row + a][TILE_MOMENTUM_Y] += weight * (node_vy + c_yx[p] * ox[a]);
         }
       }
     }
@@ -209,8 +214,10 @@ scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
       for (int a = 0; a < 2; a++) {
         double weight = wx[a] * wy[b];
         double grad_x = dx[a] * wy[b], grad_y = wx[a] * dy[b];
-        tfx[row + a] += weight * body_x - (txx * grad_x + txy * grad_y);
-        tfy[row + a] += weight * body_y - (txy * grad_x + tyy * grad_y);
+        tn[row + a][TILE_FORCE_X] +=
+            weight * body_x - (txx * grad_x + txy * grad_y);
+        tn[row + a][TILE_FORCE_Y] +=
+            weight * body_y - (txy * grad_x + tyy * grad_y);
       }
     }
   }

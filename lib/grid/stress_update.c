@@ -156,8 +156,8 @@ static void update_mixed(gm_domain *domain, gm_worker_scratch *scratch,
 }
 
 /* Names the first point of the chunk with a non-finite new stress. */
-static void check_stress(gm_domain *domain, gm_worker_scratch *scratch,
-                         size_t first, size_t count, double dt) {
+void gm_check_stress_chunk(gm_domain *domain, gm_worker_scratch *scratch,
+                           size_t first, size_t count, double dt) {
   const gm_points *points = &domain->points;
   double *const *stress = points->buffer[points->cur ^ 1].stress;
   double screen = 0.0; /* x * 0 is NaN exactly when x is not finite */
@@ -204,5 +204,5 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
   } else {
     update_mixed(domain, scratch, first, count, dt, in_place);
   }
-  check_stress(domain, scratch, first, count, dt);
+  gm_check_stress_chunk(domain, scratch, first, count, dt);
 }

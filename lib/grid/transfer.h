@@ -179,6 +179,21 @@ void gm_scatter_block_wide(const scatter_view *view, const gm_p2g_pass *pass,
 void gm_gather_chunk_wide(const gather_view *view, size_t first, size_t count,
                           chunk_gather *out, const gm_domain *domain,
                           gm_worker_scratch *scratch);
+/* Reports every point of the chunk whose new det F = V / V0 is not
+ * positive and finite (g2p.c); a finite inversion marks the failure
+ * recoverable by a smaller dt. */
+void gm_report_inverted_chunk(gm_domain *domain, const gather_view *v,
+                              gm_worker_scratch *scratch, size_t first,
+                              size_t count, double dt);
+/* The fused deformation pass of deform_elastic.c: whether a chunk may take
+ * it (plane strain, no CPDI domain map, committed F and stress, one material
+ * whose update is gm_elastic_update), and the pass itself, which returns
+ * false (the inverted points reported) when some det F is not positive. */
+bool gm_elastic_chunk_fits(const gm_domain *domain, const gather_view *v,
+                           const gm_g2p_pass *pass, size_t first, size_t count);
+bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,
+                             gm_worker_scratch *scratch, size_t first,
+                             size_t count, const chunk_gather *g, double dt);
 /* Block keys of the chunk's moved and deformed points (next buffer) from
  * their supports; a support leaving the grid fails the step. */
 void gm_wide_keys_chunk(gm_domain *domain, const gather_view *view,

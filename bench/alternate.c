@@ -1,0 +1,183 @@
+/*
+ * alternate.c - two or more builds of the library, step by step in one
+ * process: the yardstick's scene (libblock.c: an elastic block, E = 1e7
+ * Pa, nu = 0.3, rho = 1800 kg/m^3, on a slip floor under gravity, h =
+ * 0.01 m, 2 x 2 points per cell, USL, 1 worker, dt = 0.5 h / c) is built
+ * once per library, each library loaded with dlopen (RTLD_LOCAL |
+ * RTLD_DEEPBIND, so each resolves its own symbols), and the domains are
+ * stepped in turn, A B A B ..., the first library of each round rotated.
+ * Each step is timed with the thread's CPU clock. On a shared machine a
+ * slow patch then falls on every library alike, within a step or two,
+ * and time spent waiting for a core is not counted: the comparison that
+ * bench/yardstick.sh's interleaved processes give only over minutes.
+ *
+ * Usage: granmpm-alternate CELLS STEPS SHAPE LIB.so [LIB.so ...]
+ *   CELLS: cells per side of the block (158: 99 856 points; 500: 1e6)
+ *   SHAPE: gm_shape number (0 linear, 1 uGIMP, 3 CPDI, ...)
+ * Prints per library the median, lower quartile and mean CPU time of a
+ * step, in ns per point-step. All domains are alive together: at 1e6
+ * points each holds about 300 MB.
+ */
+#define _GNU_SOURCE
+#include <granmpm.h>
+
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define MAX_LIBRARIES 8
+
+typedef gm_status init_fn(void *out, size_t struct_size);
+typedef gm_status create_fn(const gm_domain_def *def, gm_domain **out);
+typedef gm_status add_elastic_fn(gm_domain *domain, const gm_elastic_def *def,
+                                 int *material_id);
+typedef gm_status fill_fn(gm_domain *domain, const gm_fill_def *def,
+                          int64_t *first_id, size_t *count);
+typedef gm_status step_fn(gm_domain *domain, double dt);
+typedef const char *error_fn(const gm_domain *domain);
+typedef void destroy_fn(gm_domain *domain);
+
+typedef struct library {
+  const char *path;
+  step_fn *step;
+  error_fn *last_error;
+  destroy_fn *destroy;
+  gm_domain *domain;
+} library;
+
+/* A function of the library (ISO C has no object-to-function pointer
+ * conversion: the pointer is copied). */
+static void *symbol(void *handle, const char *name, size_t size, void *out) {
+  void *address = dlsym(handle, name);
+  if (!address) {
+    fprintf(stderr, "granmpm-alternate: %s: %s\n", name, dlerror());
+    exit(1);
+  }
+  memcpy(out, &address, size);
+  return out;
+}
+
+static double thread_seconds(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static int compare_doubles(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static size_t open_scene(library *lib, int cells, int shape) {
+  void *handle = dlopen(lib->path, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
+  if (!handle) {
+    fprintf(stderr, "granmpm-alternate: %s\n", dlerror());
+    exit(1);
+  }
+  init_fn *def_init, *elastic_init, *fill_init;
+  create_fn *create;
+  add_elastic_fn *add_elastic;
+  fill_fn *fill;
+  symbol(handle, "gm_domain_def_init", sizeof def_init, &def_init);
+  symbol(handle, "gm_elastic_def_init", sizeof elastic_init, &elastic_init);
+  symbol(handle, "gm_fill_def_init", sizeof fill_init, &fill_init);
+  symbol(handle, "gm_domain_create", sizeof create, &create);
+  symbol(handle, "gm_domain_add_elastic", sizeof add_elastic, &add_elastic);
+  symbol(handle, "gm_domain_fill_box", sizeof fill, &fill);
+  symbol(handle, "gm_domain_step", sizeof lib->step, &lib->step);
+  symbol(handle, "gm_domain_last_error", sizeof lib->last_error,
+         &lib->last_error);
+  symbol(handle, "gm_domain_destroy", sizeof lib->destroy, &lib->destroy);
+  const double h = 0.01; /* m */
+  gm_domain_def def;
+  def_init(&def, sizeof def);
+  def.geometry = GM_GEOMETRY_PLANE_STRAIN;
+  def.extent[0] = def.extent[1] = (cells + 8) * h;
+  def.cell_size = h;
+  def.gravity[1] = -9.81;
+  def.walls[GM_FACE_YMIN] = GM_WALL_SLIP;
+  def.worker_count = 1;
+  def.shape = (gm_shape)shape;
+  if (create(&def, &lib->domain) != GM_OK) {
+    fprintf(stderr, "granmpm-alternate: %s: create failed\n", lib->path);
+    exit(1);
+  }
+  gm_elastic_def elastic;
+  elastic_init(&elastic, sizeof elastic);
+  elastic.youngs_modulus = 1e7;
+  elastic.poisson_ratio = 0.3;
+  elastic.density = 1800.0;
+  int material = -1;
+  gm_fill_def box;
+  fill_init(&box, sizeof box);
+  int64_t first = 0;
+  size_t count = 0;
+  if (add_elastic(lib->domain, &elastic, &material) == GM_OK) {
+    box.material = material;
+    box.lower[0] = 4 * h;
+    box.upper[0] = (4 + cells) * h;
+    box.lower[1] = 0.0;
+    box.upper[1] = cells * h;
+    box.points_per_cell_axis = 2;
+    if (fill(lib->domain, &box, &first, &count) == GM_OK)
+      return count;
+  }
+  fprintf(stderr, "granmpm-alternate: %s: %s\n", lib->path,
+          lib->last_error(lib->domain));
+  exit(1);
+}
+
+int main(int argc, char **argv) {
+  if (argc < 5 || argc - 4 > MAX_LIBRARIES) {
+    fprintf(stderr, "usage: granmpm-alternate CELLS STEPS SHAPE LIB.so "
+                    "[LIB.so ...] (at most 8)\n");
+    return 2;
+  }
+  int cells = atoi(argv[1]), steps = atoi(argv[2]), shape = atoi(argv[3]);
+  int count = argc - 4;
+  if (cells < 1 || steps < 1)
+    return 2;
+  library libs[MAX_LIBRARIES];
+  size_t points = 0;
+  for (int l = 0; l < count; l++) {
+    libs[l].path = argv[4 + l];
+    points = open_scene(&libs[l], cells, shape);
+  }
+  const double h = 0.01, young = 1e7, nu = 0.3, rho = 1800.0;
+  double modulus = young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  double dt = 0.5 * h / sqrt(modulus / rho); /* s */
+  double *seconds = malloc(sizeof *seconds * (size_t)count * (size_t)steps);
+  if (!seconds)
+    return 1;
+  for (int s = -3; s < steps; s++) { /* 3 untimed warm-up steps */
+    for (int k = 0; k < count; k++) {
+      int l = (k + (s < 0 ? 0 : s)) % count;
+      double start = thread_seconds();
+      if (libs[l].step(libs[l].domain, dt) != GM_OK) {
+        fprintf(stderr, "granmpm-alternate: %s: %s\n", libs[l].path,
+                libs[l].last_error(libs[l].domain));
+        return 1;
+      }
+      if (s >= 0)
+        seconds[(size_t)l * (size_t)steps + (size_t)s] =
+            thread_seconds() - start;
+    }
+  }
+  printf("library,points,steps,median_cpu_ns_per_point_step,"
+         "q1_cpu_ns_per_point_step,mean_cpu_ns_per_point_step\n");
+  for (int l = 0; l < count; l++) {
+    double *t = seconds + (size_t)l * (size_t)steps, sum = 0.0;
+    for (int s = 0; s < steps; s++)
+      sum += t[s];
+    qsort(t, (size_t)steps, sizeof *t, compare_doubles);
+    double scale = 1e9 / (double)points;
+    printf("%s,%zu,%d,%.1f,%.1f,%.1f\n", libs[l].path, points, steps,
+           t[steps / 2] * scale, t[steps / 4] * scale, sum / steps * scale);
+    libs[l].destroy(libs[l].domain);
+  }
+  free(seconds);
+  return 0;
+}
