@@ -716,8 +716,24 @@ int main(int argc, char **argv) {
     for (size_t i = 0; i < 2 * run.count; i++)
       sum += run.positions[i];
   printf("CHECK position_sum=%a\n", sum);
-  if (strcmp(o.scene, "collapse") == 0)
+  if (strcmp(o.scene, "collapse") == 0) {
+    /* the deposit's surface: the highest point top (centre plus half a
+     * point spacing) in bins of L0/20 from the back wall, in L0, to
+     * compare deposits across cells and points per cell */
+    enum { BINS = 80 };
+    double top[BINS] = {0}, bin = o.length / 20.0;
+    double half = 0.5 * o.cell / o.ppc;
+    for (size_t i = 0; i < run.count; i++) {
+      double x = run.positions[2 * i] / bin;
+      if (x >= 0.0 && x < BINS)
+        top[(int)x] = fmax(top[(int)x], run.positions[2 * i + 1] + half);
+    }
+    printf("PROFILE bin=L0/20 top/L0:");
+    for (int k = 0; k < BINS; k++)
+      printf(" %.3f", top[k] / o.length);
+    printf("\n");
     printf("RESULT runout=%.6f\n", (b.front - front_start) / o.length);
+  }
   gm_domain_destroy(run.domain);
   free((void *)material.mass_by_id);
   free(run.positions);
