@@ -44,12 +44,17 @@
  *             KE(0) + dPE dissipated; with --floor-mu MU on a Coulomb wall
  *             floor of that friction instead
  *
- * Prints BUDGET (end of the run, J/m), SHARES (of dPE + KE(0)), PHASES (the
- * budget at 1..6 tau_c of the collapse, or sixths of the run), CHECK (the
- * sum of the final positions in %a, to compare with --builtin) and, for the
- * collapse, RESULT runout; --history FILE writes one CSV row per output row.
+ * Prints BUDGET (end of the run, J/m; floor_friction_J is the Coulomb
+ * floor wall's slip work, an estimate, see friction_progress), SHARES (of
+ * dPE + KE(0)), PHASES (the budget at 1..6 tau_c of the collapse, or
+ * sixths of the run), CHECK (the sum of the final positions in %a, to
+ * compare with --builtin) and, for the collapse, PROFILE (the deposit's
+ * surface) and RESULT runout; --history FILE writes one CSV row per output
+ * row. --floor-mu MU sets the floor wall's friction (collapse; default
+ * tan phi) or puts the slide scene's block on such a wall.
  * Other options: --cell --ppc --method --family --workers --rows --t-end
- * --aspect --friction --dilation --youngs --cfl --gap --speed --floor.
+ * --aspect --friction --dilation --youngs --cfl --gap --speed --floor
+ * --floor-mu.
  * Build and run from the worktree after `make`:
  *   gcc -std=c11 -O2 -Iinclude bench/convergence/energy_budget.c \
  *     -Lbuild/lib/.libs -lgranmpm -lm -o energy_budget
@@ -317,6 +322,25 @@ static void write_history(budget_run *run, const budget *b) {
   fprintf(run->history, "%.6g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.6g\n", b->time,
           b->released, b->kinetic, b->work, b->elastic, b->plastic,
           b->numerical, b->front);
+}
+
+/* The deposit's surface: the highest point top (centre plus half a point
+ * spacing) in bins of L0/20 from the back wall, in L0, from the positions
+ * last read into run->positions; to compare deposits and fronts across
+ * cells and points per cell. */
+static void print_profile(const budget_run *run, double time) {
+  enum { BINS = 80 };
+  double top[BINS] = {0}, bin = run->length / 20.0;
+  double half = 0.5 * run->opt->cell / run->opt->ppc;
+  for (size_t i = 0; i < run->count; i++) {
+    double x = run->positions[2 * i] / bin;
+    if (x >= 0.0 && x < BINS)
+      top[(int)x] = fmax(top[(int)x], run->positions[2 * i + 1] + half);
+  }
+  printf("PROFILE t_s=%.4g bin=L0/20 top/L0:", time);
+  for (int k = 0; k < BINS; k++)
+    printf(" %.3f", top[k] / run->length);
+  printf("\n");
 }
 
 static int fail(gm_domain *domain, const char *what, gm_status status) {
@@ -680,8 +704,11 @@ int main(int argc, char **argv) {
     b = measure(&run);
     write_history(&run, &b);
     while (phases < PHASE_COUNT &&
-           (b.time >= (phases + 1) * period * (1.0 - 1e-9) || row == o.rows))
+           (b.time >= (phases + 1) * period * (1.0 - 1e-9) || row == o.rows)) {
+      if (strcmp(o.scene, "collapse") == 0)
+        print_profile(&run, b.time); /* positions of measure() */
       phase[phases++] = b;
+    }
   }
   if (run.history)
     fclose(run.history);
@@ -717,21 +744,7 @@ int main(int argc, char **argv) {
       sum += run.positions[i];
   printf("CHECK position_sum=%a\n", sum);
   if (strcmp(o.scene, "collapse") == 0) {
-    /* the deposit's surface: the highest point top (centre plus half a
-     * point spacing) in bins of L0/20 from the back wall, in L0, to
-     * compare deposits across cells and points per cell */
-    enum { BINS = 80 };
-    double top[BINS] = {0}, bin = o.length / 20.0;
-    double half = 0.5 * o.cell / o.ppc;
-    for (size_t i = 0; i < run.count; i++) {
-      double x = run.positions[2 * i] / bin;
-      if (x >= 0.0 && x < BINS)
-        top[(int)x] = fmax(top[(int)x], run.positions[2 * i + 1] + half);
-    }
-    printf("PROFILE bin=L0/20 top/L0:");
-    for (int k = 0; k < BINS; k++)
-      printf(" %.3f", top[k] / o.length);
-    printf("\n");
+    print_profile(&run, b.time);
     printf("RESULT runout=%.6f\n", (b.front - front_start) / o.length);
   }
   gm_domain_destroy(run.domain);
