@@ -9,7 +9,11 @@
 # Prints CSV: label,cell_m,ppc,runout,released_J,kinetic_J,elastic_J,
 # plastic_J,numerical_J, then the kinetic, plastic and numerical shares of
 # the released energy at the end, the numerical share of the energy
-# released at the end reached by 1, 2 and 3 tau_c, seconds. BUDGET is the
+# released at the end reached by 1, 2 and 3 tau_c, seconds, and with a
+# Coulomb floor wall (--floor wall, --floor-mu MU) the share of the floor's
+# slip work (an estimate, see energy_budget.c) at the end and by 2 tau_c (0
+# on other floors; the numerical share less it is the discretisation's loss).
+# BUDGET is the
 # energy_budget binary (build line at the top of energy_budget.c).
 BUDGET=${BUDGET:-./energy_budget}
 label=$1 cells=$2 ppcs=$3
@@ -37,18 +41,19 @@ for cell in $cells; do
       /^BUDGET/ {
         dpe = field($0, "released_J"); ke = field($0, "kinetic_J")
         el = field($0, "elastic_J"); wp = field($0, "plastic_J")
-        num = field($0, "numerical_J")
+        num = field($0, "numerical_J"); fr = field($0, "floor_friction_J")
       }
       /^PHASES/ {
         split($0, head, ":"); n = split(head[2], rows, " ")
         for (k = 1; k <= 3 && k <= n; k++) {
-          split(rows[k], v, ","); phase[k] = v[5]
+          split(rows[k], v, ","); phase[k] = v[5]; friction[k] = v[7] + 0
         }
       }
       END {
-        printf "%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.1f\n",
+        printf "%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.1f,%.4f,%.4f\n",
           label, cell, ppc, r, dpe, ke, el, wp, num, ke / dpe, wp / dpe,
-          num / dpe, phase[1] / dpe, phase[2] / dpe, phase[3] / dpe, secs
+          num / dpe, phase[1] / dpe, phase[2] / dpe, phase[3] / dpe, secs,
+          fr / dpe, friction[2] / dpe
       }' "$tmp"
   done
 done

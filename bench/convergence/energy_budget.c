@@ -41,14 +41,20 @@
  *             free fall until t = sqrt(2 gap / g), then landing
  *   slide     a Mohr-Coulomb block (0.3 m x 0.06 m) launched at --speed on
  *             the no-slip floor under gravity: it must come to rest, with
- *             KE(0) + dPE dissipated
+ *             KE(0) + dPE dissipated; with --floor-mu MU on a Coulomb wall
+ *             floor of that friction instead
  *
- * Prints BUDGET (end of the run, J/m), SHARES (of dPE + KE(0)), PHASES (the
- * budget at 1..6 tau_c of the collapse, or sixths of the run), CHECK (the
- * sum of the final positions in %a, to compare with --builtin) and, for the
- * collapse, RESULT runout; --history FILE writes one CSV row per output row.
+ * Prints BUDGET (end of the run, J/m; floor_friction_J is the Coulomb
+ * floor wall's slip work, an estimate, see friction_progress), SHARES (of
+ * dPE + KE(0)), PHASES (the budget at 1..6 tau_c of the collapse, or
+ * sixths of the run), CHECK (the sum of the final positions in %a, to
+ * compare with --builtin) and, for the collapse, PROFILE (the deposit's
+ * surface) and RESULT runout; --history FILE writes one CSV row per output
+ * row. --floor-mu MU sets the floor wall's friction (collapse; default
+ * tan phi) or puts the slide scene's block on such a wall.
  * Other options: --cell --ppc --method --family --workers --rows --t-end
- * --aspect --friction --dilation --youngs --cfl --gap --speed --floor.
+ * --aspect --friction --dilation --youngs --cfl --gap --speed --floor
+ * --floor-mu.
  * Build and run from the worktree after `make`:
  *   gcc -std=c11 -O2 -Iinclude bench/convergence/energy_budget.c \
  *     -Lbuild/lib/.libs -lgranmpm -lm -o energy_budget
@@ -127,8 +133,9 @@ typedef struct options {
   double aspect, length, friction_deg, dilation_deg, youngs, poisson;
   double gap, speed; /* drop: m; slide: m/s */
   double cfl;        /* Courant number, 0: the library's 0.5 */
-  const char *floor; /* collapse: wall (Coulomb wall, mu = tan phi) |
+  const char *floor; /* collapse: wall (Coulomb wall, mu --floor-mu) |
                         face (no-slip box face) | slip (frictionless face) */
+  double floor_mu;   /* mu of the wall floor; < 0: tan phi */
   const char *history;
 } options;
 
@@ -147,6 +154,13 @@ typedef struct budget_run {
   double *positions, *stresses, *volumes;
   unsigned char *occupied;
   FILE *history;
+  int floor_wall;     /* wall id of a Coulomb floor, -1: none */
+  double *velocities; /* m/s, 2 per point (the friction estimate) */
+  double *node_weight, *node_momentum; /* per floor node, column_count + 1 */
+  gm_wall_traction *tractions;
+  size_t traction_capacity;
+  double friction_work; /* J/m, estimate of the floor's slip work */
+  int friction_failed;  /* the estimate could not be taken */
 } budget_run;
 
 static double total_work(const budget_material *material) {
@@ -201,9 +215,85 @@ static double deposit_front(budget_run *run) {
   return front;
 }
 
+/* After every step with a Coulomb floor: the work its friction did, an
+ * estimate. The wall reports each node's tangential force per cell length
+ * (gm_domain_get_wall_tractions); its slip velocity is not reachable
+ * through the API, so it is taken as the tent-weighted (1 - |dx|/h)
+ * (1 - y/h) mean horizontal velocity of the points in the cell row on the
+ * floor, what a linear node on the floor would carry. The dissipation of
+ * the step is -sum F_x u_x dt (F_x = traction * h, of the wall on the
+ * material). Over a continuum Coulomb floor this is mu N times the slip,
+ * a physical term; the rest of the numerical term is the discretisation's
+ * (including the wall's normal impacts). */
+static int friction_progress(const gm_domain *domain, double time,
+                             double end_time, void *user) {
+  (void)time;
+  (void)end_time;
+  budget_run *run = user;
+  if (run->floor_wall < 0 || run->friction_failed)
+    return 0;
+  size_t count = 0;
+  for (;;) {
+    gm_status status =
+        gm_domain_get_wall_tractions(domain, run->floor_wall, run->tractions,
+                                     run->traction_capacity, &count);
+    if (status == GM_OK)
+      break;
+    if (count <= run->traction_capacity) {
+      run->friction_failed = 1;
+      return 0;
+    }
+    free(run->tractions);
+    run->traction_capacity = 2 * count;
+    run->tractions = malloc(run->traction_capacity * sizeof *run->tractions);
+    if (!run->tractions) {
+      run->friction_failed = 1;
+      return 0;
+    }
+  }
+  gm_wall_force force = gm_wall_force_default();
+  size_t n = run->count;
+  if (gm_domain_get_wall_force(domain, run->floor_wall, &force) != GM_OK ||
+      gm_domain_get_field(domain, GM_FIELD_POSITION, run->positions, 2 * n) !=
+          GM_OK ||
+      gm_domain_get_field(domain, GM_FIELD_VELOCITY, run->velocities, 2 * n) !=
+          GM_OK) {
+    run->friction_failed = 1;
+    return 0;
+  }
+  double h = run->opt->cell;
+  size_t columns = run->column_count;
+  memset(run->node_weight, 0, (columns + 1) * sizeof *run->node_weight);
+  memset(run->node_momentum, 0, (columns + 1) * sizeof *run->node_momentum);
+  for (size_t i = 0; i < n; i++) {
+    double x = run->positions[2 * i] / h, y = run->positions[2 * i + 1] / h;
+    if (y >= 1.0 || y < 0.0 || x < 0.0 || x >= (double)columns)
+      continue;
+    size_t left = (size_t)x;
+    double fraction = x - (double)left;
+    double weights[2] = {(1.0 - fraction) * (1.0 - y), fraction * (1.0 - y)};
+    for (int side = 0; side < 2; side++) {
+      run->node_weight[left + side] += weights[side];
+      run->node_momentum[left + side] += weights[side] * run->velocities[2 * i];
+    }
+  }
+  for (size_t k = 0; k < count; k++) {
+    double node = floor(run->tractions[k].position / h + 0.5);
+    if (node < 0.0 || node > (double)columns)
+      continue;
+    size_t j = (size_t)node;
+    if (run->node_weight[j] > 0.0)
+      run->friction_work -= run->tractions[k].tangential * h *
+                            (run->node_momentum[j] / run->node_weight[j]) *
+                            force.duration;
+  }
+  return 0;
+}
+
 /* One budget: the terms at the current time (J/m). */
 typedef struct budget {
   double time, released, kinetic, work, elastic, plastic, numerical, front;
+  double friction; /* the floor wall's slip work so far, an estimate */
 } budget;
 
 static budget measure(budget_run *run) {
@@ -220,6 +310,9 @@ static budget measure(budget_run *run) {
   b.plastic = b.work - (b.elastic - run->elastic_start);
   b.numerical = b.released + run->kinetic_start - b.kinetic - b.work;
   b.front = strcmp(run->opt->scene, "collapse") == 0 ? deposit_front(run) : NAN;
+  b.friction = run->floor_wall >= 0 && !run->friction_failed
+                   ? run->friction_work
+                   : (run->floor_wall >= 0 ? NAN : 0.0);
   return b;
 }
 
@@ -229,6 +322,25 @@ static void write_history(budget_run *run, const budget *b) {
   fprintf(run->history, "%.6g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.6g\n", b->time,
           b->released, b->kinetic, b->work, b->elastic, b->plastic,
           b->numerical, b->front);
+}
+
+/* The deposit's surface: the highest point top (centre plus half a point
+ * spacing) in bins of L0/20 from the back wall, in L0, from the positions
+ * last read into run->positions; to compare deposits and fronts across
+ * cells and points per cell. */
+static void print_profile(const budget_run *run, double time) {
+  enum { BINS = 80 };
+  double top[BINS] = {0}, bin = run->length / 20.0;
+  double half = 0.5 * run->opt->cell / run->opt->ppc;
+  for (size_t i = 0; i < run->count; i++) {
+    double x = run->positions[2 * i] / bin;
+    if (x >= 0.0 && x < BINS)
+      top[(int)x] = fmax(top[(int)x], run->positions[2 * i + 1] + half);
+  }
+  printf("PROFILE t_s=%.4g bin=L0/20 top/L0:", time);
+  for (int k = 0; k < BINS; k++)
+    printf(" %.3f", top[k] / run->length);
+  printf("\n");
 }
 
 static int fail(gm_domain *domain, const char *what, gm_status status) {
@@ -360,6 +472,10 @@ static int build(budget_run *run, double *t_end) {
     fill.upper[0] = 0.3;
     fill.upper[1] = 0.06;
     fill.velocity[0] = o->speed;
+    /* --floor-mu MU: a Coulomb wall floor instead of the no-slip face
+     * (checks the friction estimate: a block sliding on it dissipates
+     * KE(0) + dPE as floor friction) */
+    face_floor = o->floor_mu < 0.0;
     *t_end = 1.0;
   } else {
     fprintf(stderr, "scene '%s' is not collapse, bar, drop or slide\n",
@@ -375,8 +491,14 @@ static int build(budget_run *run, double *t_end) {
   int material = add_material(run, plastic);
   if (material < 0)
     return 2;
-  if (strcmp(o->scene, "collapse") == 0 && !face_floor && !slip_floor)
-    CHECK(domain, add_wall(domain, 0.0, 1.0, tan(o->friction_deg * PI / 180)));
+  run->floor_wall = -1;
+  if ((strcmp(o->scene, "collapse") == 0 || strcmp(o->scene, "slide") == 0) &&
+      !face_floor && !slip_floor) {
+    double mu =
+        o->floor_mu >= 0.0 ? o->floor_mu : tan(o->friction_deg * PI / 180);
+    CHECK(domain, add_wall(domain, 0.0, 1.0, mu));
+    run->floor_wall = 0; /* the first wall added */
+  }
   if (back_wall)
     CHECK(domain, add_wall(domain, 1.0, 0.0, 0.0));
   fill.material = material;
@@ -388,10 +510,14 @@ static int build(budget_run *run, double *t_end) {
   run->volumes = malloc(n * sizeof *run->volumes);
   run->column_count = (size_t)ceil(def.extent[0] / o->cell) + 2;
   run->occupied = malloc(run->column_count);
+  run->velocities = malloc(2 * n * sizeof *run->velocities);
+  run->node_weight = malloc((run->column_count + 1) * sizeof(double));
+  run->node_momentum = malloc((run->column_count + 1) * sizeof(double));
   double *masses = malloc(n * sizeof *masses);
   int64_t *ids = malloc(n * sizeof *ids);
   if (!run->positions || !run->stresses || !run->volumes || !run->occupied ||
-      !masses || !ids)
+      !run->velocities || !run->node_weight || !run->node_momentum || !masses ||
+      !ids)
     return 2;
   CHECK(domain, gm_domain_get_field(domain, GM_FIELD_MASS, masses, n));
   CHECK(domain, gm_domain_get_ids(domain, ids, n));
@@ -487,6 +613,8 @@ static int parse(int argc, char **argv, options *o) {
       o->speed = number;
     else if (strcmp(name, "--floor") == 0)
       o->floor = value;
+    else if (strcmp(name, "--floor-mu") == 0)
+      o->floor_mu = number;
     else if (strcmp(name, "--history") == 0)
       o->history = value;
     else if (strcmp(name, "--method") == 0) {
@@ -534,7 +662,8 @@ int main(int argc, char **argv) {
                .poisson = 0.3,
                .gap = 0.1,
                .speed = 1.0,
-               .floor = "wall"};
+               .floor = "wall",
+               .floor_mu = -1.0};
   int status = parse(argc, argv, &o);
   if (status != 0)
     return status;
@@ -567,14 +696,19 @@ int main(int argc, char **argv) {
   int phases = 0;
   for (int row = 1; row <= o.rows; row++) {
     double target = row == o.rows ? t_end : t_end * row / o.rows;
-    gm_status step = gm_domain_advance(run.domain, target, 0.0, NULL, NULL);
+    gm_status step =
+        gm_domain_advance(run.domain, target, 0.0,
+                          run.floor_wall >= 0 ? friction_progress : NULL, &run);
     if (step != GM_OK)
       return fail(run.domain, "gm_domain_advance", step);
     b = measure(&run);
     write_history(&run, &b);
     while (phases < PHASE_COUNT &&
-           (b.time >= (phases + 1) * period * (1.0 - 1e-9) || row == o.rows))
+           (b.time >= (phases + 1) * period * (1.0 - 1e-9) || row == o.rows)) {
+      if (strcmp(o.scene, "collapse") == 0)
+        print_profile(&run, b.time); /* positions of measure() */
       phase[phases++] = b;
+    }
   }
   if (run.history)
     fclose(run.history);
@@ -587,19 +721,20 @@ int main(int argc, char **argv) {
   printf("BUDGET scene=%s points=%zu steps=%llu point_updates=%lld "
          "released_J=%.6g kinetic_start_J=%.6g kinetic_J=%.6g "
          "internal_work_J=%.6g elastic_start_J=%.6g elastic_J=%.6g "
-         "plastic_J=%.6g numerical_J=%.6g\n",
+         "plastic_J=%.6g numerical_J=%.6g floor_friction_J=%.6g\n",
          o.scene, run.count, (unsigned long long)steps, calls, b.released,
          run.kinetic_start, b.kinetic, b.work, run.elastic_start, b.elastic,
-         b.plastic, b.numerical);
+         b.plastic, b.numerical, b.friction);
   printf("SHARES of dPE + KE(0) = %.6g J/m: kinetic=%.4f elastic_change=%.4f "
          "plastic=%.4f numerical=%.4f\n",
          input, b.kinetic / input, (b.elastic - run.elastic_start) / input,
          b.plastic / input, b.numerical / input);
-  printf("PHASES t_s,released_J,kinetic_J,plastic_J,numerical_J,front_m:");
+  printf("PHASES t_s,released_J,kinetic_J,plastic_J,numerical_J,front_m,"
+         "floor_friction_J:");
   for (int k = 0; k < phases; k++)
-    printf(" %.4g,%.5g,%.5g,%.5g,%.5g,%.5g", phase[k].time, phase[k].released,
-           phase[k].kinetic, phase[k].plastic, phase[k].numerical,
-           phase[k].front);
+    printf(" %.4g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g", phase[k].time,
+           phase[k].released, phase[k].kinetic, phase[k].plastic,
+           phase[k].numerical, phase[k].front, phase[k].friction);
   printf("\n");
   /* a fingerprint of the final positions, to compare --builtin runs */
   double sum = 0.0;
@@ -608,13 +743,19 @@ int main(int argc, char **argv) {
     for (size_t i = 0; i < 2 * run.count; i++)
       sum += run.positions[i];
   printf("CHECK position_sum=%a\n", sum);
-  if (strcmp(o.scene, "collapse") == 0)
+  if (strcmp(o.scene, "collapse") == 0) {
+    print_profile(&run, b.time);
     printf("RESULT runout=%.6f\n", (b.front - front_start) / o.length);
+  }
   gm_domain_destroy(run.domain);
   free((void *)material.mass_by_id);
   free(run.positions);
   free(run.stresses);
   free(run.volumes);
   free(run.occupied);
+  free(run.velocities);
+  free(run.node_weight);
+  free(run.node_momentum);
+  free(run.tractions);
   return 0;
 }

@@ -317,6 +317,62 @@ START_TEST(test_wall_arguments) {
 }
 END_TEST
 
+/* A thin layer launched along the floor: the wall's friction must not
+ * depend on how the layer sits in the grid. A layer half a cell thick (one
+ * row of 2 x 2 points per cell) or two cells thick, 0.15 m long, sliding at
+ * 1 m/s on mu = MU stops after v0^2 / (2 mu g), as a rigid slider.
+ * docs/convergence.md section 17 leans on this: on a Coulomb floor below
+ * the material's friction the base of the column collapse slides, and a
+ * sheet thinner than a cell must feel mu g, not less (one feeling part of
+ * its friction would run out further on finer grids). The wall is 4 cells
+ * above the box face, so nodes behind the plane exist. Linear and
+ * B-spline2 shapes; uGIMP is not asserted: its half-cell layer slides
+ * 1.8-3.8 % too far (2 % with the wall on the box face), see section 17. */
+START_TEST(test_thin_layer_stops) {
+  static const gm_shape shapes[2] = {GM_SHAPE_LINEAR, GM_SHAPE_BSPLINE2};
+  static const char *const names[2] = {"linear", "B-spline2"};
+  const double cell = 0.015, floor_y = 4 * cell, speed = 1.0; /* m, m/s */
+  double thickness = (_i / 2 == 0 ? 0.5 : 2.0) * cell;        /* m */
+  gm_domain_def def = gm_domain_def_default();
+  def.cell_size = cell;
+  def.shape = shapes[_i % 2];
+  def.extent[0] = 0.6;
+  def.extent[1] = floor_y + thickness + 4 * cell;
+  def.gravity[1] = -GRAVITY;
+  gm_domain *domain = test_create_domain(&def);
+  gm_wall_def wall = gm_wall_def_default();
+  wall.point[1] = floor_y;
+  wall.friction_static = wall.friction_kinetic = MU;
+  int wall_id = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &wall_id));
+  int material = add_block_material(domain);
+  gm_fill_def fill = gm_fill_def_default();
+  fill.material = material;
+  fill.points_per_cell_axis = 2;
+  fill.lower[0] = 0.06;
+  fill.upper[0] = 0.21;
+  fill.lower[1] = floor_y;
+  fill.upper[1] = floor_y + thickness;
+  fill.velocity[0] = speed;
+  TEST_ASSERT_OK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
+  const double along[2] = {1.0, 0.0};
+  double start = centre_along(domain, along);
+  double stop_time = speed / (MU * GRAVITY); /* s */
+  TEST_ASSERT_OK(domain,
+                 gm_domain_advance(domain, 1.5 * stop_time, 0.0, NULL, NULL));
+  double travel = centre_along(domain, along) - start;
+  double expected = speed * speed / (2.0 * MU * GRAVITY); /* 0.127 m */
+  /* 1 %: measured travel / expected 1.0002 (linear) and 0.9947
+   * (B-spline2) for the half-cell layer, 1.0000 and 0.9999 for two cells;
+   * the block slides above hold 2 % with +0.3 %. */
+  ck_assert_msg(fabs(travel - expected) < 0.01 * expected,
+                "%s, layer %.1f cells: travelled %.5f m, a rigid slider "
+                "%.5f m",
+                names[_i % 2], thickness / cell, travel, expected);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 int main(void) {
   Suite *suite = suite_create("friction");
   TCase *tcase = tcase_create("incline");
@@ -325,6 +381,7 @@ int main(void) {
   tcase_add_loop_test(tcase, test_tilted_wall_holds_block, 0, 2);
   tcase_add_test(tcase, test_traction_profile);
   tcase_add_test(tcase, test_wall_arguments);
+  tcase_add_loop_test(tcase, test_thin_layer_stops, 0, 4);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
