@@ -82,16 +82,9 @@ bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,
   double screen = 0.0;
   for (size_t j = 0; j < count; j++) {
     /* deform_chunk (g2p.c) */
-    double i_xx = 1.0 + l_xx[j] * dt, i_xy = l_xy[j] * dt;
-    double i_yx = l_yx[j] * dt, i_yy = 1.0 + l_yy[j] * dt;
-    double a_xx = f_xx[j], a_xy = f_xy[j], a_yx = f_yx[j], a_yy = f_yy[j];
-    double b_xx = i_xx * a_xx + i_xy * a_yx, b_xy = i_xx * a_xy + i_xy * a_yy;
-    double b_yx = i_yx * a_xx + i_yy * a_yx, b_yy = i_yx * a_xy + i_yy * a_yy;
-    n_xx[j] = b_xx;
-    n_xy[j] = b_xy;
-    n_yx[j] = b_yx;
-    n_yy[j] = b_yy;
-    double jacobian = b_xx * b_yy - b_xy * b_yx;
+    double jacobian = gm_deform_plane_point(
+        dt, l_xx[j], l_xy[j], l_yx[j], l_yy[j], f_xx[j], f_xy[j], f_yx[j],
+        f_yy[j], &n_xx[j], &n_xy[j], &n_yx[j], &n_yy[j]);
     volume[j] = jacobian * initial_volume[j];
     positive &= jacobian > 0.0 && jacobian < INFINITY;
   }

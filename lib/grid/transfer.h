@@ -122,6 +122,27 @@ typedef union wide_support {
   gm_cpdi_support cpdi;
 } wide_support;
 
+/* One point's F <- (I + L dt) F in plane strain (004 eq 3.23): writes the
+ * in-plane components of the new F and returns its in-plane determinant.
+ * Shared by the general deformation pass (g2p.c) and the elastic fast
+ * path (deform_elastic.c), which must give the same bits. */
+static inline double gm_deform_plane_point(double dt, double l_xx, double l_xy,
+                                           double l_yx, double l_yy,
+                                           double a_xx, double a_xy,
+                                           double a_yx, double a_yy,
+                                           double *n_xx, double *n_xy,
+                                           double *n_yx, double *n_yy) {
+  double i_xx = 1.0 + l_xx * dt, i_xy = l_xy * dt;
+  double i_yx = l_yx * dt, i_yy = 1.0 + l_yy * dt;
+  double b_xx = i_xx * a_xx + i_xy * a_yx, b_xy = i_xx * a_xy + i_xy * a_yy;
+  double b_yx = i_yx * a_xx + i_yy * a_yx, b_yy = i_yx * a_xy + i_yy * a_yy;
+  *n_xx = b_xx;
+  *n_xy = b_xy;
+  *n_yx = b_yx;
+  *n_yy = b_yy;
+  return b_xx * b_yy - b_xy * b_yx;
+}
+
 /* Point p's support (position, deformation: its domain's), with its lowest
  * node and its reach (the farthest node past it) per axis; false if it
  * cannot be computed (see gm_support_compute). */
