@@ -27,11 +27,13 @@
 #include "granular/interaction.h"
 
 #include "test_random.h"
+#include "test_util.h"
 
 #include <check.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 static const double pi = 3.14159265358979323846; /* M_PI is not C11 */
 
@@ -433,9 +435,6 @@ static Suite *interaction3d_suite(void) {
 }
 
 int main(void) {
-  SRunner *runner = srunner_create(interaction3d_suite());
-  srunner_run_all(runner, CK_NORMAL);
-  int failed = srunner_ntests_failed(runner);
-  srunner_free(runner);
-  return failed == 0 ? 0 : 1;
+  return test_run_suite(interaction3d_suite()) == 0 ? EXIT_SUCCESS
+                                                    : EXIT_FAILURE;
 }

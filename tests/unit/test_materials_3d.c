@@ -34,6 +34,8 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "test_util.h"
+
 #include <check.h>
 #include <float.h>
 #include <math.h>
@@ -531,9 +533,5 @@ int main(void) {
   tcase_add_test(tc, test_mohr_coulomb_surface_3d);
   tcase_add_test(tc, test_invariant_surfaces_3d);
   suite_add_tcase(suite, tc);
-  SRunner *runner = srunner_create(suite);
-  srunner_run_all(runner, CK_NORMAL);
-  int failed = srunner_ntests_failed(runner);
-  srunner_free(runner);
-  return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+  return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }

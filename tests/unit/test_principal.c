@@ -19,6 +19,8 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "test_util.h"
+
 #include <check.h>
 #include <float.h>
 #include <math.h>
@@ -320,9 +322,5 @@ int main(void) {
   tcase_add_test(tc, test_estimate_within_its_error);
   tcase_add_test(tc, test_not_finite);
   suite_add_tcase(suite, tc);
-  SRunner *runner = srunner_create(suite);
-  srunner_run_all(runner, CK_NORMAL);
-  int failed = srunner_ntests_failed(runner);
-  srunner_free(runner);
-  return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+  return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
