@@ -29,27 +29,7 @@
 
 #include "materials/materials.h"
 #include "test_random.h"
-
-static void to_matrix(const double v[6], double m[3][3]) {
-  m[0][0] = v[GM_XX];
-  m[1][1] = v[GM_YY];
-  m[2][2] = v[GM_ZZ];
-  m[0][1] = m[1][0] = v[GM_XY];
-  m[1][2] = m[2][1] = v[GM_YZ];
-  m[2][0] = m[0][2] = v[GM_ZX];
-}
-
-static double voigt_norm(const double v[6]) {
-  return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] +
-              2.0 * (v[3] * v[3] + v[4] * v[4] + v[5] * v[5]));
-}
-
-static double difference_norm(const double a[6], const double b[6]) {
-  double d[6];
-  for (int c = 0; c < 6; c++)
-    d[c] = a[c] - b[c];
-  return voigt_norm(d);
-}
+#include "test_tensor3.h"
 
 /* The Jaumann increment formed with matrix products, as the definition. */
 START_TEST(test_matches_matrix_products) {
@@ -62,7 +42,7 @@ START_TEST(test_matches_matrix_products) {
     for (int c = 0; c < 6; c++)
       sigma[c] = lcg_between(-1e5, 1e5); /* Pa */
     double dt = 1e-4;                    /* s */
-    to_matrix(sigma, m);
+    voigt_to_matrix(sigma, m);
     for (int i = 0; i < 3; i++)
       for (int j = 0; j < 3; j++)
         w[i][j] = 0.5 * (l[3 * i + j] - l[3 * j + i]);
@@ -77,7 +57,7 @@ START_TEST(test_matches_matrix_products) {
     memcpy(rotated, sigma, sizeof rotated);
     gm_jaumann_rotate(l, dt, rotated);
     double got[3][3];
-    to_matrix(rotated, got);
+    voigt_to_matrix(rotated, got);
     /* Two sums of a few products of sizes |W| dt |sigma| <= 5e-3 |sigma|,
      * added to sigma: a few eps of |sigma|. */
     for (int i = 0; i < 3; i++)
@@ -136,7 +116,7 @@ END_TEST
 /* Invariants of a Voigt tensor: trace, J2 = s:s/2, det. */
 static void invariants(const double v[6], double out[3]) {
   double m[3][3];
-  to_matrix(v, m);
+  voigt_to_matrix(v, m);
   double mean = (m[0][0] + m[1][1] + m[2][2]) / 3.0;
   out[0] = 3.0 * mean;
   double s[6] = {v[0] - mean, v[1] - mean, v[2] - mean, v[3], v[4], v[5]};
@@ -231,7 +211,7 @@ static double rigid_rotation(const double axis[3], const double sigma0[6],
         k2 += k[i][q] * k[q][j];
       r[i][j] = (i == j) + sin(angle) * k[i][j] + (1.0 - cos(angle)) * k2;
     }
-  to_matrix(sigma0, m0);
+  voigt_to_matrix(sigma0, m0);
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++) {
       double sum = 0.0;
@@ -242,26 +222,14 @@ static double rigid_rotation(const double axis[3], const double sigma0[6],
     }
   double expected_voigt[6] = {expected[0][0], expected[1][1], expected[2][2],
                               expected[0][1], expected[1][2], expected[2][0]};
-  return difference_norm(final, expected_voigt) / scale;
-}
-
-/* A random unit axis. */
-static void random_axis(double axis[3]) {
-  double length;
-  do {
-    for (int c = 0; c < 3; c++)
-      axis[c] = lcg_between(-1.0, 1.0);
-    length = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-  } while (length > 1.0 || length < 0.1);
-  for (int c = 0; c < 3; c++)
-    axis[c] /= length;
+  return voigt_difference_norm(final, expected_voigt) / scale;
 }
 
 START_TEST(test_rigid_rotation_elastic) {
   lcg_state = 13u;
   for (int n = 0; n < 8; n++) {
     double axis[3], sigma0[6];
-    random_axis(axis);
+    random_unit_axis(axis);
     for (int c = 0; c < 6; c++)
       sigma0[c] = lcg_between(-1e4, 1e4);
     double angle = 1.0; /* rad */
@@ -293,7 +261,7 @@ START_TEST(test_rigid_rotation_mohr_coulomb) {
   def.friction_angle = 0.5;
   for (int n = 0; n < 4; n++) {
     double axis[3];
-    random_axis(axis);
+    random_unit_axis(axis);
     /* A compressive trial with a large random deviator, returned. */
     double stress[6][1], strain[6][1] = {{0}}, density[1] = {2000.0};
     double plastic[1] = {0.0}, *state[1] = {plastic};

@@ -53,6 +53,7 @@
 #include "granmpm/von_mises.h"
 #include "materials/principal.h"
 #include "test_random.h"
+#include "test_tensor3.h"
 
 enum { POINTS = 2000, STATES = 2 };
 
@@ -91,44 +92,10 @@ static batch3d *batch_create(void) {
 
 /* --------------------------------------------------------- tensor helpers */
 
-static void to_matrix(const double v[6], double m[3][3]) {
-  m[0][0] = v[GM_XX];
-  m[1][1] = v[GM_YY];
-  m[2][2] = v[GM_ZZ];
-  m[0][1] = m[1][0] = v[GM_XY];
-  m[1][2] = m[2][1] = v[GM_YZ];
-  m[2][0] = m[0][2] = v[GM_ZX];
-}
-
-/* R v R^T in Voigt order. */
-static void rotate(double r[3][3], const double v[6], double out[6]) {
-  static const int row[6] = {0, 1, 2, 0, 1, 2}, col[6] = {0, 1, 2, 1, 2, 0};
-  double m[3][3];
-  to_matrix(v, m);
-  for (int c = 0; c < 6; c++) {
-    double sum = 0.0;
-    for (int p = 0; p < 3; p++)
-      for (int q = 0; q < 3; q++)
-        sum += r[row[c]][p] * m[p][q] * r[col[c]][q];
-    out[c] = sum;
-  }
-}
-
-static double voigt_norm(const double v[6]) {
-  return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] +
-              2.0 * (v[3] * v[3] + v[4] * v[4] + v[5] * v[5]));
-}
-
 /* A random rotation (about a random axis by a random angle, Rodrigues). */
 static void random_rotation(double r[3][3]) {
-  double axis[3], length;
-  do {
-    for (int c = 0; c < 3; c++)
-      axis[c] = lcg_between(-1.0, 1.0);
-    length = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-  } while (length > 1.0 || length < 0.1);
-  for (int c = 0; c < 3; c++)
-    axis[c] /= length;
+  double axis[3];
+  random_unit_axis(axis);
   double angle = lcg_between(-3.14159265358979, 3.14159265358979);
   double k[3][3] = {{0.0, -axis[2], axis[1]},
                     {axis[2], 0.0, -axis[0]},
@@ -280,12 +247,12 @@ static double check_rotated_update(const model_case *m, const batch3d *b,
     double in[6], out[6];
     for (int c = 0; c < 6; c++)
       in[c] = b->stress[c][i];
-    rotate(rotations[i], in, out);
+    voigt_rotate(rotations[i], in, out);
     for (int c = 0; c < 6; c++) {
       turned->stress[c][i] = out[c];
       in[c] = b->strain[c][i];
     }
-    rotate(rotations[i], in, out);
+    voigt_rotate(rotations[i], in, out);
     for (int c = 0; c < 6; c++)
       turned->strain[c][i] = out[c];
   }
@@ -304,7 +271,7 @@ static double check_rotated_update(const model_case *m, const batch3d *b,
     double result[6];
     for (int c = 0; c < 6; c++)
       result[c] = plain->stress[c][i];
-    rotate(rotations[i], result, expected);
+    voigt_rotate(rotations[i], result, expected);
     for (int c = 0; c < 6; c++) {
       double error = fabs(got[c] - expected[c]) / scale;
       worst = fmax(worst, error);
@@ -435,8 +402,8 @@ START_TEST(test_mohr_coulomb_surface_3d) {
       apex++;
     /* Principal directions kept: the result commutes with the trial. */
     double a[3][3], t[3][3];
-    to_matrix(out, a);
-    to_matrix(in, t);
+    voigt_to_matrix(out, a);
+    voigt_to_matrix(in, t);
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++) {
         double commutator = 0.0;

@@ -29,15 +29,11 @@
 
 #include "materials/principal.h"
 #include "test_random.h"
+#include "test_tensor3.h"
 
 #include "granmpm.h"
 
 static const double TOLERANCE = 64.0 * DBL_EPSILON; /* relative to |A| */
-
-static double voigt_norm(const double v[6]) {
-  return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] +
-              2.0 * (v[3] * v[3] + v[4] * v[4] + v[5] * v[5]));
-}
 
 /* A uniformly random rotation matrix, from a random unit quaternion. */
 static void random_rotation(double r[3][3]) {
