@@ -1,0 +1,286 @@
+/*
+ * toe_probe.c - the front of the planar column collapse during the fall,
+ * for docs/convergence.md section 18 (issue 13): where and when the front
+ * of a finer grid takes its lead.
+ *
+ * The scene is energy_budget's collapse (examples/column_collapse: a = H/L0,
+ * L0 = 0.15 m, rho 1800 kg/m^3, nu 0.3, E 0.5 MPa, Mohr-Coulomb psi = 0
+ * unless --dilation,
+ * frictionless back wall, floor --floor slip|face), with the built-in
+ * material. At t/tau_c = 0.05, 0.1, 0.25, 0.5, 0.75, 1 (tau_c = sqrt(H/g))
+ * it prints one FRONT line:
+ *   edge      the connected deposit's edge (farthest point centre + half a
+ *             point spacing, columns walked from the back wall), m
+ *   thick10, thick05  the front of the part of the deposit at least 10 %
+ *             or 5 % of L0 thick: the farthest point (+ half a spacing,
+ *             connected) whose top (centre + half a spacing) is at least
+ *             that high, m (where the surface falls towards the front, the
+ *             surface's crossing of that level, on any grid)
+ *   u_front   horizontal velocity of the point farthest out, m/s
+ *   u_bottom  the same for the farthest point of the bottom row (points
+ *             that started within one point spacing of the floor), m/s
+ *   x_bottom  that point's position + half a spacing, m
+ *   x_upper   the farthest point (+ half a spacing) among those that are
+ *             now higher than 0.1 L0 above the floor, m
+ *   u_upper   its horizontal velocity, m/s
+ * All lengths are printed in L0, velocities in sqrt(g H).
+ *
+ * Options: --cell m --ppc n --method ugimp|bspline2|linear --family
+ * granular|plain --aspect a --friction deg --youngs Pa --cfl C --floor
+ * slip|face --dilation deg (psi, default 0) --elastic 1 (an elastic column: the
+ * huge-phi limit) --k0 K (the column starts with a geostatic stress sigma_yy =
+ * -rho g (H - y), sigma_xx = sigma_zz = K sigma_yy, applied by a wrapping user
+ * material on each point's first update; 0 = stress-free, the example's start).
+ * Build after `make` in the worktree:
+ *   gcc -std=c11 -O2 -Iinclude bench/convergence/toe_probe.c \
+ *     -Lbuild/lib/.libs -lgranmpm -lm -o toe_probe
+ *   LD_LIBRARY_PATH=build/lib/.libs ./toe_probe --cell 0.0075 --ppc 2 \
+ *     --method bspline2 --friction 37 --floor slip
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#include <granmpm.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const double PI = 3.14159265358979323846;
+static const double GRAVITY = 9.81;                   /* m/s^2 */
+static const double CRITICAL_RATIO = 2235.0 / 2250.0; /* 000 Table 1 */
+static const double LENGTH = 0.15;                    /* L0, m */
+static const double DENSITY = 1800.0;                 /* kg/m^3 */
+
+/* The geostatic start (--k0): the wrapped material and the points that
+ * already received their initial stress. */
+typedef struct start_stress {
+  int elastic;
+  gm_mohr_coulomb_def mc;
+  gm_elastic_def el;
+  double k0, height;     /* -, m */
+  const double *y_by_id; /* m, initial height of each point id */
+  unsigned char *done;   /* per id: initial stress applied */
+} start_stress;
+
+static int start_update(const gm_material_batch *batch, void *user,
+                        char *message, size_t message_size) {
+  start_stress *s = user;
+  for (size_t i = 0; i < batch->count; i++) {
+    int64_t id = batch->point_id[i];
+    if (s->done[id])
+      continue;
+    s->done[id] = 1;
+    /* the weight of the material above, sigma_yy = -rho g (H - y) */
+    double syy = -DENSITY * GRAVITY * (s->height - s->y_by_id[id]);
+    batch->stress[0][i] += s->k0 * syy;
+    batch->stress[1][i] += syy;
+    batch->stress[2][i] += s->k0 * syy;
+  }
+  return s->elastic
+             ? gm_elastic_update(batch, &s->el, message, message_size)
+             : gm_mohr_coulomb_update(batch, &s->mc, message, message_size);
+}
+
+static int fail(gm_domain *domain, const char *what, gm_status status) {
+  fprintf(stderr, "%s: %s (%s)\n", what, gm_strerror(status),
+          domain ? gm_domain_last_error(domain) : gm_last_create_error());
+  return 1;
+}
+#define CHECK(domain, call)                                                    \
+  do {                                                                         \
+    gm_status check_status_ = (call);                                          \
+    if (check_status_ != GM_OK)                                                \
+      return fail((domain), #call, check_status_);                             \
+  } while (0)
+
+int main(int argc, char **argv) {
+  double cell = 0.0075, aspect = 1.3, friction = 37.0, youngs = 5e5, cfl = 0.0;
+  double k0 = 0.0, poisson = 0.3, dilation = 0.0;
+  int ppc = 2, elastic = 0;
+  gm_shape shape = GM_SHAPE_BSPLINE2;
+  gm_family family = GM_FAMILY_GRANULAR;
+  const char *floor_kind = "slip";
+  for (int k = 1; k + 1 < argc; k += 2) {
+    const char *n = argv[k], *v = argv[k + 1];
+    if (!strcmp(n, "--cell"))
+      cell = atof(v);
+    else if (!strcmp(n, "--ppc"))
+      ppc = atoi(v);
+    else if (!strcmp(n, "--aspect"))
+      aspect = atof(v);
+    else if (!strcmp(n, "--friction"))
+      friction = atof(v);
+    else if (!strcmp(n, "--youngs"))
+      youngs = atof(v);
+    else if (!strcmp(n, "--cfl"))
+      cfl = atof(v);
+    else if (!strcmp(n, "--dilation"))
+      dilation = atof(v);
+    else if (!strcmp(n, "--k0"))
+      k0 = atof(v);
+    else if (!strcmp(n, "--elastic"))
+      elastic = atoi(v);
+    else if (!strcmp(n, "--floor"))
+      floor_kind = v;
+    else if (!strcmp(n, "--method"))
+      shape = !strcmp(v, "ugimp")    ? GM_SHAPE_UGIMP
+              : !strcmp(v, "linear") ? GM_SHAPE_LINEAR
+                                     : GM_SHAPE_BSPLINE2;
+    else if (!strcmp(n, "--family"))
+      family = !strcmp(v, "plain") ? GM_FAMILY_PLAIN : GM_FAMILY_GRANULAR;
+    else {
+      fprintf(stderr, "unknown option %s\n", n);
+      return 2;
+    }
+  }
+  if (cell <= 0.0 || ppc < 1 || ppc > 16 || aspect <= 0.0 || aspect > 1.8) {
+    fprintf(stderr, "an option is out of range\n");
+    return 2;
+  }
+  double height = aspect * LENGTH, tau = sqrt(height / GRAVITY);
+  double law = 1.2 * aspect;
+  gm_domain_def def = gm_domain_def_default();
+  def.cell_size = cell;
+  def.shape = shape;
+  def.family = family;
+  def.worker_count = 1;
+  if (cfl > 0.0)
+    def.cfl = cfl;
+  def.extent[0] = LENGTH * (2.0 + 2.0 * law);
+  def.extent[1] = 1.25 * height + 4.0 * cell;
+  def.gravity[1] = -GRAVITY;
+  def.walls[GM_FACE_YMIN] =
+      !strcmp(floor_kind, "face") ? GM_WALL_FIXED : GM_WALL_SLIP;
+  gm_domain *domain = NULL;
+  CHECK(NULL, gm_domain_create(&def, &domain));
+  static start_stress start;
+  start.elastic = elastic;
+  start.k0 = k0;
+  start.height = height;
+  start.mc = gm_mohr_coulomb_def_default();
+  start.mc.youngs_modulus = youngs;
+  start.mc.poisson_ratio = poisson;
+  start.mc.density = DENSITY;
+  start.mc.friction_angle = friction * PI / 180.0;
+  start.mc.dilation_angle = dilation * PI / 180.0;
+  start.mc.bagnold_viscosity = 0.0;
+  start.el = gm_elastic_def_default();
+  start.el.youngs_modulus = youngs;
+  start.el.poisson_ratio = poisson;
+  start.el.density = DENSITY;
+  int material = -1;
+  if (k0 > 0.0) {
+    gm_material_def m = gm_material_def_default();
+    m.name = "geostatic_start";
+    m.update = start_update;
+    m.user = &start;
+    m.state_count = elastic ? 0 : GM_MOHR_COULOMB_STATE_COUNT;
+    m.p_wave_modulus =
+        youngs * (1.0 - poisson) / ((1.0 + poisson) * (1.0 - 2.0 * poisson));
+    m.density = DENSITY;
+    CHECK(domain, gm_domain_add_material(domain, &m, &material));
+  } else if (elastic)
+    CHECK(domain, gm_domain_add_elastic(domain, &start.el, &material));
+  else
+    CHECK(domain, gm_domain_add_mohr_coulomb(domain, &start.mc, &material));
+  if (family != GM_FAMILY_PLAIN) {
+    gm_granular_def granular = gm_granular_def_default();
+    granular.critical_density = CRITICAL_RATIO * DENSITY;
+    CHECK(domain, gm_domain_set_granular(domain, material, &granular));
+  }
+  gm_wall_def back = gm_wall_def_default();
+  back.normal[0] = 1.0;
+  back.normal[1] = 0.0;
+  int wall_id = -1;
+  CHECK(domain, gm_domain_add_wall(domain, &back, &wall_id));
+  gm_fill_def fill = gm_fill_def_default();
+  fill.points_per_cell_axis = ppc;
+  fill.material = material;
+  fill.upper[0] = LENGTH;
+  fill.upper[1] = height;
+  CHECK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
+  size_t count = gm_domain_point_count(domain);
+  double *x = malloc(2 * count * sizeof *x), *u = malloc(2 * count * sizeof *u);
+  int64_t *ids = malloc(count * sizeof *ids);
+  size_t columns = (size_t)ceil(def.extent[0] / cell) + 2;
+  unsigned char *occupied = malloc(columns);
+  if (!x || !u || !ids || !occupied)
+    return 2;
+  CHECK(domain, gm_domain_get_field(domain, GM_FIELD_POSITION, x, 2 * count));
+  CHECK(domain, gm_domain_get_ids(domain, ids, count));
+  int64_t max_id = 0;
+  for (size_t i = 0; i < count; i++)
+    max_id = ids[i] > max_id ? ids[i] : max_id;
+  double *y0 = calloc((size_t)max_id + 1, sizeof *y0);
+  start.done = calloc((size_t)max_id + 1, 1);
+  if (!y0 || !start.done)
+    return 2;
+  for (size_t i = 0; i < count; i++)
+    y0[ids[i]] = x[2 * i + 1];
+  start.y_by_id = y0;
+  double spacing = cell / ppc, half = 0.5 * spacing;
+  double speed = sqrt(GRAVITY * height);
+  printf("# cell=%g ppc=%d points=%zu tau_c=%g s sqrt(gH)=%g m/s\n", cell, ppc,
+         count, tau, speed);
+  printf("t/tau,edge,thick10,thick05,u_front,u_bottom,x_bottom,x_upper,"
+         "u_upper\n");
+  static const double marks[] = {0.05, 0.1, 0.25, 0.5, 0.75, 1.0};
+  for (int m = 0; m < 6; m++) {
+    CHECK(domain, gm_domain_advance(domain, marks[m] * tau, 0.0, NULL, NULL));
+    CHECK(domain, gm_domain_get_field(domain, GM_FIELD_POSITION, x, 2 * count));
+    CHECK(domain, gm_domain_get_field(domain, GM_FIELD_VELOCITY, u, 2 * count));
+    CHECK(domain, gm_domain_get_ids(domain, ids, count));
+    memset(occupied, 0, columns);
+    for (size_t i = 0; i < count; i++) {
+      double c = floor(x[2 * i] / cell);
+      if (c >= 0.0 && c < (double)columns)
+        occupied[(size_t)c] = 1;
+    }
+    size_t first_empty = 0;
+    while (first_empty < columns && occupied[first_empty])
+      first_empty++;
+    double limit = (double)first_empty * cell;
+    double edge = 0, u_front = 0, x_bottom = 0, u_bottom = 0;
+    double x_upper = 0, u_upper = 0;
+    size_t lost = 0; /* points with a non-finite position */
+    double thick[2] = {0, 0}, level[2] = {0.10, 0.05};
+    for (size_t i = 0; i < count; i++) {
+      double px = x[2 * i], py = x[2 * i + 1];
+      if (px >= limit)
+        continue;
+      if (px + half > edge) {
+        edge = px + half;
+        u_front = u[2 * i];
+      }
+      if (y0[ids[i]] < spacing && px + half > x_bottom) {
+        x_bottom = px + half;
+        u_bottom = u[2 * i];
+      }
+      for (int t = 0; t < 2; t++)
+        if (py + half >= level[t] * LENGTH)
+          thick[t] = fmax(thick[t], px + half);
+      if (py > 0.1 * LENGTH && px + half > x_upper) {
+        x_upper = px + half;
+        u_upper = u[2 * i];
+      }
+    }
+    printf("%.2f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", marks[m],
+           edge / LENGTH, thick[0] / LENGTH, thick[1] / LENGTH, u_front / speed,
+           u_bottom / speed, x_bottom / LENGTH, x_upper / LENGTH,
+           u_upper / speed);
+    if (lost > 0 || edge <= 0.0)
+      printf("# t/tau=%.2f: %zu points with a non-finite position, edge "
+             "%g m\n",
+             marks[m], lost, edge);
+    fflush(stdout);
+  }
+  gm_domain_destroy(domain);
+  free(x);
+  free(u);
+  free(ids);
+  free(occupied);
+  free(y0);
+  free(start.done);
+  return 0;
+}
