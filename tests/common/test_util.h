@@ -26,6 +26,16 @@
                            : gm_last_create_error());                          \
   } while (0)
 
+/* Fails the test with the printf-style message unless cond holds. Unlike
+ * ck_assert_msg it does not report a passing check to the Check runner (one
+ * pipe write per check), which would dominate the tests that make millions
+ * of checks (shape, overlap and CPDI sampling). */
+#define REQUIRE(cond, ...)                                                     \
+  do {                                                                         \
+    if (!(cond))                                                               \
+      ck_abort_msg(__VA_ARGS__);                                               \
+  } while (0)
+
 /* Short name of an update scheme, for failure messages. */
 static inline const char *test_shape_name(gm_shape shape) {
   switch (shape) {

@@ -51,13 +51,6 @@ static const double cell_size = 0.37;
 static const int64_t cell_count[2] = {27, 19};
 enum { SAMPLE_COUNT = 20000 };
 
-/* Fails the test unless cond holds, without reporting passing checks. */
-#define REQUIRE(cond, ...)                                                     \
-  do {                                                                         \
-    if (!(cond))                                                               \
-      ck_abort_msg(__VA_ARGS__);                                               \
-  } while (0)
-
 static const gm_shape bsplines[2] = {GM_SHAPE_BSPLINE2, GM_SHAPE_BSPLINE3};
 
 static int degree_of(gm_shape shape) {

@@ -51,14 +51,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Fails the test with the message unless cond holds, without reporting
- * every passing check to the Check runner. */
-#define REQUIRE(cond, ...)                                                     \
-  do {                                                                         \
-    if (!(cond))                                                               \
-      ck_abort_msg(__VA_ARGS__);                                               \
-  } while (0)
-
 static const gm_shape all_shapes[4] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
                                        GM_SHAPE_CPGIMP, GM_SHAPE_CPDI};
 

@@ -21,14 +21,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Fails the test with the message unless cond holds, without reporting
- * each passing check to the Check runner (one pipe write per check). */
-#define REQUIRE(cond, ...)                                                     \
-  do {                                                                         \
-    if (!(cond))                                                               \
-      ck_abort_msg(__VA_ARGS__);                                               \
-  } while (0)
-
 /* A field of every point, in point-index order (caller frees). */
 static double *get_field(const gm_domain *domain, gm_field field,
                          size_t *components) {

@@ -29,6 +29,7 @@
 #include "granular/interaction.h"
 
 #include "test_random.h"
+#include "test_util.h"
 
 #include <check.h>
 #include <float.h>
@@ -45,14 +46,6 @@ enum {
   SAMPLES_1D = 2000,      /* points along a 1D segment */
   PAIRS_PER_KIND = 1000   /* random pairs per kind */
 };
-
-/* Fails the test with the message unless cond holds, without reporting
- * every passing check to the Check runner (millions of checks here). */
-#define REQUIRE(cond, ...)                                                     \
-  do {                                                                         \
-    if (!(cond))                                                               \
-      ck_abort_msg(__VA_ARGS__);                                               \
-  } while (0)
 
 static double random_sign(void) {
   return lcg_uniform() < 0.5 ? -1.0 : 1.0;

@@ -39,14 +39,6 @@ static const double pi = 3.14159265358979323846; /* M_PI is not C11 */
 
 enum { PAIRS_PER_KIND = 2000 };
 
-/* Fails the test with the message unless cond holds, without reporting
- * every passing check to the Check runner. */
-#define REQUIRE(cond, ...)                                                     \
-  do {                                                                         \
-    if (!(cond))                                                               \
-      ck_abort_msg(__VA_ARGS__);                                               \
-  } while (0)
-
 /* ------------------------------------------------------ small algebra */
 
 static double dot(const double u[3], const double v[3]) {

@@ -30,6 +30,7 @@
 #include "shapes/support.h"
 
 #include "test_random.h"
+#include "test_util.h"
 
 #include <check.h>
 #include <float.h>
@@ -48,15 +49,6 @@ enum {
   SAMPLE_COUNT = 4000, /* random points per variant and dimension */
   WINDOW = 14          /* nodes per axis compared around a point */
 };
-
-/* Fails the test with the message unless cond holds. Unlike
- * ck_assert_msg it does not report a passing check to the Check runner: a
- * pipe write per check would dominate the ~10^7 checks made here. */
-#define REQUIRE(cond, ...)                                                     \
-  do {                                                                         \
-    if (!(cond))                                                               \
-      ck_abort_msg(__VA_ARGS__);                                               \
-  } while (0)
 
 static const gm_shape all_shapes[4] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
                                        GM_SHAPE_CPGIMP, GM_SHAPE_CPDI};
