@@ -28,6 +28,9 @@ typedef struct gm_p2g_pass {
 } gm_p2g_pass;
 void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass);
 void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
+/* gm_p2g and gm_grid_update leave the image and ghost nodes as they computed
+ * them: the folds, mirrors and copies below are stages of their own after
+ * them (step.c). */
 /* B-splines on the box faces by images (bspline_faces.c; no-ops for the
  * other shapes): after a scatter, each ghost node's sums go to its mirror
  * node; after a grid update, each ghost node takes its mirror's velocity

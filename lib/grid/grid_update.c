@@ -281,6 +281,4 @@ void gm_grid_update(gm_domain *domain, double dt, int mode) {
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks, &ctx);
   if (ctx.wall_friction) /* serial: worker-independent */
     gm_walls_share_friction(domain, dt, mode);
-  gm_bspline_mirror_ghosts(domain, mode); /* ghosts reflect their mirrors */
-  gm_periodic_copy_images(domain, mode);  /* images take their owners' */
 }

@@ -388,6 +388,4 @@ void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass) {
     ctx.blocks = grid->color_block + first;
     gm_parallel_for(&domain->pool, count, scatter_blocks, &ctx);
   }
-  gm_periodic_fold_images(domain, pass); /* periodic x: onto the owners */
-  gm_bspline_fold_ghosts(domain, pass);  /* images in the box faces */
 }

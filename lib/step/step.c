@@ -18,11 +18,23 @@
  *     SCATTER              P2G mass m_i (3.13), momentum m_i v_i (3.14),
  *                          force f_i from sigma_t (3.15)  [USL, MUSL]
  *     SCATTER_MOMENTUM     P2G mass (3.13), momentum (3.14)  [USF]
+ *     FOLD_PERIODIC_IMAGES after every scatter: periodic x faces, each
+ *                          image node's sums onto its owner a box length
+ *                          away (periodic.c)
+ *     FOLD_BSPLINE_GHOSTS  after every scatter: B-splines, each ghost
+ *                          node's sums onto its mirror node, held
+ *                          components negated (bspline_faces.c)
  *     MARK_RIGID_NODES     nodes a rigid material holds (rigid.c)
  *     MEASURE_WALL_GAPS    per node, gap to each wall and face (wall_gaps.c)
  *     GRID_SOLVE           v_i = p_i/m_i (3.14), a_i = f_i/m_i (3.15),
  *                          v_i^L = v_i + a_i dt (3.16), walls, rigid nodes
  *     GRID_VELOCITIES      v_i = p_i/m_i (3.14), walls, rigid nodes
+ *     MIRROR_BSPLINE_GHOSTS after every grid update: B-splines, each ghost
+ *                          node takes its mirror's reflected velocity (and
+ *                          acceleration after GRID_SOLVE)
+ *     COPY_PERIODIC_IMAGES after every grid update: periodic x faces, each
+ *                          image takes its owner's mass, velocity (and
+ *                          acceleration after GRID_SOLVE)
  *     STRESS_FIRST_HALF    USF: L, F, V, stress over dt/2 from v_t
  *                          (3.18-3.24)
  *     SCATTER_FORCES       USF: P2G momentum again and f_i (3.15) from
@@ -64,10 +76,14 @@ typedef enum step_stage {
   STAGE_GRANULAR_PREPARE,
   STAGE_SCATTER,
   STAGE_SCATTER_MOMENTUM,
+  STAGE_FOLD_PERIODIC_IMAGES,
+  STAGE_FOLD_BSPLINE_GHOSTS,
   STAGE_MARK_RIGID_NODES,
   STAGE_MEASURE_WALL_GAPS,
   STAGE_GRID_SOLVE,
   STAGE_GRID_VELOCITIES,
+  STAGE_MIRROR_BSPLINE_GHOSTS,
+  STAGE_COPY_PERIODIC_IMAGES,
   STAGE_STRESS_FIRST_HALF,
   STAGE_SCATTER_FORCES,
   STAGE_UPDATE_POINTS,
@@ -96,12 +112,20 @@ typedef enum step_stage {
 static const step_stage usl_stages[] = {STAGE_BIN,
                                         STAGE_GRANULAR_PREPARE,
                                         STAGE_SCATTER,
+                                        STAGE_FOLD_PERIODIC_IMAGES,
+                                        STAGE_FOLD_BSPLINE_GHOSTS,
                                         STAGE_MARK_RIGID_NODES,
                                         STAGE_MEASURE_WALL_GAPS,
                                         STAGE_GRID_SOLVE,
+                                        STAGE_MIRROR_BSPLINE_GHOSTS,
+                                        STAGE_COPY_PERIODIC_IMAGES,
                                         STAGE_UPDATE_POINTS,
                                         STAGE_REMAP_MOMENTUM,
+                                        STAGE_FOLD_PERIODIC_IMAGES,
+                                        STAGE_FOLD_BSPLINE_GHOSTS,
                                         STAGE_GRID_VELOCITIES,
+                                        STAGE_MIRROR_BSPLINE_GHOSTS,
+                                        STAGE_COPY_PERIODIC_IMAGES,
                                         STAGE_DEFORM,
                                         STAGE_RIGID_POINTS,
                                         STAGE_END};
@@ -111,12 +135,20 @@ static const step_stage usl_stages[] = {STAGE_BIN,
 static const step_stage musl_stages[] = {STAGE_BIN,
                                          STAGE_GRANULAR_PREPARE,
                                          STAGE_SCATTER,
+                                         STAGE_FOLD_PERIODIC_IMAGES,
+                                         STAGE_FOLD_BSPLINE_GHOSTS,
                                          STAGE_MARK_RIGID_NODES,
                                          STAGE_MEASURE_WALL_GAPS,
                                          STAGE_GRID_SOLVE,
+                                         STAGE_MIRROR_BSPLINE_GHOSTS,
+                                         STAGE_COPY_PERIODIC_IMAGES,
                                          STAGE_UPDATE_VELOCITIES,
                                          STAGE_REMAP_MOMENTUM,
+                                         STAGE_FOLD_PERIODIC_IMAGES,
+                                         STAGE_FOLD_BSPLINE_GHOSTS,
                                          STAGE_GRID_VELOCITIES,
+                                         STAGE_MIRROR_BSPLINE_GHOSTS,
+                                         STAGE_COPY_PERIODIC_IMAGES,
                                          STAGE_MOVE_AND_DEFORM,
                                          STAGE_RIGID_POINTS,
                                          STAGE_END};
@@ -140,15 +172,27 @@ static const step_stage musl_stages[] = {STAGE_BIN,
 static const step_stage usf_stages[] = {STAGE_BIN,
                                         STAGE_GRANULAR_PREPARE,
                                         STAGE_SCATTER_MOMENTUM,
+                                        STAGE_FOLD_PERIODIC_IMAGES,
+                                        STAGE_FOLD_BSPLINE_GHOSTS,
                                         STAGE_MARK_RIGID_NODES,
                                         STAGE_MEASURE_WALL_GAPS,
                                         STAGE_GRID_VELOCITIES,
+                                        STAGE_MIRROR_BSPLINE_GHOSTS,
+                                        STAGE_COPY_PERIODIC_IMAGES,
                                         STAGE_STRESS_FIRST_HALF,
                                         STAGE_SCATTER_FORCES,
+                                        STAGE_FOLD_PERIODIC_IMAGES,
+                                        STAGE_FOLD_BSPLINE_GHOSTS,
                                         STAGE_GRID_SOLVE,
+                                        STAGE_MIRROR_BSPLINE_GHOSTS,
+                                        STAGE_COPY_PERIODIC_IMAGES,
                                         STAGE_UPDATE_POINTS,
                                         STAGE_REMAP_MOMENTUM,
+                                        STAGE_FOLD_PERIODIC_IMAGES,
+                                        STAGE_FOLD_BSPLINE_GHOSTS,
                                         STAGE_GRID_VELOCITIES,
+                                        STAGE_MIRROR_BSPLINE_GHOSTS,
+                                        STAGE_COPY_PERIODIC_IMAGES,
                                         STAGE_STRESS_SECOND_HALF,
                                         STAGE_RIGID_POINTS,
                                         STAGE_END};
@@ -180,10 +224,21 @@ static gm_status prepare_granular(gm_domain *domain) {
   return status;
 }
 
+/* What the stages of one attempt hand on to the ones after them: the
+ * folds add onto the owners and mirrors the fields the last scatter wrote
+ * (mass only once: a re-map adds momentum onto the folded mass), and the
+ * mirror and copy take what the last grid update wrote (accelerations only
+ * after a GM_GRID_FULL one). */
+typedef struct step_attempt {
+  gm_p2g_pass scattered; /* the last P2G pass */
+  int grid_mode;         /* the last grid update's GM_GRID_* mode */
+} step_attempt;
+
 /* Runs one stage of an attempt over dt, then collects the workers'
  * errors. Every pass reads the committed buffer cur (velocities, stress)
  * or what an earlier stage of this attempt wrote to the next one. */
-static gm_status run_stage(gm_domain *domain, step_stage stage, double dt) {
+static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
+                           step_attempt *attempt) {
   int cur = domain->points.cur;
   /* Host-written inputs are screened only when the host had the chance to
    * write them; otherwise they come from a checked step. */
@@ -200,13 +255,21 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt) {
   case STAGE_SCATTER: {
     gm_p2g_pass pass = {true, true, true, cur, cur, edited};
     gm_p2g(domain, &pass);
+    attempt->scattered = pass;
     break;
   }
   case STAGE_SCATTER_MOMENTUM: {
     gm_p2g_pass pass = {true, true, false, cur, cur, edited};
     gm_p2g(domain, &pass);
+    attempt->scattered = pass;
     break;
   }
+  case STAGE_FOLD_PERIODIC_IMAGES: /* periodic x: images onto owners */
+    gm_periodic_fold_images(domain, &attempt->scattered);
+    break;
+  case STAGE_FOLD_BSPLINE_GHOSTS: /* B-spline faces: ghosts onto mirrors */
+    gm_bspline_fold_ghosts(domain, &attempt->scattered);
+    break;
   case STAGE_MARK_RIGID_NODES: /* the nodes rigid points reach (rigid.c) */
     if (domain->rigid_count > 0)
       gm_rigid_mark_nodes(domain);
@@ -219,9 +282,17 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt) {
     break;
   case STAGE_GRID_SOLVE:
     gm_grid_update(domain, dt, GM_GRID_FULL);
+    attempt->grid_mode = GM_GRID_FULL;
     break;
   case STAGE_GRID_VELOCITIES:
     gm_grid_update(domain, dt, GM_GRID_VELOCITY_ONLY);
+    attempt->grid_mode = GM_GRID_VELOCITY_ONLY;
+    break;
+  case STAGE_MIRROR_BSPLINE_GHOSTS: /* ghosts reflect their mirrors */
+    gm_bspline_mirror_ghosts(domain, attempt->grid_mode);
+    break;
+  case STAGE_COPY_PERIODIC_IMAGES: /* images take their owners' values */
+    gm_periodic_copy_images(domain, attempt->grid_mode);
     break;
   case STAGE_STRESS_FIRST_HALF: {
     gm_g2p_pass pass = {false, false, true, false, 0.5 * dt, false};
@@ -235,6 +306,7 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt) {
      * forces come from the half-updated stress in the next buffer. */
     gm_p2g_pass pass = {false, true, true, cur, cur ^ 1, false};
     gm_p2g(domain, &pass);
+    attempt->scattered = pass;
     break;
   }
   case STAGE_UPDATE_POINTS: {
@@ -252,6 +324,7 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt) {
      * the next buffer (Sulsky, Zhou & Schreyer 1995). */
     gm_p2g_pass pass = {false, true, false, cur ^ 1, cur, false};
     gm_p2g(domain, &pass);
+    attempt->scattered = pass;
     break;
   }
   case STAGE_DEFORM: {
@@ -296,9 +369,10 @@ static gm_status try_step(gm_domain *domain, double dt, bool allow_reorder) {
   domain->current_dt = dt;
   gm_status status = GM_OK;
   if (domain->points.count > 0) {
+    step_attempt attempt = {.grid_mode = GM_GRID_FULL}; /* set before read */
     for (const step_stage *stage = scheme_stages(domain->def.scheme);
          *stage != STAGE_END && status == GM_OK; stage++)
-      status = run_stage(domain, *stage, dt);
+      status = run_stage(domain, *stage, dt, &attempt);
     if (status != GM_OK)
       return status;
     domain->points.cur ^= 1;
