@@ -3,7 +3,7 @@
  * for docs/convergence.md section 18 (issue 13): where and when the front
  * of a finer grid takes its lead.
  *
- * The scene is energy_budget's collapse (examples/column_collapse: a = H/L0,
+ * The scene is collapse_scene.c's (examples/column_collapse: a = H/L0,
  * L0 = 0.15 m, rho 1800 kg/m^3, nu 0.3, E 0.5 MPa, Mohr-Coulomb psi = 0
  * unless --dilation,
  * frictionless back wall, floor --floor slip|face), with the built-in
@@ -33,12 +33,15 @@
  * material on each point's first update; 0 = stress-free, the example's start).
  * Build after `make` in the worktree:
  *   gcc -std=c11 -O2 -Iinclude bench/convergence/toe_probe.c \
- *     -Lbuild/lib/.libs -lgranmpm -lm -o toe_probe
+ *     bench/convergence/collapse_scene.c -Lbuild/lib/.libs -lgranmpm -lm \
+ *     -o toe_probe
  *   LD_LIBRARY_PATH=build/lib/.libs ./toe_probe --cell 0.0075 --ppc 2 \
  *     --method bspline2 --friction 37 --floor slip
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "collapse_scene.h"
+
 #include <granmpm.h>
 
 #include <math.h>
@@ -46,11 +49,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const double PI = 3.14159265358979323846;
-static const double GRAVITY = 9.81;                   /* m/s^2 */
-static const double CRITICAL_RATIO = 2235.0 / 2250.0; /* 000 Table 1 */
-static const double LENGTH = 0.15;                    /* L0, m */
-static const double DENSITY = 1800.0;                 /* kg/m^3 */
+static const double PI = COLLAPSE_PI;
+static const double GRAVITY = COLLAPSE_GRAVITY; /* m/s^2 */
+static const double DENSITY = COLLAPSE_DENSITY; /* kg/m^3 */
 
 /* The geostatic start (--k0): the wrapped material and the points that
  * already received their initial stress. */
@@ -82,17 +83,7 @@ static int start_update(const gm_material_batch *batch, void *user,
              : gm_mohr_coulomb_update(batch, &s->mc, message, message_size);
 }
 
-static int fail(gm_domain *domain, const char *what, gm_status status) {
-  fprintf(stderr, "%s: %s (%s)\n", what, gm_strerror(status),
-          domain ? gm_domain_last_error(domain) : gm_last_create_error());
-  return 1;
-}
-#define CHECK(domain, call)                                                    \
-  do {                                                                         \
-    gm_status check_status_ = (call);                                          \
-    if (check_status_ != GM_OK)                                                \
-      return fail((domain), #call, check_status_);                             \
-  } while (0)
+#define CHECK COLLAPSE_CHECK
 
 int main(int argc, char **argv) {
   double cell = 0.0075, aspect = 1.3, friction = 37.0, youngs = 5e5, cfl = 0.0;
@@ -138,20 +129,19 @@ int main(int argc, char **argv) {
     fprintf(stderr, "an option is out of range\n");
     return 2;
   }
-  double height = aspect * LENGTH, tau = sqrt(height / GRAVITY);
-  double law = 1.2 * aspect;
-  gm_domain_def def = gm_domain_def_default();
-  def.cell_size = cell;
-  def.shape = shape;
-  def.family = family;
-  def.worker_count = 1;
-  if (cfl > 0.0)
-    def.cfl = cfl;
-  def.extent[0] = LENGTH * (2.0 + 2.0 * law);
-  def.extent[1] = 1.25 * height + 4.0 * cell;
-  def.gravity[1] = -GRAVITY;
-  def.walls[GM_FACE_YMIN] =
-      !strcmp(floor_kind, "face") ? GM_WALL_FIXED : GM_WALL_SLIP;
+  collapse_scene scene = {.cell = cell,
+                          .ppc = ppc,
+                          .shape = shape,
+                          .family = family,
+                          .workers = 1,
+                          .cfl = cfl,
+                          .aspect = aspect,
+                          .length = 0.15,
+                          .floor =
+                              !strcmp(floor_kind, "face") ? "face" : "slip"};
+  double height = collapse_scene_height(&scene);
+  double tau = collapse_scene_tau(&scene);
+  gm_domain_def def = collapse_scene_domain_def(&scene);
   gm_domain *domain = NULL;
   CHECK(NULL, gm_domain_create(&def, &domain));
   static start_stress start;
@@ -184,27 +174,14 @@ int main(int argc, char **argv) {
     CHECK(domain, gm_domain_add_elastic(domain, &start.el, &material));
   else
     CHECK(domain, gm_domain_add_mohr_coulomb(domain, &start.mc, &material));
-  if (family != GM_FAMILY_PLAIN) {
-    gm_granular_def granular = gm_granular_def_default();
-    granular.critical_density = CRITICAL_RATIO * DENSITY;
-    CHECK(domain, gm_domain_set_granular(domain, material, &granular));
-  }
-  gm_wall_def back = gm_wall_def_default();
-  back.normal[0] = 1.0;
-  back.normal[1] = 0.0;
-  int wall_id = -1;
-  CHECK(domain, gm_domain_add_wall(domain, &back, &wall_id));
-  gm_fill_def fill = gm_fill_def_default();
-  fill.points_per_cell_axis = ppc;
-  fill.material = material;
-  fill.upper[0] = LENGTH;
-  fill.upper[1] = height;
-  CHECK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
+  CHECK(domain, collapse_scene_set_granular(domain, &scene, material));
+  int floor_wall = -1;
+  CHECK(domain, collapse_scene_add_walls(domain, &scene, &floor_wall));
+  CHECK(domain, collapse_scene_fill(domain, &scene, material));
   size_t count = gm_domain_point_count(domain);
   double *x = malloc(2 * count * sizeof *x), *u = malloc(2 * count * sizeof *u);
   int64_t *ids = malloc(count * sizeof *ids);
-  size_t columns = (size_t)ceil(def.extent[0] / cell) + 2;
-  unsigned char *occupied = malloc(columns);
+  unsigned char *occupied = malloc(collapse_scene_columns(&scene));
   if (!x || !u || !ids || !occupied)
     return 2;
   CHECK(domain, gm_domain_get_field(domain, GM_FIELD_POSITION, x, 2 * count));
@@ -231,16 +208,7 @@ int main(int argc, char **argv) {
     CHECK(domain, gm_domain_get_field(domain, GM_FIELD_POSITION, x, 2 * count));
     CHECK(domain, gm_domain_get_field(domain, GM_FIELD_VELOCITY, u, 2 * count));
     CHECK(domain, gm_domain_get_ids(domain, ids, count));
-    memset(occupied, 0, columns);
-    for (size_t i = 0; i < count; i++) {
-      double c = floor(x[2 * i] / cell);
-      if (c >= 0.0 && c < (double)columns)
-        occupied[(size_t)c] = 1;
-    }
-    size_t first_empty = 0;
-    while (first_empty < columns && occupied[first_empty])
-      first_empty++;
-    double limit = (double)first_empty * cell;
+    double limit = collapse_scene_connected_limit(&scene, x, count, occupied);
     double edge = 0, u_front = 0, x_bottom = 0, u_bottom = 0;
     double x_upper = 0, u_upper = 0;
     size_t lost = 0; /* points with a non-finite position */
@@ -258,17 +226,17 @@ int main(int argc, char **argv) {
         u_bottom = u[2 * i];
       }
       for (int t = 0; t < 2; t++)
-        if (py + half >= level[t] * LENGTH)
+        if (py + half >= level[t] * scene.length)
           thick[t] = fmax(thick[t], px + half);
-      if (py > 0.1 * LENGTH && px + half > x_upper) {
+      if (py > 0.1 * scene.length && px + half > x_upper) {
         x_upper = px + half;
         u_upper = u[2 * i];
       }
     }
     printf("%.2f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", marks[m],
-           edge / LENGTH, thick[0] / LENGTH, thick[1] / LENGTH, u_front / speed,
-           u_bottom / speed, x_bottom / LENGTH, x_upper / LENGTH,
-           u_upper / speed);
+           edge / scene.length, thick[0] / scene.length,
+           thick[1] / scene.length, u_front / speed, u_bottom / speed,
+           x_bottom / scene.length, x_upper / scene.length, u_upper / speed);
     if (lost > 0 || edge <= 0.0)
       printf("# t/tau=%.2f: %zu points with a non-finite position, edge "
              "%g m\n",
