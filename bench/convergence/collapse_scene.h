@@ -87,6 +87,11 @@ double collapse_scene_front(const collapse_scene *scene,
                             const double *positions, size_t count,
                             unsigned char *occupied);
 
+/* The friction angle (rad) of a Drucker-Prager cone with g = q (psi = 0)
+ * that flows in plane strain at the same friction as Mohr-Coulomb of angle
+ * friction (rad) with psi = 0 (see collapse_scene.c). */
+double collapse_scene_dp_friction(double friction);
+
 /* Prints "what: status (the domain's or the creation's message)" on stderr
  * and returns 1. */
 int collapse_scene_fail(const gm_domain *domain, const char *what,

@@ -55,7 +55,11 @@
  * tan phi) or puts the slide scene's block on such a wall.
  * Other options: --cell --ppc --method --family --workers --rows --t-end
  * --aspect --friction --dilation --youngs --cfl --gap --speed --floor
- * --floor-mu.
+ * --floor-mu; --material perzyna --fluidity GAMMA (1/s) replaces
+ * Mohr-Coulomb with the Perzyna Drucker-Prager material (psi = 0, N = 1,
+ * sigma_n = max(m p, --reference-stress Pa), default 0: the paper's m p),
+ * its cone matched to --friction's flow in plane strain
+ * (collapse_scene_dp_friction).
  * Build and run from the worktree after `make`:
  *   gcc -std=c11 -O2 -Iinclude bench/convergence/energy_budget.c \
  *     bench/convergence/collapse_scene.c -Lbuild/lib/.libs -lgranmpm -lm \
@@ -85,7 +89,9 @@ enum { PHASE_COUNT = 6 };                       /* budgets at 1..6 tau_c */
 /* The wrapped material and its accumulated work. */
 typedef struct budget_material {
   int plastic;                        /* 1: Mohr-Coulomb, 0: elastic */
+  int perzyna;                        /* plastic: 1 Perzyna instead of MC */
   gm_mohr_coulomb_def mc;             /* used when plastic */
+  gm_perzyna_def viscoplastic;        /* used when plastic and perzyna */
   gm_elastic_def elastic;             /* used otherwise */
   const double *mass_by_id;           /* kg/m, indexed by point id */
   double work[MAX_WORKERS * PAD];     /* J/m, W_int per worker */
@@ -113,9 +119,12 @@ static int budget_update(const gm_material_batch *batch, void *user,
     old_work += material->mass_by_id[batch->point_id[i]] / batch->density[i] *
                 contract(batch, i);
   int status =
-      material->plastic
-          ? gm_mohr_coulomb_update(batch, &material->mc, message, message_size)
-          : gm_elastic_update(batch, &material->elastic, message, message_size);
+      !material->plastic
+          ? gm_elastic_update(batch, &material->elastic, message, message_size)
+      : material->perzyna
+          ? gm_perzyna_update(batch, &material->viscoplastic, message,
+                              message_size)
+          : gm_mohr_coulomb_update(batch, &material->mc, message, message_size);
   if (status != 0)
     return status;
   for (size_t i = 0; i < batch->count; i++)
@@ -140,6 +149,11 @@ typedef struct options {
                         face (no-slip box face) | slip (frictionless face) */
   double floor_mu;   /* mu of the wall floor; < 0: tan phi */
   const char *history;
+  const char *material; /* mc (Mohr-Coulomb) | perzyna (Perzyna
+                           Drucker-Prager, psi = 0, its cone matched to
+                           --friction's plane-strain flow) */
+  double fluidity;      /* perzyna: gamma, 1/s */
+  double reference;     /* perzyna: sigma_n = max(m p, this), Pa */
 } options;
 
 /* Everything the rows need. */
@@ -350,6 +364,15 @@ static int add_material(budget_run *run, int plastic) {
   m->mc.friction_angle = o->friction_deg * PI / 180.0;
   m->mc.dilation_angle = o->dilation_deg * PI / 180.0;
   m->mc.bagnold_viscosity = 0.0;
+  m->perzyna = strcmp(o->material, "perzyna") == 0;
+  m->viscoplastic = gm_perzyna_def_default();
+  m->viscoplastic.youngs_modulus = o->youngs;
+  m->viscoplastic.poisson_ratio = o->poisson;
+  m->viscoplastic.density = run->density;
+  m->viscoplastic.friction_angle =
+      collapse_scene_dp_friction(o->friction_deg * PI / 180.0);
+  m->viscoplastic.fluidity = o->fluidity;
+  m->viscoplastic.reference_stress = o->reference;
   m->elastic = gm_elastic_def_default();
   m->elastic.youngs_modulus = o->youngs;
   m->elastic.poisson_ratio = o->poisson;
@@ -357,14 +380,19 @@ static int add_material(budget_run *run, int plastic) {
   int id = -1;
   gm_status status;
   if (o->builtin)
-    status = plastic ? gm_domain_add_mohr_coulomb(domain, &m->mc, &id)
-                     : gm_domain_add_elastic(domain, &m->elastic, &id);
+    status = !plastic     ? gm_domain_add_elastic(domain, &m->elastic, &id)
+             : m->perzyna ? gm_domain_add_perzyna(domain, &m->viscoplastic, &id)
+                          : gm_domain_add_mohr_coulomb(domain, &m->mc, &id);
   else {
     gm_material_def def = gm_material_def_default();
-    def.name = plastic ? "mohr_coulomb_budget" : "elastic_budget";
+    def.name = !plastic     ? "elastic_budget"
+               : m->perzyna ? "perzyna_budget"
+                            : "mohr_coulomb_budget";
     def.update = budget_update;
     def.user = m;
-    def.state_count = plastic ? GM_MOHR_COULOMB_STATE_COUNT : 0;
+    def.state_count = !plastic     ? 0
+                      : m->perzyna ? GM_PERZYNA_STATE_COUNT
+                                   : GM_MOHR_COULOMB_STATE_COUNT;
     /* the same expression as the built-in's, so the same stable dt */
     def.p_wave_modulus = o->youngs * (1.0 - o->poisson) /
                          ((1.0 + o->poisson) * (1.0 - 2.0 * o->poisson));
@@ -596,6 +624,12 @@ static int parse(int argc, char **argv, options *o) {
       o->floor_mu = number;
     else if (strcmp(name, "--history") == 0)
       o->history = value;
+    else if (strcmp(name, "--material") == 0)
+      o->material = value;
+    else if (strcmp(name, "--fluidity") == 0)
+      o->fluidity = number;
+    else if (strcmp(name, "--reference-stress") == 0)
+      o->reference = number;
     else if (strcmp(name, "--method") == 0) {
       if (parse_shape(value, &o->shape)) {
         fprintf(stderr, "--method %s unknown\n", value);
@@ -629,6 +663,11 @@ static int parse(int argc, char **argv, options *o) {
     fprintf(stderr, "--floor %s is not wall, face or slip\n", o->floor);
     return 2;
   }
+  if ((strcmp(o->material, "mc") != 0 && strcmp(o->material, "perzyna") != 0) ||
+      (strcmp(o->material, "perzyna") == 0 && !(o->fluidity > 0.0))) {
+    fprintf(stderr, "--material is mc or perzyna (with --fluidity > 0)\n");
+    return 2;
+  }
   return 0;
 }
 
@@ -647,7 +686,9 @@ int main(int argc, char **argv) {
                .gap = 0.1,
                .speed = 1.0,
                .floor = "wall",
-               .floor_mu = -1.0};
+               .floor_mu = -1.0,
+               .material = "mc",
+               .fluidity = 0.0};
   int status = parse(argc, argv, &o);
   if (status != 0)
     return status;
