@@ -29,10 +29,11 @@
  *
  * Scenes (the first argument):
  *   collapse  the planar column collapse of examples/column_collapse (a, L0,
- *             grid box, walls, fill, 6 tau_c in 200 rows, the connected
- *             deposit's front), Mohr-Coulomb, rho 1800, nu 0.3, E 0.5 MPa;
- *             --floor wall|face as the example, or slip (a frictionless
- *             box face: no floor friction, to tell the floor's share)
+ *             grid box, walls, fill and the connected deposit's front
+ *             from collapse_scene.c; 6 tau_c in 200 rows), Mohr-Coulomb,
+ *             rho 1800, nu 0.3, E 0.5 MPa; --floor wall|face as the
+ *             example, or slip (a frictionless box face: no floor
+ *             friction, to tell the floor's share)
  *   bar       an elastic free-free bar (1 m x 0.1 m, E --youngs, rho 1000,
  *             no gravity, no walls) started in its first axial mode,
  *             v_x = v0 cos(pi x / L): KE + E_el must stay KE(0)
@@ -54,10 +55,15 @@
  * tan phi) or puts the slide scene's block on such a wall.
  * Other options: --cell --ppc --method --family --workers --rows --t-end
  * --aspect --friction --dilation --youngs --cfl --gap --speed --floor
- * --floor-mu.
+ * --floor-mu; --material perzyna --fluidity GAMMA (1/s) replaces
+ * Mohr-Coulomb with the Perzyna Drucker-Prager material (psi = 0, N = 1,
+ * sigma_n = max(m p, --reference-stress Pa), default 0: the paper's m p),
+ * its cone matched to --friction's flow in plane strain
+ * (collapse_scene_dp_friction).
  * Build and run from the worktree after `make`:
  *   gcc -std=c11 -O2 -Iinclude bench/convergence/energy_budget.c \
- *     -Lbuild/lib/.libs -lgranmpm -lm -o energy_budget
+ *     bench/convergence/collapse_scene.c -Lbuild/lib/.libs -lgranmpm -lm \
+ *     -o energy_budget
  *   LD_LIBRARY_PATH=build/lib/.libs ./energy_budget collapse --aspect 1.3 \
  *     --method bspline2 --friction 37 --floor face --family plain \
  *     --cell 0.015 --ppc 2
@@ -66,6 +72,8 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "collapse_scene.h"
+
 #include <granmpm.h>
 
 #include <math.h>
@@ -73,16 +81,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const double PI = 3.14159265358979323846;
-static const double GRAVITY = 9.81;                   /* m/s^2 */
-static const double CRITICAL_RATIO = 2235.0 / 2250.0; /* 000 Table 1 */
-enum { MAX_WORKERS = 64, PAD = 8 }; /* one cache line per worker */
-enum { PHASE_COUNT = 6 };           /* budgets at 1..6 tau_c */
+static const double PI = COLLAPSE_PI;
+static const double GRAVITY = COLLAPSE_GRAVITY; /* m/s^2 */
+enum { MAX_WORKERS = 64, PAD = 8 };             /* one cache line per worker */
+enum { PHASE_COUNT = 6 };                       /* budgets at 1..6 tau_c */
 
 /* The wrapped material and its accumulated work. */
 typedef struct budget_material {
   int plastic;                        /* 1: Mohr-Coulomb, 0: elastic */
+  int perzyna;                        /* plastic: 1 Perzyna instead of MC */
   gm_mohr_coulomb_def mc;             /* used when plastic */
+  gm_perzyna_def viscoplastic;        /* used when plastic and perzyna */
   gm_elastic_def elastic;             /* used otherwise */
   const double *mass_by_id;           /* kg/m, indexed by point id */
   double work[MAX_WORKERS * PAD];     /* J/m, W_int per worker */
@@ -110,9 +119,12 @@ static int budget_update(const gm_material_batch *batch, void *user,
     old_work += material->mass_by_id[batch->point_id[i]] / batch->density[i] *
                 contract(batch, i);
   int status =
-      material->plastic
-          ? gm_mohr_coulomb_update(batch, &material->mc, message, message_size)
-          : gm_elastic_update(batch, &material->elastic, message, message_size);
+      !material->plastic
+          ? gm_elastic_update(batch, &material->elastic, message, message_size)
+      : material->perzyna
+          ? gm_perzyna_update(batch, &material->viscoplastic, message,
+                              message_size)
+          : gm_mohr_coulomb_update(batch, &material->mc, message, message_size);
   if (status != 0)
     return status;
   for (size_t i = 0; i < batch->count; i++)
@@ -137,11 +149,17 @@ typedef struct options {
                         face (no-slip box face) | slip (frictionless face) */
   double floor_mu;   /* mu of the wall floor; < 0: tan phi */
   const char *history;
+  const char *material; /* mc (Mohr-Coulomb) | perzyna (Perzyna
+                           Drucker-Prager, psi = 0, its cone matched to
+                           --friction's plane-strain flow) */
+  double fluidity;      /* perzyna: gamma, 1/s */
+  double reference;     /* perzyna: sigma_n = max(m p, this), Pa */
 } options;
 
 /* Everything the rows need. */
 typedef struct budget_run {
   const options *opt;
+  collapse_scene scene; /* the collapse's geometry (scene "collapse") */
   gm_domain *domain;
   budget_material *material;
   double density;            /* kg/m^3 of the material */
@@ -191,28 +209,13 @@ static double elastic_energy(budget_run *run) {
 }
 
 /* The right edge of the deposit connected to the back wall (m), as
- * examples/column_collapse measures it: cell columns walked from x = 0 to
- * the first empty one, half a point spacing beyond the outermost centre. */
+ * examples/column_collapse measures it (collapse_scene_front). */
 static double deposit_front(budget_run *run) {
-  size_t n = run->count;
-  double cell = run->opt->cell, half = 0.5 * cell / run->opt->ppc;
   if (gm_domain_get_field(run->domain, GM_FIELD_POSITION, run->positions,
-                          2 * n) != GM_OK)
+                          2 * run->count) != GM_OK)
     return NAN;
-  memset(run->occupied, 0, run->column_count);
-  for (size_t i = 0; i < n; i++) {
-    double column = floor(run->positions[2 * i] / cell);
-    if (column >= 0.0 && column < (double)run->column_count)
-      run->occupied[(size_t)column] = 1;
-  }
-  size_t first_empty = 0;
-  while (first_empty < run->column_count && run->occupied[first_empty])
-    first_empty++;
-  double limit = (double)first_empty * cell, front = 0.0;
-  for (size_t i = 0; i < n; i++)
-    if (run->positions[2 * i] < limit)
-      front = fmax(front, run->positions[2 * i] + half);
-  return front;
+  return collapse_scene_front(&run->scene, run->positions, run->count,
+                              run->occupied);
 }
 
 /* After every step with a Coulomb floor: the work its friction did, an
@@ -343,17 +346,10 @@ static void print_profile(const budget_run *run, double time) {
   printf("\n");
 }
 
-static int fail(gm_domain *domain, const char *what, gm_status status) {
-  fprintf(stderr, "%s: %s (%s)\n", what, gm_strerror(status),
-          domain ? gm_domain_last_error(domain) : gm_last_create_error());
-  return 1;
+static int fail(const gm_domain *domain, const char *what, gm_status status) {
+  return collapse_scene_fail(domain, what, status);
 }
-#define CHECK(domain, call)                                                    \
-  do {                                                                         \
-    gm_status check_status_ = (call);                                          \
-    if (check_status_ != GM_OK)                                                \
-      return fail((domain), #call, check_status_);                             \
-  } while (0)
+#define CHECK COLLAPSE_CHECK
 
 /* Registers the material (wrapped or built in); returns its id or -1. */
 static int add_material(budget_run *run, int plastic) {
@@ -368,6 +364,15 @@ static int add_material(budget_run *run, int plastic) {
   m->mc.friction_angle = o->friction_deg * PI / 180.0;
   m->mc.dilation_angle = o->dilation_deg * PI / 180.0;
   m->mc.bagnold_viscosity = 0.0;
+  m->perzyna = strcmp(o->material, "perzyna") == 0;
+  m->viscoplastic = gm_perzyna_def_default();
+  m->viscoplastic.youngs_modulus = o->youngs;
+  m->viscoplastic.poisson_ratio = o->poisson;
+  m->viscoplastic.density = run->density;
+  m->viscoplastic.friction_angle =
+      collapse_scene_dp_friction(o->friction_deg * PI / 180.0);
+  m->viscoplastic.fluidity = o->fluidity;
+  m->viscoplastic.reference_stress = o->reference;
   m->elastic = gm_elastic_def_default();
   m->elastic.youngs_modulus = o->youngs;
   m->elastic.poisson_ratio = o->poisson;
@@ -375,14 +380,19 @@ static int add_material(budget_run *run, int plastic) {
   int id = -1;
   gm_status status;
   if (o->builtin)
-    status = plastic ? gm_domain_add_mohr_coulomb(domain, &m->mc, &id)
-                     : gm_domain_add_elastic(domain, &m->elastic, &id);
+    status = !plastic     ? gm_domain_add_elastic(domain, &m->elastic, &id)
+             : m->perzyna ? gm_domain_add_perzyna(domain, &m->viscoplastic, &id)
+                          : gm_domain_add_mohr_coulomb(domain, &m->mc, &id);
   else {
     gm_material_def def = gm_material_def_default();
-    def.name = plastic ? "mohr_coulomb_budget" : "elastic_budget";
+    def.name = !plastic     ? "elastic_budget"
+               : m->perzyna ? "perzyna_budget"
+                            : "mohr_coulomb_budget";
     def.update = budget_update;
     def.user = m;
-    def.state_count = plastic ? GM_MOHR_COULOMB_STATE_COUNT : 0;
+    def.state_count = !plastic     ? 0
+                      : m->perzyna ? GM_PERZYNA_STATE_COUNT
+                                   : GM_MOHR_COULOMB_STATE_COUNT;
     /* the same expression as the built-in's, so the same stable dt */
     def.p_wave_modulus = o->youngs * (1.0 - o->poisson) /
                          ((1.0 + o->poisson) * (1.0 - 2.0 * o->poisson));
@@ -395,7 +405,7 @@ static int add_material(budget_run *run, int plastic) {
   }
   if (o->family != GM_FAMILY_PLAIN) {
     gm_granular_def granular = gm_granular_def_default();
-    granular.critical_density = CRITICAL_RATIO * run->density;
+    granular.critical_density = COLLAPSE_CRITICAL_RATIO * run->density;
     status = gm_domain_set_granular(domain, id, &granular);
     if (status != GM_OK) {
       fail(domain, "gm_domain_set_granular", status);
@@ -405,19 +415,22 @@ static int add_material(budget_run *run, int plastic) {
   return id;
 }
 
-static gm_status add_wall(gm_domain *domain, double normal_x, double normal_y,
-                          double friction) {
-  gm_wall_def wall = gm_wall_def_default();
-  wall.normal[0] = normal_x;
-  wall.normal[1] = normal_y;
-  wall.friction_static = wall.friction_kinetic = friction;
-  int wall_id = -1;
-  return gm_domain_add_wall(domain, &wall, &wall_id);
-}
-
 /* Builds the scene's domain and points; sets the default t_end. */
 static int build(budget_run *run, double *t_end) {
   const options *o = run->opt;
+  int collapse = strcmp(o->scene, "collapse") == 0;
+  run->scene = (collapse_scene){
+      .cell = o->cell,
+      .ppc = o->ppc,
+      .shape = o->shape,
+      .family = o->family,
+      .workers = o->workers,
+      .cfl = o->cfl,
+      .aspect = o->aspect,
+      .length = o->length,
+      .floor = o->floor,
+      .floor_mu =
+          o->floor_mu >= 0.0 ? o->floor_mu : tan(o->friction_deg * PI / 180)};
   gm_domain_def def = gm_domain_def_default();
   def.cell_size = o->cell;
   def.shape = o->shape;
@@ -427,22 +440,13 @@ static int build(budget_run *run, double *t_end) {
     def.cfl = o->cfl;
   gm_fill_def fill = gm_fill_def_default();
   fill.points_per_cell_axis = o->ppc;
-  int plastic = 1, face_floor = 1, slip_floor = 0, back_wall = 0;
-  if (strcmp(o->scene, "collapse") == 0) {
-    /* examples/column_collapse: size_scene and build_scene (a <= 1.8) */
-    double height = o->aspect * o->length;
-    double law =
-        o->aspect <= 1.8 ? 1.2 * o->aspect : 1.9 * pow(o->aspect, 2.0 / 3.0);
-    def.extent[0] = o->length * (2.0 + 2.0 * law);
-    def.extent[1] = 1.25 * height + 4.0 * o->cell;
-    def.gravity[1] = -GRAVITY;
-    run->density = 1800.0;
-    fill.upper[0] = o->length;
-    fill.upper[1] = height;
-    face_floor = strcmp(o->floor, "face") == 0;
-    slip_floor = strcmp(o->floor, "slip") == 0; /* frictionless box face */
-    back_wall = 1;
-    *t_end = 6.0 * sqrt(height / GRAVITY);
+  int plastic = 1, face_floor = 1;
+  if (collapse) {
+    /* examples/column_collapse's scene, collapse_scene.c */
+    def = collapse_scene_domain_def(&run->scene);
+    run->density = COLLAPSE_DENSITY;
+    face_floor = 0; /* the scene sets its floor */
+    *t_end = 6.0 * collapse_scene_tau(&run->scene);
   } else if (strcmp(o->scene, "bar") == 0) {
     def.extent[0] = 1.4;
     def.extent[1] = 0.5;
@@ -484,31 +488,34 @@ static int build(budget_run *run, double *t_end) {
   }
   if (face_floor)
     def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
-  if (slip_floor)
-    def.walls[GM_FACE_YMIN] = GM_WALL_SLIP;
   CHECK(NULL, gm_domain_create(&def, &run->domain));
   gm_domain *domain = run->domain;
   int material = add_material(run, plastic);
   if (material < 0)
     return 2;
   run->floor_wall = -1;
-  if ((strcmp(o->scene, "collapse") == 0 || strcmp(o->scene, "slide") == 0) &&
-      !face_floor && !slip_floor) {
-    double mu =
-        o->floor_mu >= 0.0 ? o->floor_mu : tan(o->friction_deg * PI / 180);
-    CHECK(domain, add_wall(domain, 0.0, 1.0, mu));
-    run->floor_wall = 0; /* the first wall added */
+  if (collapse) {
+    CHECK(domain,
+          collapse_scene_add_walls(domain, &run->scene, &run->floor_wall));
+    CHECK(domain, collapse_scene_fill(domain, &run->scene, material));
+  } else {
+    if (strcmp(o->scene, "slide") == 0 && !face_floor) {
+      gm_wall_def wall = gm_wall_def_default();
+      wall.normal[0] = 0.0;
+      wall.normal[1] = 1.0;
+      wall.friction_static = wall.friction_kinetic = o->floor_mu;
+      CHECK(domain, gm_domain_add_wall(domain, &wall, &run->floor_wall));
+    }
+    fill.material = material;
+    CHECK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
   }
-  if (back_wall)
-    CHECK(domain, add_wall(domain, 1.0, 0.0, 0.0));
-  fill.material = material;
-  CHECK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
   run->count = gm_domain_point_count(domain);
   size_t n = run->count;
   run->positions = malloc(2 * n * sizeof *run->positions);
   run->stresses = malloc(6 * n * sizeof *run->stresses);
   run->volumes = malloc(n * sizeof *run->volumes);
-  run->column_count = (size_t)ceil(def.extent[0] / o->cell) + 2;
+  run->column_count = collapse ? collapse_scene_columns(&run->scene)
+                               : (size_t)ceil(def.extent[0] / o->cell) + 2;
   run->occupied = malloc(run->column_count);
   run->velocities = malloc(2 * n * sizeof *run->velocities);
   run->node_weight = malloc((run->column_count + 1) * sizeof(double));
@@ -617,6 +624,12 @@ static int parse(int argc, char **argv, options *o) {
       o->floor_mu = number;
     else if (strcmp(name, "--history") == 0)
       o->history = value;
+    else if (strcmp(name, "--material") == 0)
+      o->material = value;
+    else if (strcmp(name, "--fluidity") == 0)
+      o->fluidity = number;
+    else if (strcmp(name, "--reference-stress") == 0)
+      o->reference = number;
     else if (strcmp(name, "--method") == 0) {
       if (parse_shape(value, &o->shape)) {
         fprintf(stderr, "--method %s unknown\n", value);
@@ -645,6 +658,16 @@ static int parse(int argc, char **argv, options *o) {
                     "workers 1..64, rows >= 1, 0 < aspect <= 1.8, E > 0)\n");
     return 2;
   }
+  if (strcmp(o->floor, "wall") != 0 && strcmp(o->floor, "face") != 0 &&
+      strcmp(o->floor, "slip") != 0) {
+    fprintf(stderr, "--floor %s is not wall, face or slip\n", o->floor);
+    return 2;
+  }
+  if ((strcmp(o->material, "mc") != 0 && strcmp(o->material, "perzyna") != 0) ||
+      (strcmp(o->material, "perzyna") == 0 && !(o->fluidity > 0.0))) {
+    fprintf(stderr, "--material is mc or perzyna (with --fluidity > 0)\n");
+    return 2;
+  }
   return 0;
 }
 
@@ -663,7 +686,9 @@ int main(int argc, char **argv) {
                .gap = 0.1,
                .speed = 1.0,
                .floor = "wall",
-               .floor_mu = -1.0};
+               .floor_mu = -1.0,
+               .material = "mc",
+               .fluidity = 0.0};
   int status = parse(argc, argv, &o);
   if (status != 0)
     return status;
