@@ -53,8 +53,8 @@ static GM_ALWAYS_INLINE void gather_chunk_2d_kind(const gather_view *v,
   bool axisymmetric = v->axisymmetric;
   for (size_t j = 0; j < count; j++) {
     double wx[2], dx[2], wy[2], dy[2];
-    int64_t cx = gm_shape_linear_axis(px[j], origin_x, inv_cell, wx, dx);
-    int64_t cy = gm_shape_linear_axis(py[j], origin_y, inv_cell, wy, dy);
+    int64_t cx = gm_shape_linear_axis_inside(px[j], origin_x, inv_cell, wx, dx);
+    int64_t cy = gm_shape_linear_axis_inside(py[j], origin_y, inv_cell, wy, dy);
     const uint32_t *links =
         neighbour + (size_t)point_block[j] * GM_BLOCK_NEIGHBOURS;
     int64_t local_x = cx & mask, local_y = cy & mask;

@@ -197,8 +197,8 @@ scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
     if (v->skip_rigid && v->rigid[v->material[p]])
       continue; /* rigid points take no part (rigid.c) */
     double wx[2], dx[2], wy[2], dy[2];
-    int64_t cx = gm_shape_linear_axis(px[p], origin_x, inv_cell, wx, dx);
-    int64_t cy = gm_shape_linear_axis(py[p], origin_y, inv_cell, wy, dy);
+    int64_t cx = gm_shape_linear_axis_inside(px[p], origin_x, inv_cell, wx, dx);
+    int64_t cy = gm_shape_linear_axis_inside(py[p], origin_y, inv_cell, wy, dy);
     size_t t = (size_t)((cx & mask) + TILE * (cy & mask));
     double m = point_mass[p];
     for (int b = 0; b < 2; b++) {
