@@ -273,12 +273,19 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
     double origin = v->origin[k], inv_cell = v->inv_cell, cells = v->cells[k];
     bool axis_inside = true;
     bool wrap = k == 0 && v->periodic_x;
-    for (size_t j = 0; j < count; j++) {
-      next[j] = position[j] + dt * velocity[j];
-      if (wrap)
-        next[j] = wrap_periodic(v, next[j]);
-      double scaled = (next[j] - origin) * inv_cell;
-      axis_inside &= scaled >= GM_GHOST_LAYERS && scaled < cells;
+    if (!wrap) { /* the same arithmetic, no test per point but the bounds */
+      for (size_t j = 0; j < count; j++) {
+        double moved = position[j] + dt * velocity[j];
+        next[j] = moved;
+        double scaled = (moved - origin) * inv_cell;
+        axis_inside &= (scaled >= GM_GHOST_LAYERS) & (scaled < cells);
+      }
+    } else {
+      for (size_t j = 0; j < count; j++) {
+        next[j] = wrap_periodic(v, position[j] + dt * velocity[j]);
+        double scaled = (next[j] - origin) * inv_cell;
+        axis_inside &= scaled >= GM_GHOST_LAYERS && scaled < cells;
+      }
     }
     inside = inside && axis_inside;
   }
