@@ -289,7 +289,13 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
         continue;
       int64_t ix = base_x + (int64_t)(local & (size_t)(edge - 1));
       int64_t iy = dim > 1 ? base_y + (int64_t)(local >> shift) : 0;
-      if (block_on_wall) {
+      /* constrain_faces acts on face and ghost nodes only (and the
+       * symmetry axis, a face node): the others of the block are left as
+       * they are, without the call. */
+      bool on_face = block_on_wall &&
+                     (ix <= GM_GHOST_LAYERS || ix >= face_x ||
+                      (dim > 1 && (iy <= GM_GHOST_LAYERS || iy >= face_y)));
+      if (on_face) {
         bool held[2];
         double velocity[2] = {grid->momentum[0][node],
                               dim > 1 ? grid->momentum[1][node] : 0.0};
