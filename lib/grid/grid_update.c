@@ -190,6 +190,42 @@ static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
   }
 }
 
+/* The nodes of a 2D block that no box face, planar wall or rigid body
+ * touches: the loop of update_blocks without the per-node tests of the
+ * mode, the dimension and the boundaries (the same expressions, so the
+ * same bits). Most blocks of a scene are such blocks. */
+static void update_free_block_2d(gm_grid *grid, size_t b, double dt,
+                                 double damping, bool velocity_only) {
+  size_t first = b * GM_BLOCK_NODES;
+  const double *restrict mass = grid->mass + first;
+  double *restrict momentum_x = grid->momentum[0] + first;
+  double *restrict momentum_y = grid->momentum[1] + first;
+  double *restrict force_x = grid->force[0] + first;
+  double *restrict force_y = grid->force[1] + first;
+  if (velocity_only) {
+    for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
+      double inverse_mass = mass[local] > 0.0 ? 1.0 / mass[local] : 0.0;
+      momentum_x[local] = momentum_x[local] * inverse_mass;
+      momentum_y[local] = momentum_y[local] * inverse_mass;
+    }
+    return;
+  }
+  for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
+    double inverse_mass = mass[local] > 0.0 ? 1.0 / mass[local] : 0.0;
+    double *momentum[2] = {&momentum_x[local], &momentum_y[local]};
+    double *force_of[2] = {&force_x[local], &force_y[local]};
+    for (int k = 0; k < 2; k++) {
+      double old_velocity = *momentum[k] * inverse_mass;
+      double force = *force_of[k];              /* N */
+      if (damping > 0.0 && old_velocity != 0.0) /* against the motion */
+        force -= damping * fabs(force) * (old_velocity > 0.0 ? 1.0 : -1.0);
+      double acceleration = force * inverse_mass;
+      *force_of[k] = acceleration;
+      *momentum[k] = old_velocity + acceleration * dt;
+    }
+  }
+}
+
 static void update_blocks(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   update_context *ctx = context;
@@ -223,6 +259,12 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
       memset(grid->pool_wall + b * GM_BLOCK_NODES, 0,
              GM_BLOCK_NODES * sizeof(int32_t));
     }
+    /* After the wall records are cleared: they stay cleared. */
+    if (dim == 2 && !block_on_wall && !near_walls && domain->rigid_count == 0) {
+      update_free_block_2d(grid, b, dt, damping,
+                           ctx->mode == GM_GRID_VELOCITY_ONLY);
+      continue;
+    }
     for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
       size_t node = b * GM_BLOCK_NODES + local;
       double mass = grid->mass[node];
@@ -247,7 +289,13 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
         continue;
       int64_t ix = base_x + (int64_t)(local & (size_t)(edge - 1));
       int64_t iy = dim > 1 ? base_y + (int64_t)(local >> shift) : 0;
-      if (block_on_wall) {
+      /* constrain_faces acts on face and ghost nodes only (and the
+       * symmetry axis, a face node): the others of the block are left as
+       * they are, without the call. */
+      bool on_face = block_on_wall &&
+                     (ix <= GM_GHOST_LAYERS || ix >= face_x ||
+                      (dim > 1 && (iy <= GM_GHOST_LAYERS || iy >= face_y)));
+      if (on_face) {
         bool held[2];
         double velocity[2] = {grid->momentum[0][node],
                               dim > 1 ? grid->momentum[1][node] : 0.0};

@@ -13,6 +13,7 @@
 #include "grid/transfer.h"
 
 #include <math.h>
+#include <string.h>
 
 typedef struct p2g_context {
   gm_domain *domain;
@@ -87,31 +88,60 @@ typedef struct scatter_tile {
   double node[TILE_NODES][TILE_FIELDS];
 } scatter_tile;
 
-/* Adds tile node (tx, ty) of field values to the grid through the links. */
-static void flush_tile(const scatter_view *v, const uint32_t *links,
-                       const scatter_tile *tile, const bool do_mass,
-                       const bool do_momentum, const bool do_forces) {
-  for (int ty = 0; ty < TILE; ty++) {
-    for (int tx = 0; tx < TILE; tx++) {
-      int t = tx + TILE * ty;
-      int over_x = tx / GM_BLOCK_EDGE_2D, over_y = ty / GM_BLOCK_EDGE_2D;
-      uint32_t block = links[over_x + 2 * over_y];
-      if (block == GM_NO_BLOCK)
-        continue; /* past the grid's last node: never reached by points */
-      size_t node = (size_t)block * GM_BLOCK_NODES +
-                    (size_t)(tx % GM_BLOCK_EDGE_2D) +
-                    GM_BLOCK_EDGE_2D * (size_t)(ty % GM_BLOCK_EDGE_2D);
-      const double *sums = tile->node[t];
+/* Adds the rows [y0, y1) x columns [x0, x1) of the tile (tile
+ * coordinates) to the block `block` of the grid, whose node (0, 0) is tile
+ * node (base_x, base_y). */
+static GM_ALWAYS_INLINE void
+flush_region(const scatter_view *v, uint32_t block, const scatter_tile *tile,
+             int x0, int x1, int y0, int y1, int base_x, int base_y,
+             const bool do_mass, const bool do_momentum, const bool do_forces) {
+  double *restrict mass = v->grid_mass;
+  double *restrict momentum_x = v->grid_momentum[0];
+  double *restrict momentum_y = v->grid_momentum[1];
+  double *restrict force_x = v->grid_force[0];
+  double *restrict force_y = v->grid_force[1];
+  size_t block_first = (size_t)block * GM_BLOCK_NODES;
+  for (int ty = y0; ty < y1; ty++) {
+    size_t row = block_first + GM_BLOCK_EDGE_2D * (size_t)(ty - base_y);
+    for (int tx = x0; tx < x1; tx++) {
+      size_t node = row + (size_t)(tx - base_x);
+      const double *sums = tile->node[tx + TILE * ty];
       if (do_mass)
-        v->grid_mass[node] += sums[TILE_MASS];
-      for (int k = 0; k < 2; k++) {
-        if (do_momentum)
-          v->grid_momentum[k][node] += sums[TILE_MOMENTUM_X + k];
-        if (do_forces)
-          v->grid_force[k][node] += sums[TILE_FORCE_X + k];
+        mass[node] += sums[TILE_MASS];
+      if (do_momentum) {
+        momentum_x[node] += sums[TILE_MOMENTUM_X];
+        momentum_y[node] += sums[TILE_MOMENTUM_Y];
+      }
+      if (do_forces) {
+        force_x[node] += sums[TILE_FORCE_X];
+        force_y[node] += sums[TILE_FORCE_Y];
       }
     }
   }
+}
+
+/* Adds the tile to the grid through the links: the block's own 8 x 8
+ * nodes, then the halo column (+x neighbour), row (+y) and corner (+x+y),
+ * each a rectangle of one block (every node receives one sum per field,
+ * as before: the order of the additions to a node does not change). A
+ * neighbour past the grid's last node (GM_NO_BLOCK) is never reached by
+ * points and is skipped. */
+static void flush_tile(const scatter_view *v, const uint32_t *links,
+                       const scatter_tile *tile, const bool do_mass,
+                       const bool do_momentum, const bool do_forces) {
+  const int E = GM_BLOCK_EDGE_2D;
+  if (links[0] != GM_NO_BLOCK)
+    flush_region(v, links[0], tile, 0, E, 0, E, 0, 0, do_mass, do_momentum,
+                 do_forces);
+  if (links[1] != GM_NO_BLOCK)
+    flush_region(v, links[1], tile, E, TILE, 0, E, E, 0, do_mass, do_momentum,
+                 do_forces);
+  if (links[2] != GM_NO_BLOCK)
+    flush_region(v, links[2], tile, 0, E, E, TILE, 0, E, do_mass, do_momentum,
+                 do_forces);
+  if (links[3] != GM_NO_BLOCK)
+    flush_region(v, links[3], tile, E, TILE, E, TILE, E, E, do_mass,
+                 do_momentum, do_forces);
 }
 
 /* do_* and apic are compile-time constants in each specialisation below,
@@ -167,8 +197,8 @@ scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
     if (v->skip_rigid && v->rigid[v->material[p]])
       continue; /* rigid points take no part (rigid.c) */
     double wx[2], dx[2], wy[2], dy[2];
-    int64_t cx = gm_shape_linear_axis(px[p], origin_x, inv_cell, wx, dx);
-    int64_t cy = gm_shape_linear_axis(py[p], origin_y, inv_cell, wy, dy);
+    int64_t cx = gm_shape_linear_axis_inside(px[p], origin_x, inv_cell, wx, dx);
+    int64_t cy = gm_shape_linear_axis_inside(py[p], origin_y, inv_cell, wy, dy);
     size_t t = (size_t)((cx & mask) + TILE * (cy & mask));
     double m = point_mass[p];
     for (int b = 0; b < 2; b++) {
@@ -316,16 +346,17 @@ static void clear_blocks(void *context, size_t begin, size_t end, int worker) {
   p2g_context *ctx = context;
   gm_grid *grid = &ctx->domain->grid;
   int dim = grid->dim;
-  size_t first = begin * GM_BLOCK_NODES, last = end * GM_BLOCK_NODES;
-  for (size_t node = first; node < last; node++) {
-    if (ctx->pass->mass)
-      grid->mass[node] = 0.0;
-    for (int k = 0; k < dim; k++) {
-      if (ctx->pass->momentum)
-        grid->momentum[k][node] = 0.0;
-      if (ctx->pass->forces)
-        grid->force[k][node] = 0.0;
-    }
+  size_t first = begin * GM_BLOCK_NODES;
+  size_t bytes = (end - begin) * GM_BLOCK_NODES * sizeof(double);
+  /* One field at a time over the worker's whole range of blocks (a
+   * memset each, instead of a loop testing the pass per node). */
+  if (ctx->pass->mass)
+    memset(grid->mass + first, 0, bytes);
+  for (int k = 0; k < dim; k++) {
+    if (ctx->pass->momentum)
+      memset(grid->momentum[k] + first, 0, bytes);
+    if (ctx->pass->forces)
+      memset(grid->force[k] + first, 0, bytes);
   }
 }
 
