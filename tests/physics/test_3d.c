@@ -12,7 +12,8 @@
  *  - the bar uniform in z between SLIP z faces against the plane-strain
  *    bar of the same points: the same motion to round-off (not bitwise:
  *    see test_3d_matches_plane_strain);
- *  - bitwise the same state with 1 and 2 workers, for every scheme.
+ *  - bitwise the same state with 1 and 2 workers, for every scheme;
+ *  - a failed step (a point would leave the box) changes nothing.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -446,6 +447,61 @@ START_TEST(test_determinism_3d) {
 }
 END_TEST
 
+/* ---------------------------------------------------------- transaction */
+/* A 3D step that fails leaves the domain as it was: a cube moving at
+ * 40 m/s toward the open zmax face, one cell from it, with dt long enough
+ * that its top points would leave the grid box. The step returns
+ * GM_ERR_OUT_OF_GRID naming a point, every field is bitwise what it was,
+ * and a shorter step then succeeds. */
+START_TEST(test_failed_step_changes_nothing_3d) {
+  gm_domain *domain = spinning_cube(GM_SCHEME_USL, 2);
+  size_t count = gm_domain_point_count(domain);
+  double *vz = NULL;
+  TEST_ASSERT_OK(domain,
+                 gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 2, &vz));
+  for (size_t p = 0; p < count; p++)
+    vz[p] = 40.0; /* m/s: the top (z = 1.7 m) reaches 2 m in 7.5 ms */
+  TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-4));
+  const gm_field fields[] = {GM_FIELD_POSITION, GM_FIELD_VELOCITY,
+                             GM_FIELD_STRESS, GM_FIELD_DEFORMATION_GRADIENT,
+                             GM_FIELD_VOLUME};
+  enum { FIELDS = sizeof fields / sizeof fields[0] };
+  double *before[FIELDS], *after[FIELDS];
+  size_t length[FIELDS];
+  for (int f = 0; f < FIELDS; f++) {
+    size_t components = 0;
+    TEST_ASSERT_OK(domain,
+                   gm_domain_field_components(domain, fields[f], &components));
+    length[f] = components * count;
+    before[f] = malloc(length[f] * sizeof(double));
+    after[f] = malloc(length[f] * sizeof(double));
+    ck_assert(before[f] != NULL && after[f] != NULL);
+    TEST_ASSERT_OK(
+        domain, gm_domain_get_field(domain, fields[f], before[f], length[f]));
+  }
+  double time_before = 0.0, time_after = 0.0;
+  TEST_ASSERT_OK(domain, gm_domain_get_time(domain, &time_before, NULL));
+  gm_status status = gm_domain_step(domain, 0.02); /* 0.8 m: out */
+  ck_assert_msg(status == GM_ERR_OUT_OF_GRID, "step returned %d (%s): %s",
+                (int)status, gm_strerror(status), gm_domain_last_error(domain));
+  ck_assert_msg(strstr(gm_domain_last_error(domain), "point id") != NULL,
+                "message does not name the point: %s",
+                gm_domain_last_error(domain));
+  TEST_ASSERT_OK(domain, gm_domain_get_time(domain, &time_after, NULL));
+  ck_assert(time_after == time_before);
+  for (int f = 0; f < FIELDS; f++) {
+    TEST_ASSERT_OK(domain,
+                   gm_domain_get_field(domain, fields[f], after[f], length[f]));
+    ck_assert_msg(memcmp(before[f], after[f], length[f] * sizeof(double)) == 0,
+                  "field %d changed by the failed step", (int)fields[f]);
+    free(before[f]);
+    free(after[f]);
+  }
+  TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-4));
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 static Suite *three_d_suite(void) {
   Suite *suite = suite_create("3d");
   TCase *bar = tcase_create("bar");
@@ -458,6 +514,7 @@ static Suite *three_d_suite(void) {
   tcase_add_loop_test(laws, test_momentum_and_mass_3d, 0, 3);
   tcase_add_test(laws, test_column_at_rest_3d);
   tcase_add_loop_test(laws, test_determinism_3d, 0, 3);
+  tcase_add_test(laws, test_failed_step_changes_nothing_3d);
   suite_add_tcase(suite, laws);
   return suite;
 }
