@@ -13,7 +13,8 @@
  *    bar of the same points: the same motion to round-off (not bitwise:
  *    see test_3d_matches_plane_strain);
  *  - bitwise the same state with 1 and 2 workers, for every scheme;
- *  - a failed step (a point would leave the box) changes nothing.
+ *  - a failed step (a point would leave the box) changes nothing;
+ *  - the stable dt at cfl 1 keeps a cube with every mode excited bounded.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -447,6 +448,51 @@ START_TEST(test_determinism_3d) {
 }
 END_TEST
 
+/* ----------------------------------------------------------- stable dt */
+/* The stable dt of 3D is the 2D bound, cfl h / (max c_p + max |v_p|)
+ * (stable_dt.c): an elastic cube (8000 points, nu = 0.3) with random
+ * point velocities, which put energy into every grid mode, the highest
+ * included, stepped at the largest Courant number, cfl = 1. Its energy
+ * only moves between kinetic and elastic (FLIP keeps it to the order of
+ * its noise), so the kinetic energy stays below the initial total (all
+ * kinetic); an unstable mode would grow by orders of magnitude. Measured:
+ * 0.92 of the initial after 600 steps; the same cube at 1.5x the bound
+ * stays bounded and at 2x it blows up (kinetic energy x 2e7, a point
+ * thrown out of the box, within 84 steps), as the plane square does. */
+START_TEST(test_stable_dt_3d) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.cell_size = 0.1;
+  def.extent[0] = def.extent[1] = def.extent[2] = 1.6;
+  def.cfl = 1.0;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+  const double lower[3] = {0.3, 0.3, 0.3}, upper[3] = {1.3, 1.3, 1.3};
+  test_fill_box(domain, material, lower, upper, 2, NULL);
+  size_t count = gm_domain_point_count(domain);
+  srand(1);
+  for (int k = 0; k < 3; k++) {
+    double *velocity = NULL;
+    TEST_ASSERT_OK(
+        domain, gm_domain_edit_field(domain, GM_FIELD_VELOCITY, k, &velocity));
+    for (size_t p = 0; p < count; p++) /* m/s, +-0.5 mm/s */
+      velocity[p] = 1e-3 * (rand() / (double)RAND_MAX - 0.5);
+  }
+  gm_summary start = gm_summary_default(), end = gm_summary_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &start));
+  for (int step = 0; step < 600; step++)
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0)); /* stable dt */
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &end));
+  printf("3D stable dt, cfl 1: kinetic energy %.4g of the initial after 600 "
+         "steps\n",
+         end.kinetic_energy / start.kinetic_energy);
+  ck_assert_msg(end.kinetic_energy <= start.kinetic_energy,
+                "kinetic energy grew from %g to %g J at cfl 1",
+                start.kinetic_energy, end.kinetic_energy);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 /* ---------------------------------------------------------- transaction */
 /* A 3D step that fails leaves the domain as it was: a cube moving at
  * 40 m/s toward the open zmax face, one cell from it, with dt long enough
@@ -515,6 +561,7 @@ static Suite *three_d_suite(void) {
   tcase_add_test(laws, test_column_at_rest_3d);
   tcase_add_loop_test(laws, test_determinism_3d, 0, 3);
   tcase_add_test(laws, test_failed_step_changes_nothing_3d);
+  tcase_add_test(laws, test_stable_dt_3d);
   suite_add_tcase(suite, laws);
   return suite;
 }
