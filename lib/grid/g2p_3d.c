@@ -34,9 +34,15 @@ typedef struct g2p_3d_context {
   const gm_g2p_pass *pass;
 } g2p_3d_context;
 
-/* Interpolates a, v and L at the chunk's committed positions. */
-static void gather_chunk_3d(const gm_domain *domain, size_t first, size_t count,
-                            chunk_gather_3d *out) {
+/* Interpolates a, v and L at the chunk's committed positions; the
+ * acceleration only for a FLIP pass, L only for a deformation pass
+ * (constants in each specialisation below; each sum is taken alone, so
+ * leaving one out changes no bit of the others). */
+static GM_ALWAYS_INLINE void gather_chunk_3d_kind(const gm_domain *domain,
+                                                  size_t first, size_t count,
+                                                  chunk_gather_3d *out,
+                                                  const bool with_acceleration,
+                                                  const bool with_gradient) {
   const gm_points *points = &domain->points;
   const gm_grid *grid = &domain->grid;
   const gm_point_buffers *current = &points->buffer[points->cur];
@@ -74,8 +80,11 @@ static void gather_chunk_3d(const gm_domain *domain, size_t first, size_t count,
           double is_empty = grid->mass[node] == 0.0 ? 1.0 : 0.0;
           for (int i = 0; i < 3; i++) {
             double nodal = grid->momentum[i][node]; /* velocity by now */
-            a[i] += weight * grid->force[i][node];  /* acceleration */
+            if (with_acceleration)
+              a[i] += weight * grid->force[i][node]; /* acceleration */
             v[i] += weight * nodal;
+            if (!with_gradient)
+              continue;
             for (int k = 0; k < 3; k++)
               l[3 * i + k] += nodal * grad[k];
             empty[i] += is_empty * grad[i];
@@ -87,12 +96,25 @@ static void gather_chunk_3d(const gm_domain *domain, size_t first, size_t count,
      * takes the point's own interpolated velocity, which removes the
      * spurious gradient of its stored zero. */
     for (int i = 0; i < 3; i++) {
-      out->acceleration[i][j] = a[i];
+      if (with_acceleration)
+        out->acceleration[i][j] = a[i];
       out->velocity[i][j] = v[i];
-      for (int k = 0; k < 3; k++)
+      for (int k = 0; with_gradient && k < 3; k++)
         out->gradient[3 * i + k][j] = l[3 * i + k] + v[i] * empty[k];
     }
   }
+}
+
+static void gather_chunk_3d(const gm_domain *domain, size_t first, size_t count,
+                            chunk_gather_3d *out, bool flip, bool deform) {
+  if (flip && deform)
+    gather_chunk_3d_kind(domain, first, count, out, true, true);
+  else if (flip)
+    gather_chunk_3d_kind(domain, first, count, out, true, false);
+  else if (deform)
+    gather_chunk_3d_kind(domain, first, count, out, false, true);
+  else
+    gather_chunk_3d_kind(domain, first, count, out, false, false);
 }
 
 /* v_p += dt sum N a_i (FLIP), blended with PIC sum N v_i. */
@@ -239,7 +261,7 @@ static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
     size_t first = chunk * GM_BATCH_SIZE;
     size_t count = point_count - first < GM_BATCH_SIZE ? point_count - first
                                                        : GM_BATCH_SIZE;
-    gather_chunk_3d(domain, first, count, g);
+    gather_chunk_3d(domain, first, count, g, pass->flip_velocity, pass->deform);
     if (pass->flip_velocity)
       flip_chunk_3d(domain, first, count, g, pass->dt);
     if (pass->move_points)

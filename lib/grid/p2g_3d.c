@@ -56,12 +56,18 @@ static void check_inputs_3d(const p2g_3d_context *ctx,
   }
 }
 
-static void scatter_block_3d(const p2g_3d_context *ctx, uint32_t block) {
+/* do_mass, do_momentum, do_forces are constants in each specialisation
+ * below (scatter_block_3d), so each pass kind gets its own loop; each
+ * field is summed alone, so leaving the others out changes no bit. */
+static GM_ALWAYS_INLINE void scatter_block_3d_kind(const p2g_3d_context *ctx,
+                                                   uint32_t block,
+                                                   const bool do_mass,
+                                                   const bool do_momentum,
+                                                   const bool do_forces) {
   const gm_domain *domain = ctx->domain;
   const gm_points *points = &domain->points;
   const gm_grid *grid = &domain->grid;
   const gm_point_buffers *current = &points->buffer[points->cur];
-  const gm_p2g_pass *pass = ctx->pass;
   const double *const *position = (const double *const *)current->position;
   const double *origin = domain->shape_grid.origin; /* m, node 0 */
   const double *gravity = domain->def.gravity;      /* m/s^2 */
@@ -82,7 +88,7 @@ static void scatter_block_3d(const p2g_3d_context *ctx, uint32_t block) {
                           ctx->velocity[2][p]};   /* m/s */
     double body[3] = {0.0, 0.0, 0.0};             /* N */
     double t[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; /* stress V, N m */
-    if (pass->forces) {
+    if (do_forces) {
       for (int c = 0; c < 3; c++)
         body[c] =
             m * gravity[c] +
@@ -103,12 +109,12 @@ static void scatter_block_3d(const p2g_3d_context *ctx, uint32_t block) {
               (size_t)((nx & mask) + GM_BLOCK_EDGE_3D * (ny & mask) +
                        GM_BLOCK_EDGE_3D * GM_BLOCK_EDGE_3D * (nz & mask));
           double weight = w[0][a] * w[1][b] * w[2][c];
-          if (pass->mass)
+          if (do_mass)
             grid->mass[node] += weight * m;
-          if (pass->momentum)
+          if (do_momentum)
             for (int axis = 0; axis < 3; axis++)
               grid->momentum[axis][node] += weight * m * velocity[axis];
-          if (!pass->forces)
+          if (!do_forces)
             continue;
           double gx = d[0][a] * w[1][b] * w[2][c]; /* 1/m */
           double gy = w[0][a] * d[1][b] * w[2][c];
@@ -127,6 +133,21 @@ static void scatter_block_3d(const p2g_3d_context *ctx, uint32_t block) {
       }
     }
   }
+}
+
+/* The pass kinds of the three schemes (step.c). */
+static void scatter_block_3d(const p2g_3d_context *ctx, uint32_t block) {
+  const gm_p2g_pass *pass = ctx->pass;
+  if (pass->mass && pass->momentum && pass->forces)
+    scatter_block_3d_kind(ctx, block, true, true, true);
+  else if (pass->mass && pass->momentum)
+    scatter_block_3d_kind(ctx, block, true, true, false);
+  else if (pass->momentum && pass->forces)
+    scatter_block_3d_kind(ctx, block, false, true, true);
+  else if (pass->momentum)
+    scatter_block_3d_kind(ctx, block, false, true, false);
+  else
+    scatter_block_3d_kind(ctx, block, pass->mass, false, pass->forces);
 }
 
 static void scatter_blocks_3d(void *context, size_t begin, size_t end,
