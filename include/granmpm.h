@@ -88,7 +88,8 @@ typedef enum gm_geometry {
   GM_GEOMETRY_1D = 1,           /* uniaxial strain along x */
   GM_GEOMETRY_PLANE_STRAIN = 2, /* x, y; unit thickness in z */
   GM_GEOMETRY_AXISYMMETRIC = 3, /* x = radius r >= 0, y = axial z */
-  GM_GEOMETRY_3D = 4            /* reserved; not yet supported */
+  GM_GEOMETRY_3D = 4            /* x, y, z; linear shapes and the plain
+                                   family only (gm_domain_create(3)) */
 } gm_geometry;
 
 /** Where in the explicit cycle the stress is updated (see 002 section 4.4). */

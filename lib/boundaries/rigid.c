@@ -24,6 +24,8 @@ gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
   if (status != GM_OK)
     return status;
   def = &full;
+  if ((status = gm_refuse_in_3d(domain, "gm_domain_add_rigid")) != GM_OK)
+    return status;
   /* Rigid points mark the nodes they touch, images beyond a periodic face
    * included, and their force sums nodal impulses: the seam's nodes would
    * count twice. */

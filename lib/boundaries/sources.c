@@ -82,6 +82,8 @@ gm_status gm_domain_add_source(gm_domain *domain, const gm_source_def *def,
   if (status != GM_OK)
     return status;
   def = &full;
+  if ((status = gm_refuse_in_3d(domain, "gm_domain_add_source")) != GM_OK)
+    return status;
   status = validate_source(domain, def);
   if (status != GM_OK)
     return status;
@@ -120,6 +122,8 @@ gm_status gm_domain_add_sink(gm_domain *domain, const gm_sink_def *def,
   if (status != GM_OK)
     return status;
   def = &full;
+  if ((status = gm_refuse_in_3d(domain, "gm_domain_add_sink")) != GM_OK)
+    return status;
   if (domain->sink_count >= GM_MAX_SOURCES)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_add_sink: at most %d sinks", GM_MAX_SOURCES);

@@ -57,6 +57,8 @@ gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
   if (status != GM_OK)
     return status;
   def = &full;
+  if ((status = gm_refuse_in_3d(domain, "gm_domain_add_wall")) != GM_OK)
+    return status;
   if (domain->wall_count >= GM_MAX_WALLS)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_add_wall: at most %d walls", GM_MAX_WALLS);

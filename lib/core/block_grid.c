@@ -13,7 +13,7 @@
 
 bool gm_block_key_of(const gm_domain *domain, const double *position_xyz,
                      int64_t *key) {
-  int64_t node[2] = {0, 0};
+  int64_t node[3] = {0, 0, 0};
   for (int k = 0; k < domain->dim; k++) {
     /* The same arithmetic as gm_shape_linear_axis, so the block agrees
      * with the cell the shape functions use; nodes count from the ghost
@@ -25,7 +25,9 @@ bool gm_block_key_of(const gm_domain *domain, const double *position_xyz,
       return false;
     node[k] = (int64_t)scaled;
   }
-  *key = gm_block_key_of_node(&domain->grid, node[0], node[1]);
+  *key = domain->dim == 3
+             ? gm_block_key_of_node_3d(&domain->grid, node[0], node[1], node[2])
+             : gm_block_key_of_node(&domain->grid, node[0], node[1]);
   return true;
 }
 
@@ -119,6 +121,11 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
   for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++)
     if (!gm_grow(arrays[a], sizeof(double), nodes_old, nodes))
       return false;
+  if (grid->dim == 3 && /* the z components, 3D only */
+      (!gm_grow((void **)&grid->momentum[2], sizeof(double), nodes_old,
+                nodes) ||
+       !gm_grow((void **)&grid->force[2], sizeof(double), nodes_old, nodes)))
+    return false;
   /* Each array is stored back as soon as it has grown: gm_grow frees the
    * old one, so a later failure must not leave a stale pointer behind. */
   struct {
@@ -140,8 +147,26 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
   return true;
 }
 
+/* The same in 3D: the block and its seven upper neighbours that exist. */
+static bool insert_with_neighbours_3d(gm_grid *grid, int64_t key) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  int64_t blocks_y = grid->blocks_per_axis[1];
+  int64_t block[3];
+  gm_block_coordinates_3d(grid, key, block);
+  for (int64_t dz = 0; dz <= 1; dz++)
+    for (int64_t dy = 0; dy <= 1; dy++)
+      for (int64_t dx = 0; dx <= 1; dx++)
+        if (block[0] + dx < blocks_x && block[1] + dy < blocks_y &&
+            block[2] + dz < grid->blocks_per_axis[2] &&
+            !hash_insert(grid, key + (dz * blocks_y + dy) * blocks_x + dx))
+          return false;
+  return true;
+}
+
 /* Adds the blocks whose nodes the cells of block `key` reach. */
 static bool insert_with_neighbours(gm_grid *grid, int64_t key) {
+  if (grid->dim == 3)
+    return insert_with_neighbours_3d(grid, key);
   int64_t blocks_x = grid->blocks_per_axis[0];
   int64_t block[2];
   gm_block_coordinates(grid, key, block);
@@ -155,12 +180,39 @@ static bool insert_with_neighbours(gm_grid *grid, int64_t key) {
   return true;
 }
 
+/* The eight links of a 3D block (slot ox + 2 oy + 4 oz); none past the
+ * last block of an axis. */
+static void link_block_3d(gm_grid *grid, size_t b, uint32_t *links) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  int64_t blocks_y = grid->blocks_per_axis[1];
+  int64_t key = grid->block_key[b];
+  int64_t block[3];
+  gm_block_coordinates_3d(grid, key, block);
+  for (int slot = 0; slot < 8; slot++) {
+    int64_t ox = slot & 1, oy = (slot >> 1) & 1, oz = slot >> 2;
+    bool inside = block[0] + ox < blocks_x && block[1] + oy < blocks_y &&
+                  block[2] + oz < grid->blocks_per_axis[2];
+    links[slot] =
+        slot == 0 ? (uint32_t)b
+        : inside
+            ? gm_grid_find(grid, key + (oz * blocks_y + oy) * blocks_x + ox)
+            : GM_NO_BLOCK;
+  }
+}
+
 static void link_blocks(gm_grid *grid) {
   int64_t blocks_x = grid->blocks_per_axis[0];
-  size_t colour_count[4] = {0, 0, 0, 0};
+  size_t colour_count[GM_BLOCK_COLOURS] = {0};
   for (size_t b = 0; b < grid->block_count; b++) {
     int64_t key = grid->block_key[b];
     uint32_t *links = grid->neighbour + b * GM_BLOCK_NEIGHBOURS;
+    if (grid->dim == 3) {
+      link_block_3d(grid, b, links);
+      colour_count[gm_block_colour(grid, key)]++;
+      continue;
+    }
+    for (int slot = 4; slot < GM_BLOCK_NEIGHBOURS; slot++)
+      links[slot] = GM_NO_BLOCK; /* no z neighbours below 3D */
     links[0] = (uint32_t)b;
     links[1] = gm_grid_find(grid, key + 1);
     links[2] = grid->dim > 1 ? gm_grid_find(grid, key + blocks_x) : GM_NO_BLOCK;
@@ -175,9 +227,9 @@ static void link_blocks(gm_grid *grid) {
     colour_count[gm_block_colour(grid, key)]++;
   }
   grid->color_start[0] = 0;
-  for (int c = 0; c < 4; c++)
+  for (int c = 0; c < GM_BLOCK_COLOURS; c++)
     grid->color_start[c + 1] = grid->color_start[c] + colour_count[c];
-  size_t fill[4];
+  size_t fill[GM_BLOCK_COLOURS];
   memcpy(fill, grid->color_start, sizeof fill);
   for (size_t b = 0; b < grid->block_count; b++)
     grid->color_block[fill[gm_block_colour(grid, grid->block_key[b])]++] =

@@ -1,6 +1,7 @@
 /*
  * block_grid.h - the sparse background grid. Nodes are stored in blocks of 64
- * (8 x 8 in 2D, 64 in a row in 1D); only blocks near points exist, so memory
+ * (4 x 4 x 4 in 3D, 8 x 8 in 2D, 64 in a row in 1D); only blocks near points
+ * exist, so memory
  * and work follow the occupied cells, not the box. Blocks are rebuilt every
  * step from the points' block keys and sorted by key, which fixes the order
  * of every sum (results do not depend on worker count).
@@ -15,10 +16,16 @@
 #define GM_BLOCK_SHIFT_2D 3 /* 8 x 8 nodes */
 #define GM_BLOCK_EDGE_2D  8
 #define GM_BLOCK_SHIFT_1D 6 /* 64 nodes */
+#define GM_BLOCK_SHIFT_3D 2 /* 4 x 4 x 4 nodes */
+#define GM_BLOCK_EDGE_3D  4
 #define GM_NO_BLOCK       UINT32_MAX
-/* Neighbour slots: self, +x, +y, +x+y (a cell's upper nodes may lie in the
- * next block along each axis). */
-#define GM_BLOCK_NEIGHBOURS 4
+/* Neighbour slots: self, +x, +y, +x+y, +z, +x+z, +y+z, +x+y+z, slot
+ * ox + 2 oy + 4 oz (a cell's upper nodes may lie in the next block along
+ * each axis). 1D and 2D use the first two and four, as before 3D. */
+#define GM_BLOCK_NEIGHBOURS 8
+/* Block colours: the parities of the block coordinates (4 in 2D, 8 in
+ * 3D). */
+#define GM_BLOCK_COLOURS 8
 /* Points are binned in this many fixed chunks (not per worker), so the
  * order of points inside a block never depends on the worker count. */
 #define GM_BIN_CHUNKS 32
@@ -29,12 +36,14 @@ typedef struct gm_grid {
   int64_t blocks_per_axis[3]; /* blocks covering nodes 0..cells */
   size_t block_count;
   size_t block_capacity;
-  int64_t *block_key;     /* sorted; key = by * blocks_x + bx */
-  uint32_t *neighbour;    /* block_capacity * GM_BLOCK_NEIGHBOURS */
-  uint32_t *point_start;  /* block_capacity + 1, ranges in order[] */
-  uint32_t *color_block;  /* block indices grouped by colour */
-  size_t color_start[5];  /* colour c: color_block[start[c]..start[c+1]) */
-  uint32_t *chunk_counts; /* GM_BIN_CHUNKS * block_capacity */
+  int64_t *block_key;    /* sorted; key = (bz * blocks_y + by) * blocks_x
+                            + bx */
+  uint32_t *neighbour;   /* block_capacity * GM_BLOCK_NEIGHBOURS */
+  uint32_t *point_start; /* block_capacity + 1, ranges in order[] */
+  uint32_t *color_block; /* block indices grouped by colour */
+  size_t color_start[GM_BLOCK_COLOURS + 1]; /* colour c: color_block
+                                               [start[c]..start[c+1]) */
+  uint32_t *chunk_counts;                   /* GM_BIN_CHUNKS * block_capacity */
   /* Open-addressing hash: block key -> block index. */
   int64_t *hash_key;
   uint32_t *hash_value;
@@ -42,8 +51,9 @@ typedef struct gm_grid {
   size_t hash_used;
   /* Node fields, block_capacity * GM_BLOCK_NODES each. */
   double *mass;        /* kg */
-  double *momentum[2]; /* kg m/s; velocity (m/s) after the grid update */
-  double *force[2];    /* N; acceleration (m/s^2) after the grid update */
+  double *momentum[3]; /* kg m/s; velocity (m/s) after the grid update
+                          (z: 3D only) */
+  double *force[3];    /* N; acceleration (m/s^2) after the grid update */
   /* Wall forces per block (N): block_capacity * wall_stride * 2 values,
    * summed in block order after the update (deterministic). */
   double *wall_force;
@@ -90,7 +100,12 @@ typedef struct gm_grid {
  * overlap and they can be scattered concurrently. */
 static inline int gm_block_colour(const gm_grid *grid, int64_t key) {
   int64_t blocks_x = grid->blocks_per_axis[0];
-  return (int)((key % blocks_x) & 1) | (int)(((key / blocks_x) & 1) << 1);
+  int colour = (int)((key % blocks_x) & 1) | (int)(((key / blocks_x) & 1) << 1);
+  if (grid->dim == 3) /* the y parity of the row within its z layer */
+    colour = (int)((key % blocks_x) & 1) |
+             (int)((((key / blocks_x) % grid->blocks_per_axis[1]) & 1) << 1) |
+             (int)(((key / (blocks_x * grid->blocks_per_axis[1])) & 1) << 2);
+  return colour;
 }
 
 /* The four node indices (grid field arrays) of the cell at local (x, y)
@@ -125,6 +140,39 @@ static inline int64_t gm_block_key_inside(const gm_grid *grid, double x,
     return block_x;
   int64_t block_y = (int64_t)((y - origin[1]) * inv_cell) >> grid->shift;
   return block_y * grid->blocks_per_axis[0] + block_x;
+}
+
+/* Block key of a position inside a 3D grid (m); as gm_block_key_inside. */
+static inline int64_t gm_block_key_inside_3d(const gm_grid *grid, double x,
+                                             double y, double z,
+                                             const double *origin,
+                                             double inv_cell) {
+  int64_t block_x = (int64_t)((x - origin[0]) * inv_cell) >> grid->shift;
+  int64_t block_y = (int64_t)((y - origin[1]) * inv_cell) >> grid->shift;
+  int64_t block_z = (int64_t)((z - origin[2]) * inv_cell) >> grid->shift;
+  return (block_z * grid->blocks_per_axis[1] + block_y) *
+             grid->blocks_per_axis[0] +
+         block_x;
+}
+
+/* Key of the block holding node (node_x, node_y, node_z) of a 3D grid. */
+static inline int64_t gm_block_key_of_node_3d(const gm_grid *grid,
+                                              int64_t node_x, int64_t node_y,
+                                              int64_t node_z) {
+  return ((node_z >> grid->shift) * grid->blocks_per_axis[1] +
+          (node_y >> grid->shift)) *
+             grid->blocks_per_axis[0] +
+         (node_x >> grid->shift);
+}
+
+/* Block coordinates (x, y, z) of a key of a 3D grid. */
+static inline void gm_block_coordinates_3d(const gm_grid *grid, int64_t key,
+                                           int64_t block[3]) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  int64_t blocks_y = grid->blocks_per_axis[1];
+  block[0] = key % blocks_x;
+  block[1] = (key / blocks_x) % blocks_y;
+  block[2] = key / (blocks_x * blocks_y);
 }
 
 /* Key of the block holding node (node_x, node_y) (node_y ignored in 1D). */

@@ -40,11 +40,25 @@
 /* Points handed to a material callback at once: large enough to amortise
  * the call, small enough that the batch buffers stay in L1/L2. */
 #define GM_BATCH_SIZE 128
-/* Stored stress components in 1D and 2D: xx, yy, zz (hoop), xy. */
+/* Stored stress components in 1D and 2D: xx, yy, zz (hoop), xy. 3D adds
+ * yz and zx (slots GM_YZ, GM_ZX: the slots are the Voigt order). */
 #define GM_STRESS_STORED 4
-/* Stored deformation gradient components: xx, xy, yx, yy, zz (hoop). */
+#define GM_STRESS_SLOTS  6
+/* Stored deformation gradient components: xx, xy, yx, yy, zz (hoop). 3D
+ * adds xz, yz, zx, zy after them (F_XZ..F_ZY; all nine stored). */
 #define GM_F_STORED 5
-enum { F_XX = 0, F_XY = 1, F_YX = 2, F_YY = 3, F_ZZ = 4 };
+#define GM_F_SLOTS  9
+enum {
+  F_XX = 0,
+  F_XY = 1,
+  F_YX = 2,
+  F_YY = 3,
+  F_ZZ = 4,
+  F_XZ = 5,
+  F_YZ = 6,
+  F_ZX = 7,
+  F_ZY = 8
+};
 /* Stored components of APIC's affine matrix B_p (GM_TRANSFER_APIC): xx,
  * xy, yx, yy (row-major, dim x dim of them: 1 in 1D, 4 in 2D). */
 #define GM_AFFINE_STORED 4
@@ -104,10 +118,10 @@ typedef struct gm_material {
  * vectors; F_ZZ only in axisymmetry, where the hoop stretch evolves);
  * the others stay NULL. */
 typedef struct gm_point_buffers {
-  double *position[3];              /* m */
-  double *velocity[3];              /* m/s */
-  double *stress[GM_STRESS_STORED]; /* Pa, xx yy zz xy */
-  double *deformation[GM_F_STORED]; /* F components, see F_XX.. */
+  double *position[3];             /* m */
+  double *velocity[3];             /* m/s */
+  double *stress[GM_STRESS_SLOTS]; /* Pa, xx yy zz xy (yz zx: 3D) */
+  double *deformation[GM_F_SLOTS]; /* F components, see F_XX.. */
   /* CPDI only (NULL otherwise): the domain map D, F_XX..F_YY slots. The
    * domain's half edges are r1 = D (l_x/2, 0), r2 = D (0, l_y/2) with l
    * the initial edges (domain_size). D takes the same increments as F
@@ -286,7 +300,7 @@ typedef struct gm_granular_work {
 /* ----------------------------------------------------------------- domain */
 struct gm_domain {
   gm_domain_def def;
-  int dim; /* 1 or 2 */
+  int dim; /* 1, 2 or 3 */
   bool axisymmetric;
   double inv_cell;  /* 1/m */
   int64_t cells[3]; /* cells per axis */
@@ -342,6 +356,9 @@ static inline bool gm_periodic_x(const gm_domain *domain) {
 /* Records the message read by gm_last_create_error() (this thread). */
 gm_status gm_set_create_error(gm_status status, const char *format, ...)
     __attribute__((format(printf, 2, 3)));
+/* GM_ERR_UNSUPPORTED with a message naming `what` when the domain is 3D
+ * and `what` is not done in 3D yet (docs/3d.md); GM_OK otherwise. */
+gm_status gm_refuse_in_3d(gm_domain *domain, const char *what);
 /* Records an error message on the domain and returns status. */
 gm_status gm_set_error(gm_domain *domain, gm_status status, const char *format,
                        ...) __attribute__((format(printf, 3, 4)));

@@ -65,6 +65,14 @@ static void key_ranges(void *context, size_t begin, size_t end, int worker) {
   const double *const position[2] = {current->position[0],
                                      current->position[dim > 1 ? 1 : 0]};
   const double *origin = domain->shape_grid.origin;
+  if (dim == 3) { /* linear shapes only in 3D (domain.c) */
+    const double *z = current->position[2];
+    for (size_t i = begin; i < end; i++)
+      points->block_key[i] =
+          gm_block_key_inside_3d(&domain->grid, position[0][i], position[1][i],
+                                 z[i], origin, domain->inv_cell);
+    return;
+  }
   if (domain->shape_grid.shape == GM_SHAPE_LINEAR) {
     for (size_t i = begin; i < end; i++)
       points->block_key[i] =
@@ -101,7 +109,7 @@ gm_status gm_bin_points(gm_domain *domain) {
   }
   domain->points.keys_valid = false; /* until this step's move pass ends */
   gm_status status = gm_grid_build(domain);
-  if (status == GM_OK)
+  if (status == GM_OK && domain->dim < 3) /* no walls nor gaps in 3D yet */
     status = gm_walls_reserve(domain);
   if (status == GM_OK)
     status = gm_rigid_reserve(domain);
@@ -147,9 +155,10 @@ static void permute_buffers(void *context, size_t begin, size_t end,
     permute_doubles(to->position[k], from->position[k], order, begin, end);
     permute_doubles(to->velocity[k], from->velocity[k], order, begin, end);
   }
-  for (int k = 0; k < GM_STRESS_STORED; k++)
-    permute_doubles(to->stress[k], from->stress[k], order, begin, end);
-  for (int k = 0; k < GM_F_STORED; k++)
+  for (int k = 0; k < GM_STRESS_SLOTS; k++)
+    if (from->stress[k]) /* yz, zx: 3D only */
+      permute_doubles(to->stress[k], from->stress[k], order, begin, end);
+  for (int k = 0; k < GM_F_SLOTS; k++)
     if (from->deformation[k])
       permute_doubles(to->deformation[k], from->deformation[k], order, begin,
                       end);

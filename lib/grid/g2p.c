@@ -587,11 +587,17 @@ static void make_view(gm_domain *domain, gather_view *view) {
         view->apic ? to->affine[k < gm_affine_stored(domain) ? k : 0] : NULL;
 }
 
+/* One buffer per worker serves the 2D and the 3D gathers. */
 size_t gm_chunk_gather_size(void) {
-  return sizeof(chunk_gather);
+  size_t plane = sizeof(chunk_gather), solid = gm_chunk_gather_3d_size();
+  return plane > solid ? plane : solid;
 }
 
 void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass) {
+  if (domain->dim == 3) {
+    gm_g2p_3d(domain, pass);
+    return;
+  }
   g2p_context ctx;
   ctx.domain = domain;
   ctx.pass = pass;

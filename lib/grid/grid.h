@@ -31,6 +31,11 @@ void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
 /* gm_p2g and gm_grid_update leave the image and ghost nodes as they computed
  * them: the folds, mirrors and copies below are stages of their own after
  * them (step.c). */
+/* The 3D kernels (linear shapes, docs/3d.md), which gm_p2g, gm_g2p and
+ * gm_grid_update call for GM_GEOMETRY_3D: p2g_3d.c, g2p_3d.c,
+ * grid_update_3d.c. */
+void gm_p2g_3d(gm_domain *domain, const gm_p2g_pass *pass);
+void gm_grid_update_3d(gm_domain *domain, double dt, int mode);
 /* B-splines on the box faces by images (bspline_faces.c; no-ops for the
  * other shapes): after a scatter, each ghost node's sums go to its mirror
  * node; after a grid update, each ghost node takes its mirror's velocity
@@ -61,6 +66,8 @@ typedef struct gm_g2p_pass {
 } gm_g2p_pass;
 void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);
 size_t gm_chunk_gather_size(void); /* bytes of a worker's G2P chunk buffer */
+void gm_g2p_3d(gm_domain *domain, const gm_g2p_pass *pass);
+size_t gm_chunk_gather_3d_size(void); /* the same for g2p_3d.c */
 
 /* Stress update for one chunk of points (stress_update.c). */
 /* Jaumann rotation, material call and stress write-back for points
@@ -71,6 +78,13 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                             size_t first, size_t count, double dt,
                             const double *const velocity_gradient[5],
                             bool in_place);
+/* The same in 3D (GM_GEOMETRY_3D), from the nine components of L (1/s,
+ * row-major xx xy xz yx yy yz zx zy zz): the full Jaumann spin
+ * (materials/jaumann.c) and six stress components. */
+void gm_stress_update_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
+                               size_t first, size_t count, double dt,
+                               const double *const velocity_gradient[9],
+                               bool in_place);
 /* Names every point of [first, first+count) whose new stress (next buffer)
  * is not finite (stress_update.c). */
 void gm_check_stress_chunk(gm_domain *domain, gm_worker_scratch *scratch,

@@ -325,6 +325,10 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
 }
 
 void gm_grid_update(gm_domain *domain, double dt, int mode) {
+  if (domain->dim == 3) { /* box faces only in 3D (grid_update_3d.c) */
+    gm_grid_update_3d(domain, dt, mode);
+    return;
+  }
   update_context ctx = {domain, dt, mode, wall_friction(mode)};
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks, &ctx);
   if (ctx.wall_friction) /* serial: worker-independent */

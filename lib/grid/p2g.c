@@ -407,6 +407,10 @@ static void make_view(gm_domain *domain, const gm_p2g_pass *pass,
 }
 
 void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass) {
+  if (domain->dim == 3) {
+    gm_p2g_3d(domain, pass);
+    return;
+  }
   gm_grid *grid = &domain->grid;
   p2g_context ctx;
   ctx.domain = domain;

@@ -57,6 +57,34 @@ static void prepare_rows(gm_domain *domain, gm_worker_scratch *scratch,
     scratch->stress[GM_YZ][j] = scratch->stress[GM_ZX][j] = 0.0;
 }
 
+/* The same in 3D: the full Jaumann spin and D dt of materials/jaumann.c
+ * (002 sec 4.1, 004 eqs 3.20-3.21) on the six stored components. L is
+ * row-major (xx xy xz yx yy yz zx zy zz), one array per component. */
+static void prepare_rows_3d(gm_domain *domain, gm_worker_scratch *scratch,
+                            size_t first, size_t count,
+                            const double *const gradient[9], double dt,
+                            bool in_place) {
+  gm_points *points = &domain->points;
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const gm_point_buffers *from = in_place ? to : &points->buffer[points->cur];
+  const double *restrict mass = points->mass + first;
+  const double *restrict volume = to->volume + first;
+  for (size_t j = 0; j < count; j++) {
+    double l[9], stress[6], increment[6];
+    for (int c = 0; c < 9; c++)
+      l[c] = gradient[c][j];
+    for (int c = 0; c < 6; c++) /* read whole before written (in place) */
+      stress[c] = from->stress[c][first + j];
+    gm_jaumann_rotate(l, dt, stress);
+    gm_strain_increment(l, dt, increment);
+    for (int c = 0; c < 6; c++) {
+      to->stress[c][first + j] = stress[c];
+      scratch->strain_increment[c][j] = increment[c];
+    }
+    scratch->density[j] = mass[j] / volume[j];
+  }
+}
+
 /* Calls material m on `count` rows; rows map to points first + row[r].
  * Returns the callback's code. */
 static int call_material(gm_domain *domain, gm_worker_scratch *scratch,
@@ -117,6 +145,7 @@ static int call_material(gm_domain *domain, gm_worker_scratch *scratch,
 static void update_mixed(gm_domain *domain, gm_worker_scratch *scratch,
                          size_t first, size_t count, double dt, bool in_place) {
   gm_points *points = &domain->points;
+  int stored = gm_stress_stored(domain); /* 4, or 6 in 3D */
   const int32_t *material = points->material + first;
   double *const *next_stress = points->buffer[points->cur ^ 1].stress;
   const double *sub_strain[6];
@@ -139,7 +168,7 @@ static void update_mixed(gm_domain *domain, gm_worker_scratch *scratch,
         scratch->sub_strain_increment[c][rows] =
             scratch->strain_increment[c][j];
         scratch->sub_stress[c][rows] =
-            c < GM_STRESS_STORED ? next_stress[c][first + j] : 0.0;
+            c < stored ? next_stress[c][first + j] : 0.0;
       }
       scratch->sub_density[rows] = scratch->density[j];
       scratch->sub_point_id[rows] = points->id[first + j];
@@ -149,7 +178,7 @@ static void update_mixed(gm_domain *domain, gm_worker_scratch *scratch,
                   rows, sub_strain, sub_stress, scratch->sub_density,
                   scratch->sub_point_id, dt, in_place);
     for (size_t r = 0; r < rows; r++)
-      for (int c = 0; c < GM_STRESS_STORED; c++)
+      for (int c = 0; c < stored; c++)
         next_stress[c][first + scratch->batch_index[r]] =
             scratch->sub_stress[c][r];
   }
@@ -160,15 +189,16 @@ void gm_check_stress_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                            size_t first, size_t count, double dt) {
   const gm_points *points = &domain->points;
   double *const *stress = points->buffer[points->cur ^ 1].stress;
+  int stored = gm_stress_stored(domain); /* 4, or 6 in 3D */
   double screen = 0.0; /* x * 0 is NaN exactly when x is not finite */
-  for (int c = 0; c < GM_STRESS_STORED; c++)
+  for (int c = 0; c < stored; c++)
     for (size_t j = 0; j < count; j++)
       screen += stress[c][first + j] * 0.0;
   if (screen == 0.0)
     return;
   for (size_t p = first; p < first + count; p++) {
     bool finite = true;
-    for (int c = 0; c < GM_STRESS_STORED; c++)
+    for (int c = 0; c < stored; c++)
       finite = finite && isfinite(stress[c][p]);
     if (!finite)
       gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
@@ -179,12 +209,31 @@ void gm_check_stress_chunk(gm_domain *domain, gm_worker_scratch *scratch,
   }
 }
 
+/* The material call of a chunk whose rows are prepared, and the check. */
+static void call_chunk(gm_domain *domain, gm_worker_scratch *scratch,
+                       size_t first, size_t count, double dt, bool in_place);
+
 void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                             size_t first, size_t count, double dt,
                             const double *const velocity_gradient[5],
                             bool in_place) {
-  gm_points *points = &domain->points;
   prepare_rows(domain, scratch, first, count, velocity_gradient, dt, in_place);
+  call_chunk(domain, scratch, first, count, dt, in_place);
+}
+
+void gm_stress_update_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
+                               size_t first, size_t count, double dt,
+                               const double *const velocity_gradient[9],
+                               bool in_place) {
+  prepare_rows_3d(domain, scratch, first, count, velocity_gradient, dt,
+                  in_place);
+  call_chunk(domain, scratch, first, count, dt, in_place);
+}
+
+static void call_chunk(gm_domain *domain, gm_worker_scratch *scratch,
+                       size_t first, size_t count, double dt, bool in_place) {
+  gm_points *points = &domain->points;
+  int stored = gm_stress_stored(domain); /* 4, or 6 in 3D */
   const int32_t *material = points->material + first;
   bool uniform = true;
   for (size_t j = 1; j < count; j++)
@@ -195,8 +244,7 @@ void gm_stress_update_chunk(gm_domain *domain, gm_worker_scratch *scratch,
     double *stress[6];
     for (int c = 0; c < 6; c++) {
       strain[c] = scratch->strain_increment[c];
-      stress[c] =
-          c < GM_STRESS_STORED ? next_stress[c] + first : scratch->stress[c];
+      stress[c] = c < stored ? next_stress[c] + first : scratch->stress[c];
     }
     call_material(domain, scratch, material[0], first, scratch->identity_rows,
                   count, strain, stress, scratch->density, points->id + first,

@@ -313,6 +313,9 @@ gm_status gm_domain_save(const gm_domain *domain, const char *path) {
   if (domain->busy && !domain->in_hook)
     return gm_set_error(mutable_domain, GM_ERR_BUSY,
                         "gm_domain_save: called during a step");
+  gm_status refused = gm_refuse_in_3d(mutable_domain, "gm_domain_save");
+  if (refused != GM_OK)
+    return refused;
   gm_byte_writer out;
   gm_checkpoint_begin(&out);
   gm_byte_writer setup = {0};

@@ -454,6 +454,9 @@ gm_status gm_domain_load(gm_domain *domain, const char *path) {
   if (domain->busy)
     return gm_set_error(domain, GM_ERR_BUSY,
                         "gm_domain_load: called during a step");
+  gm_status refused = gm_refuse_in_3d(domain, "gm_domain_load");
+  if (refused != GM_OK)
+    return refused;
   unsigned char *file = NULL;
   gm_byte_reader in;
   gm_status status = gm_checkpoint_read_file(domain, path, &file, &in);

@@ -22,8 +22,9 @@ static size_t components_of(const gm_domain *domain, gm_field field) {
     return 6;
   case GM_FIELD_DEFORMATION_GRADIENT:
     return 9;
-  case GM_FIELD_DOMAIN_CORNERS: /* 2 ends in 1D, 4 corners x, y in 2D */
-    return domain->dim == 1 ? 2 : 8;
+  case GM_FIELD_DOMAIN_CORNERS: /* 2 ends in 1D, 4 corners x, y in 2D, 8
+                                   corners x, y, z in 3D (not yet read) */
+    return domain->dim == 1 ? 2 : domain->dim == 2 ? 8 : 24;
   case GM_FIELD_AFFINE: /* B_p, dim x dim */
     return (size_t)(domain->dim * domain->dim);
   default:
@@ -54,9 +55,11 @@ static double *stored_component(const gm_domain *domain, gm_field field,
                                 size_t k) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *buffer = &points->buffer[points->cur];
-  static const int stress_slot[6] = {0, 1, 2, 3, -1, -1};
-  static const int deformation_slot[9] = {F_XX, F_XY, -1, F_YX, F_YY,
-                                          -1,   -1,   -1, F_ZZ};
+  /* Slots not stored in this geometry are NULL (yz, zx and the
+   * off-plane F below 3D; F_zz outside axisymmetry and 3D). */
+  static const int stress_slot[6] = {GM_XX, GM_YY, GM_ZZ, GM_XY, GM_YZ, GM_ZX};
+  static const int deformation_slot[9] = {F_XX, F_XY, F_XZ, F_YX, F_YY,
+                                          F_YZ, F_ZX, F_ZY, F_ZZ};
   switch (field) {
   case GM_FIELD_POSITION:
     return buffer->position[k];
@@ -73,10 +76,9 @@ static double *stored_component(const gm_domain *domain, gm_field field,
   case GM_FIELD_INITIAL_VOLUME:
     return points->initial_volume;
   case GM_FIELD_STRESS:
-    return stress_slot[k] < 0 ? NULL : buffer->stress[stress_slot[k]];
+    return buffer->stress[stress_slot[k]];
   case GM_FIELD_DEFORMATION_GRADIENT:
-    return deformation_slot[k] < 0 ? NULL
-                                   : buffer->deformation[deformation_slot[k]];
+    return buffer->deformation[deformation_slot[k]];
   case GM_FIELD_AFFINE: /* NULL without APIC: zeros */
     return buffer->affine[k];
   default:
@@ -141,6 +143,10 @@ gm_status gm_domain_get_field(const gm_domain *domain, gm_field field,
                         "gm_domain_get_field: field %d is not a gm_field "
                         "value",
                         (int)field);
+  if (field == GM_FIELD_DOMAIN_CORNERS && domain->dim == 3)
+    return gm_set_error(mutable_domain, GM_ERR_UNSUPPORTED,
+                        "gm_domain_get_field: GM_FIELD_DOMAIN_CORNERS is not "
+                        "supported in GM_GEOMETRY_3D in this version");
   size_t components = components_of(domain, field);
   size_t count = domain->points.count;
   if (out_length < count * components)

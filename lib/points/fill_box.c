@@ -1,7 +1,7 @@
 /*
  * fill_box.c - gm_domain_fill_box: points on a regular lattice, n per cell
  * edge, each at the centre of its sub-cell (the usual MPM initial
- * discretisation, e.g. 4 points per cell in 2D for n = 2).
+ * discretisation, e.g. 4 points per cell in 2D for n = 2, 8 in 3D).
  */
 #include "points/points.h"
 
@@ -60,17 +60,22 @@ static gm_status validate_fill(gm_domain *domain, const gm_fill_def *def) {
 
 /* The lattice of a fill: sub-cell index ranges per axis. */
 typedef struct lattice {
-  int64_t first[2], last[2];
+  int64_t first[3], last[3];
   double spacing; /* m */
   size_t total;
 } lattice;
 
-/* Site n of the lattice (row-major, x fastest) as a point. */
+/* Site n of the lattice (row-major, x fastest, then y, then z) as a
+ * point. */
 static void lattice_site(const gm_domain *domain, const lattice *grid, size_t n,
                          double *position, double *edges, double *volume) {
   int64_t width = grid->last[0] - grid->first[0];
-  int64_t site[2] = {grid->first[0] + (int64_t)n % width,
-                     grid->first[1] + (int64_t)n / width};
+  int64_t depth = grid->last[1] - grid->first[1]; /* sites along y */
+  /* Below 3D the y range is the whole rest of n (z has one site). */
+  int64_t row = (int64_t)n / width;
+  int64_t site[3] = {grid->first[0] + (int64_t)n % width,
+                     grid->first[1] + (domain->dim == 3 ? row % depth : row),
+                     grid->first[2] + (domain->dim == 3 ? row / depth : 0)};
   double measure = 1.0; /* length, area, or ring volume */
   for (int k = 0; k < domain->dim; k++) {
     position[k] =
@@ -87,9 +92,9 @@ static void lattice_site(const gm_domain *domain, const lattice *grid, size_t n,
 enum { FILL_SLAB = 4096 };
 
 typedef struct fill_arrays {
-  double position[FILL_SLAB * 2];
-  double velocity[FILL_SLAB * 2];
-  double edges[FILL_SLAB * 2];
+  double position[FILL_SLAB * 3];
+  double velocity[FILL_SLAB * 3];
+  double edges[FILL_SLAB * 3];
   double volume[FILL_SLAB];
   double density[FILL_SLAB];
 } fill_arrays;
@@ -121,7 +126,7 @@ static gm_status add_slab(gm_domain *domain, const gm_fill_def *def,
 
 /* All-or-nothing: the corner sites decide whether every site is valid. */
 static gm_status check_corners(gm_domain *domain, const lattice *grid) {
-  double position[2], edges[2], volume;
+  double position[3], edges[3], volume;
   size_t corners[2] = {0, grid->total - 1};
   for (int c = 0; c < 2; c++) {
     lattice_site(domain, grid, corners[c], position, edges, &volume);
@@ -129,8 +134,9 @@ static gm_status check_corners(gm_domain *domain, const lattice *grid) {
     if (!gm_block_key_of(domain, position, &key))
       return gm_set_error(domain, GM_ERR_OUT_OF_GRID,
                           "gm_domain_fill_box: the box reaches outside the "
-                          "grid (lattice site at x = %g, y = %g m)",
-                          position[0], domain->dim > 1 ? position[1] : 0.0);
+                          "grid (lattice site at x = %g, y = %g, z = %g m)",
+                          position[0], domain->dim > 1 ? position[1] : 0.0,
+                          domain->dim > 2 ? position[2] : 0.0);
     if (domain->axisymmetric && !(position[0] > 0.0))
       return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                           "gm_domain_fill_box: lattice site at radius %g "
@@ -159,7 +165,7 @@ gm_status gm_domain_fill_box(gm_domain *domain, const gm_fill_def *def,
            "gm_domain_fill_box: the fill (gm_fill_def.density, 0 = "
            "the material's)")) != GM_OK)
     return status;
-  lattice grid = {{0, 0}, {1, 1}, 0.0, 1};
+  lattice grid = {{0, 0, 0}, {1, 1, 1}, 0.0, 1};
   grid.spacing = domain->def.cell_size / def->points_per_cell_axis;
   for (int k = 0; k < domain->dim; k++) {
     lattice_range(def->lower[k], def->upper[k], domain->def.origin[k],

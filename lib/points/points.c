@@ -18,9 +18,16 @@
     (field) = array_;                                                          \
   } while (0)
 
-/* F components stored in this geometry: xx xy yx yy, plus the hoop zz. */
+/* F components stored in this geometry: xx xy yx yy, plus the hoop zz;
+ * all nine in 3D. */
 static int stored_deformation(const gm_domain *domain) {
+  if (domain->dim == 3)
+    return GM_F_SLOTS;
   return domain->axisymmetric ? GM_F_STORED : F_ZZ;
+}
+
+int gm_stress_stored(const gm_domain *domain) {
+  return domain->dim == 3 ? GM_STRESS_SLOTS : GM_STRESS_STORED;
 }
 
 gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
@@ -29,7 +36,7 @@ gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
     GROW(buffer->position[k], sizeof(double));
     GROW(buffer->velocity[k], sizeof(double));
   }
-  for (int k = 0; k < GM_STRESS_STORED; k++)
+  for (int k = 0; k < gm_stress_stored(domain); k++)
     GROW(buffer->stress[k], sizeof(double));
   for (int k = 0; k < stored_deformation(domain); k++)
     GROW(buffer->deformation[k], sizeof(double));
@@ -124,9 +131,9 @@ void gm_buffers_free(gm_point_buffers *buffer) {
     gm_free(buffer->position[k]);
     gm_free(buffer->velocity[k]);
   }
-  for (int k = 0; k < GM_STRESS_STORED; k++)
+  for (int k = 0; k < GM_STRESS_SLOTS; k++)
     gm_free(buffer->stress[k]);
-  for (int k = 0; k < GM_F_STORED; k++)
+  for (int k = 0; k < GM_F_SLOTS; k++)
     gm_free(buffer->deformation[k]);
   for (int k = 0; k < 4; k++)
     gm_free(buffer->domain_map[k]);
@@ -150,9 +157,9 @@ void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
     copy_array(to->position[k], from->position[k], count);
     copy_array(to->velocity[k], from->velocity[k], count);
   }
-  for (int k = 0; k < GM_STRESS_STORED; k++)
+  for (int k = 0; k < GM_STRESS_SLOTS; k++) /* the slots stored: not NULL */
     copy_array(to->stress[k], from->stress[k], count);
-  for (int k = 0; k < GM_F_STORED; k++)
+  for (int k = 0; k < GM_F_SLOTS; k++)
     copy_array(to->deformation[k], from->deformation[k], count);
   for (int k = 0; k < 4; k++)
     copy_array(to->domain_map[k], from->domain_map[k], count);
@@ -185,11 +192,14 @@ void gm_points_free(gm_points *points) {
 }
 
 /* Volume per unit measure -> the measure the domain size is taken from:
- * length (1D), area (plane strain), meridional area V/(2 pi r) (axisym). */
+ * length (1D), area (plane strain), meridional area V/(2 pi r) (axisym),
+ * volume (3D: a cube). */
 static double default_domain_edge(const gm_domain *domain, double volume,
                                   double radius) {
   if (domain->dim == 1)
     return volume;
+  if (domain->dim == 3)
+    return cbrt(volume);
   if (domain->axisymmetric)
     return sqrt(volume / (2.0 * GM_PI * radius));
   return sqrt(volume);
@@ -248,9 +258,10 @@ static gm_status validate_point(gm_domain *domain, const gm_points_def *def,
   int64_t key;
   if (!gm_block_key_of(domain, position, &key))
     return gm_set_error(domain, GM_ERR_OUT_OF_GRID,
-                        "gm_domain_add_points: point %zu position (%g, %g) "
-                        "is outside the grid box",
-                        i, position[0], dim > 1 ? position[1] : 0.0);
+                        "gm_domain_add_points: point %zu position (%g, %g, "
+                        "%g) is outside the grid box",
+                        i, position[0], dim > 1 ? position[1] : 0.0,
+                        dim > 2 ? position[2] : 0.0);
   if (domain->axisymmetric && !(position[0] > 0.0))
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_add_points: point %zu radius %g must be "
@@ -333,7 +344,7 @@ static gm_status validate_point(gm_domain *domain, const gm_points_def *def,
                           "gm_domain_add_points: point %zu stress is not "
                           "finite",
                           i);
-    if (stress[GM_YZ] != 0.0 || stress[GM_ZX] != 0.0)
+    if (dim < 3 && (stress[GM_YZ] != 0.0 || stress[GM_ZX] != 0.0))
       return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                           "gm_domain_add_points: point %zu stress yz/zx must "
                           "be 0 in 1D and 2D geometries",
@@ -365,11 +376,9 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
     points->domain_size[k][p] =
         def->domain_size ? def->domain_size[i * (size_t)dim + k]
                          : default_domain_edge(domain, volume, position[0]);
-  static const int stress_voigt[GM_STRESS_STORED] = {GM_XX, GM_YY, GM_ZZ,
-                                                     GM_XY};
-  for (int k = 0; k < GM_STRESS_STORED; k++)
-    buffer->stress[k][p] =
-        def->stress ? def->stress[i * 6 + stress_voigt[k]] : 0.0;
+  /* The stored slots are the Voigt order (core.h): 4 of them below 3D. */
+  for (int k = 0; k < gm_stress_stored(domain); k++)
+    buffer->stress[k][p] = def->stress ? def->stress[i * 6 + k] : 0.0;
   for (int k = 0; k < GM_AFFINE_STORED; k++) /* APIC: no affine part yet */
     if (buffer->affine[k])
       buffer->affine[k][p] = 0.0;
@@ -383,6 +392,9 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
   buffer->deformation[F_YY][p] = 1.0;
   if (buffer->deformation[F_ZZ])
     buffer->deformation[F_ZZ][p] = 1.0;
+  for (int k = F_XZ; k <= F_ZY; k++) /* 3D: off-plane shears */
+    if (buffer->deformation[k])
+      buffer->deformation[k][p] = 0.0;
   if (buffer->domain_map[0]) /* CPDI: the initial domain, D = I */
     for (int k = 0; k < 4; k++)
       buffer->domain_map[k][p] = k == F_XX || k == F_YY ? 1.0 : 0.0;

@@ -37,6 +37,9 @@ static inline int gm_affine_stored(const gm_domain *domain) {
   return domain->def.transfer == GM_TRANSFER_APIC ? domain->dim * domain->dim
                                                   : 0;
 }
+/* Stress components stored per point: 4 (xx yy zz xy) below 3D, 6 in 3D
+ * (points.c). */
+int gm_stress_stored(const gm_domain *domain);
 /* Sizes one buffer set for capacity points (keeps contents). */
 gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
                              size_t old_capacity, size_t capacity);

@@ -24,9 +24,9 @@ static void move_point(gm_domain *domain, size_t to, size_t from) {
     move_element(points->domain_size[k], sizeof(double), to, from);
     move_element(points->external_force[k], sizeof(double), to, from);
   }
-  for (int k = 0; k < GM_STRESS_STORED; k++)
+  for (int k = 0; k < GM_STRESS_SLOTS; k++) /* NULL slots: skipped */
     move_element(buffer->stress[k], sizeof(double), to, from);
-  for (int k = 0; k < GM_F_STORED; k++)
+  for (int k = 0; k < GM_F_SLOTS; k++)
     move_element(buffer->deformation[k], sizeof(double), to, from);
   for (int k = 0; k < 4; k++)
     move_element(buffer->domain_map[k], sizeof(double), to, from);

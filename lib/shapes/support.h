@@ -36,9 +36,10 @@
 typedef struct gm_shape_grid {
   gm_shape shape;
   int dim;              /* 1 or 2 */
-  double origin[2];     /* m, position of node 0 (ghost layer included) */
+  double origin[3];     /* m, position of node 0 (ghost layer included;
+                           z: 3D only) */
   double inv_cell;      /* 1/m */
-  int64_t last_node[2]; /* highest node index per axis */
+  int64_t last_node[3]; /* highest node index per axis */
 } gm_shape_grid;
 
 /* One point's domain: centre, deformation and initial half edges. */

@@ -20,16 +20,46 @@ static const char *face_name(int face) {
   return names[face];
 }
 
+/* What GM_GEOMETRY_3D runs in this version (docs/3d.md): linear shapes,
+ * the plain family, FLIP/PIC transfers, open, slip and fixed box faces;
+ * every scheme, gravity, damping, host forces. The rest is refused by
+ * name here (or by the call that would add it: walls, rigid materials,
+ * sources, sinks, checkpoints, VTU). */
+static gm_status validate_3d(const gm_domain_def *def) {
+  static const char *shapes[] = {"GM_SHAPE_LINEAR",   "GM_SHAPE_UGIMP",
+                                 "GM_SHAPE_CPGIMP",   "GM_SHAPE_CPDI",
+                                 "GM_SHAPE_BSPLINE2", "GM_SHAPE_BSPLINE3"};
+  if (def->shape != GM_SHAPE_LINEAR)
+    CREATE_FAIL(GM_ERR_UNSUPPORTED,
+                "gm_domain_def.shape %s is not supported in GM_GEOMETRY_3D "
+                "in this version (only GM_SHAPE_LINEAR)",
+                shapes[def->shape]);
+  if (def->family != GM_FAMILY_PLAIN)
+    CREATE_FAIL(GM_ERR_UNSUPPORTED,
+                "gm_domain_def.family %s is not supported in GM_GEOMETRY_3D "
+                "in this version (only GM_FAMILY_PLAIN)",
+                def->family == GM_FAMILY_GRANULAR ? "GM_FAMILY_GRANULAR"
+                                                  : "GM_FAMILY_STRESS_FREE");
+  if (def->transfer != GM_TRANSFER_FLIP)
+    CREATE_FAIL(GM_ERR_UNSUPPORTED,
+                "gm_domain_def.transfer GM_TRANSFER_APIC is not supported in "
+                "GM_GEOMETRY_3D in this version (use GM_TRANSFER_FLIP, "
+                "with pic_fraction for a PIC blend)");
+  for (int face = 0; face < 6; face++)
+    if (def->walls[face] == GM_WALL_PERIODIC)
+      CREATE_FAIL(GM_ERR_UNSUPPORTED,
+                  "gm_domain_def.walls[%d] (%s face) is GM_WALL_PERIODIC, "
+                  "not supported in GM_GEOMETRY_3D in this version",
+                  face, face_name(face));
+  return GM_OK;
+}
+
 static gm_status validate_def(const gm_domain_def *def) {
   int dim = gm_geometry_dimension(def->geometry);
   if (dim == 0)
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.geometry %d is not a gm_geometry value",
                 (int)def->geometry);
-  if (dim == 3)
-    CREATE_FAIL(GM_ERR_UNSUPPORTED,
-                "gm_domain_def.geometry GM_GEOMETRY_3D is reserved and not "
-                "supported in this version");
   if (!(def->cell_size > 0.0) || !isfinite(def->cell_size))
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.cell_size is %g m, must be finite and > 0",
@@ -145,6 +175,11 @@ static gm_status validate_def(const gm_domain_def *def) {
                 "GM_TRANSFER_APIC (its point velocity is already the PIC "
                 "one, sum N_i v_i)",
                 def->pic_fraction);
+  if (dim == 3) {
+    gm_status status = validate_3d(def);
+    if (status != GM_OK)
+      return status;
+  }
   if ((def->enqueue_task == NULL) != (def->finish_task == NULL))
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.enqueue_task and finish_task must be set "
@@ -205,13 +240,15 @@ gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out) {
   domain->force_smoothing_time = GM_DEFAULT_FORCE_SMOOTHING_TIME;
   gm_grid *grid = &domain->grid;
   grid->dim = domain->dim;
-  grid->shift = domain->dim == 1 ? GM_BLOCK_SHIFT_1D : GM_BLOCK_SHIFT_2D;
+  grid->shift = domain->dim == 1   ? GM_BLOCK_SHIFT_1D
+                : domain->dim == 2 ? GM_BLOCK_SHIFT_2D
+                                   : GM_BLOCK_SHIFT_3D;
   /* Node 0 is a ghost node one layer below the box (support.h). */
   gm_shape_grid *shape_grid = &domain->shape_grid;
   shape_grid->shape = def->shape;
   shape_grid->dim = domain->dim;
   shape_grid->inv_cell = domain->inv_cell;
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < 3; k++) {
     bool used = k < domain->dim;
     shape_grid->origin[k] =
         used ? def->origin[k] - GM_GHOST_LAYERS * def->cell_size : 0.0;
@@ -257,7 +294,7 @@ static void free_grid(gm_grid *grid) {
   gm_free(grid->rigid_material);
   gm_free(grid->rigid_impulse[0]);
   gm_free(grid->rigid_impulse[1]);
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < 3; k++) {
     gm_free(grid->momentum[k]);
     gm_free(grid->force[k]);
   }

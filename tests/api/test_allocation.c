@@ -5,8 +5,9 @@
  * per-step work arrays reach their size), further steps of a scene whose
  * occupied region stays the same must not allocate at all, with one or two
  * workers and with each update scheme, for linear MPM and for the
- * granular family with CPDI and a planar wall, and for a layer sliding
- * across periodic x faces (GM_WALL_PERIODIC). Also checks that every
+ * granular family with CPDI and a planar wall, for a layer sliding
+ * across periodic x faces (GM_WALL_PERIODIC), and for a 3D block
+ * (GM_GEOMETRY_3D) resting on a fixed floor. Also checks that every
  * allocation is freed by gm_domain_destroy (the counts balance), and that
  * running out of memory in the middle of a step or of a material registration
  * fails cleanly without changing the domain.
@@ -56,6 +57,25 @@ static void install_counting_allocator(void) {
  * runs) and a planar wall against the block's left side (wall gaps).
  * periodic: a layer filling the width between periodic x faces, moving at
  * 3 m/s along x, so its points cross the seam in the measured steps. */
+/* The 3D block: 0.4 m cube on the fixed zmin face, gravity along -z,
+ * spanning blocks of several colours (4 x 4 x 4 nodes each). */
+static gm_domain *resting_block_3d(gm_update_scheme scheme, int workers) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.scheme = scheme;
+  def.worker_count = workers;
+  def.cell_size = 0.05;
+  def.extent[0] = def.extent[1] = def.extent[2] = 1.0;
+  def.gravity[2] = -9.81;
+  def.walls[GM_FACE_ZMIN] = GM_WALL_FIXED;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+  const double lower[3] = {0.3, 0.3, 0.0};
+  const double upper[3] = {0.7, 0.7, 0.4};
+  test_fill_box(domain, material, lower, upper, 2, NULL);
+  return domain;
+}
+
 static gm_domain *resting_block(gm_update_scheme scheme, int workers,
                                 bool granular, bool periodic) {
   gm_domain_def def = gm_domain_def_default();
@@ -107,9 +127,12 @@ START_TEST(test_no_allocation_after_warm_up) {
   gm_update_scheme scheme = schemes[_i % 3];
   int workers = 1 + _i / 3 % 2;
   bool granular = _i >= 6 && _i < 12;
-  bool periodic = _i >= 12;
+  bool periodic = _i >= 12 && _i < 18;
+  bool solid = _i >= 18; /* GM_GEOMETRY_3D */
   install_counting_allocator();
-  gm_domain *domain = resting_block(scheme, workers, granular, periodic);
+  gm_domain *domain = solid
+                          ? resting_block_3d(scheme, workers)
+                          : resting_block(scheme, workers, granular, periodic);
   enum { WARM_UP_STEPS = 5, MEASURED_STEPS = 200 };
   for (int step = 0; step < WARM_UP_STEPS; step++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
@@ -122,6 +145,7 @@ START_TEST(test_no_allocation_after_warm_up) {
                 test_scheme_name(scheme), workers,
                 granular   ? ", granular CPDI with a wall"
                 : periodic ? ", periodic layer"
+                : solid    ? ", 3D block"
                            : "",
                 during, MEASURED_STEPS);
   gm_domain_destroy(domain);
@@ -348,7 +372,7 @@ int main(void) {
   TCase *tcase = tcase_create("steady_state");
   tcase_set_timeout(tcase, 60);
   /* 0..5: linear MPM; 6..11: granular CPDI with a planar wall. */
-  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 18);
+  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 24);
   tcase_add_test(tcase, test_out_of_memory_while_growing_the_grid);
   tcase_add_test(tcase, test_out_of_memory_while_widening_state);
   /* 0: plain, 1: granular family. */

@@ -1,0 +1,288 @@
+/*
+ * g2p_3d.c - grid-to-particle transfer and kinematics in 3D with linear
+ * shape functions (the 8 nodes of the point's cell). One pass can update
+ * particle velocities with the nodal accelerations (FLIP, 004 eq 3.17,
+ * blended with PIC by gm_domain_def.pic_fraction), move points with the
+ * nodal velocities, and compute the velocity gradient L = sum v_i (x)
+ * grad N_i (nine components), from which F <- (I + L dt) F, V = det F V0
+ * (004 eq 3.23) and the stress update (stress_update.c, the full Jaumann
+ * spin) follow. Points are processed in chunks of GM_BATCH_SIZE in index
+ * order, each chunk by one worker: nothing is summed across points, so
+ * the results do not depend on the worker count.
+ */
+#include "grid/grid.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Row-major indices of L_ij = dv_i/dx_j (materials/jaumann.c's order). */
+enum { L_XX, L_XY, L_XZ, L_YX, L_YY, L_YZ, L_ZX, L_ZY, L_ZZ };
+
+/* What the grid tells the points of one chunk, SoA. */
+typedef struct chunk_gather_3d {
+  double acceleration[3][GM_BATCH_SIZE]; /* m/s^2 */
+  double velocity[3][GM_BATCH_SIZE];     /* m/s */
+  double gradient[9][GM_BATCH_SIZE];     /* 1/s, L row-major */
+} chunk_gather_3d;
+
+size_t gm_chunk_gather_3d_size(void) {
+  return sizeof(chunk_gather_3d);
+}
+
+typedef struct g2p_3d_context {
+  gm_domain *domain;
+  const gm_g2p_pass *pass;
+} g2p_3d_context;
+
+/* Interpolates a, v and L at the chunk's committed positions; the
+ * acceleration only for a FLIP pass, L only for a deformation pass
+ * (constants in each specialisation below; each sum is taken alone, so
+ * leaving one out changes no bit of the others). */
+static GM_ALWAYS_INLINE void gather_chunk_3d_kind(const gm_domain *domain,
+                                                  size_t first, size_t count,
+                                                  chunk_gather_3d *out,
+                                                  const bool with_acceleration,
+                                                  const bool with_gradient) {
+  const gm_points *points = &domain->points;
+  const gm_grid *grid = &domain->grid;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  const double *origin = domain->shape_grid.origin; /* m, node 0 */
+  double inv_cell = domain->inv_cell;               /* 1/m */
+  const int64_t mask = GM_BLOCK_EDGE_3D - 1;
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    const uint32_t *links =
+        grid->neighbour + (size_t)points->point_block[p] * GM_BLOCK_NEIGHBOURS;
+    double w[3][2], d[3][2];
+    int64_t local[3];
+    for (int axis = 0; axis < 3; axis++)
+      local[axis] =
+          gm_shape_linear_axis(current->position[axis][p], origin[axis],
+                               inv_cell, w[axis], d[axis]) &
+          mask;
+    double a[3] = {0, 0, 0}, v[3] = {0, 0, 0}, l[9] = {0};
+    double empty[3] = {0, 0, 0}; /* gradient sum of massless nodes, 1/m */
+    for (int c = 0; c < 2; c++) {
+      for (int b = 0; b < 2; b++) {
+        for (int a_x = 0; a_x < 2; a_x++) {
+          int64_t nx = local[0] + a_x, ny = local[1] + b, nz = local[2] + c;
+          int slot = (int)(nx >> GM_BLOCK_SHIFT_3D) +
+                     2 * (int)(ny >> GM_BLOCK_SHIFT_3D) +
+                     4 * (int)(nz >> GM_BLOCK_SHIFT_3D);
+          size_t node =
+              (size_t)links[slot] * GM_BLOCK_NODES +
+              (size_t)((nx & mask) + GM_BLOCK_EDGE_3D * (ny & mask) +
+                       GM_BLOCK_EDGE_3D * GM_BLOCK_EDGE_3D * (nz & mask));
+          double weight = w[0][a_x] * w[1][b] * w[2][c];
+          double grad[3] = {d[0][a_x] * w[1][b] * w[2][c],
+                            w[0][a_x] * d[1][b] * w[2][c],
+                            w[0][a_x] * w[1][b] * d[2][c]}; /* 1/m */
+          double is_empty = grid->mass[node] == 0.0 ? 1.0 : 0.0;
+          for (int i = 0; i < 3; i++) {
+            double nodal = grid->momentum[i][node]; /* velocity by now */
+            if (with_acceleration)
+              a[i] += weight * grid->force[i][node]; /* acceleration */
+            v[i] += weight * nodal;
+            if (!with_gradient)
+              continue;
+            for (int k = 0; k < 3; k++)
+              l[3 * i + k] += nodal * grad[k];
+            empty[i] += is_empty * grad[i];
+          }
+        }
+      }
+    }
+    /* As in 2D (g2p.c): a massless node (a point exactly on a cell face)
+     * takes the point's own interpolated velocity, which removes the
+     * spurious gradient of its stored zero. */
+    for (int i = 0; i < 3; i++) {
+      if (with_acceleration)
+        out->acceleration[i][j] = a[i];
+      out->velocity[i][j] = v[i];
+      for (int k = 0; with_gradient && k < 3; k++)
+        out->gradient[3 * i + k][j] = l[3 * i + k] + v[i] * empty[k];
+    }
+  }
+}
+
+static void gather_chunk_3d(const gm_domain *domain, size_t first, size_t count,
+                            chunk_gather_3d *out, bool flip, bool deform) {
+  if (flip && deform)
+    gather_chunk_3d_kind(domain, first, count, out, true, true);
+  else if (flip)
+    gather_chunk_3d_kind(domain, first, count, out, true, false);
+  else if (deform)
+    gather_chunk_3d_kind(domain, first, count, out, false, true);
+  else
+    gather_chunk_3d_kind(domain, first, count, out, false, false);
+}
+
+/* v_p += dt sum N a_i (FLIP), blended with PIC sum N v_i. */
+static void flip_chunk_3d(gm_domain *domain, size_t first, size_t count,
+                          const chunk_gather_3d *g, double dt) {
+  gm_points *points = &domain->points;
+  const gm_point_buffers *from = &points->buffer[points->cur];
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  double pic = domain->def.pic_fraction, flip = 1.0 - pic; /* - */
+  for (int k = 0; k < 3; k++)
+    for (size_t j = 0; j < count; j++) {
+      double flipped =
+          from->velocity[k][first + j] + dt * g->acceleration[k][j];
+      to->velocity[k][first + j] =
+          pic == 0.0 ? flipped : flip * flipped + pic * g->velocity[k][j];
+    }
+}
+
+/* x_p += dt sum N v_i; a point leaving the grid fails the step. Keys of
+ * the moved points for the next step's binning. */
+static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
+                          size_t first, size_t count, const chunk_gather_3d *g,
+                          double dt) {
+  gm_points *points = &domain->points;
+  const gm_point_buffers *from = &points->buffer[points->cur];
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const double *origin = domain->shape_grid.origin;
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    bool inside = true;
+    double moved[3];
+    for (int k = 0; k < 3; k++) {
+      moved[k] = from->position[k][p] + dt * g->velocity[k][j];
+      to->position[k][p] = moved[k];
+      /* The same arithmetic as gm_block_key_of. */
+      double scaled = (moved[k] - origin[k]) * domain->inv_cell;
+      inside = inside && scaled >= GM_GHOST_LAYERS &&
+               scaled < (double)(domain->cells[k] + GM_GHOST_LAYERS);
+    }
+    if (inside) {
+      points->block_key[p] =
+          gm_block_key_inside_3d(&domain->grid, moved[0], moved[1], moved[2],
+                                 origin, domain->inv_cell);
+      continue;
+    }
+    bool finite =
+        isfinite(moved[0]) && isfinite(moved[1]) && isfinite(moved[2]);
+    gm_worker_error(scratch, finite ? GM_ERR_OUT_OF_GRID : GM_ERR_NOT_FINITE, p,
+                    "step: point id %lld %s (x = %g, y = %g, z = %g m at t = "
+                    "%g s); the step was not taken",
+                    (long long)points->id[p],
+                    finite ? "would leave the grid box"
+                           : "got a non-finite position",
+                    moved[0], moved[1], moved[2], domain->time + dt);
+  }
+}
+
+/* F <- (I + L dt) F with nine components and V = det F V0 (004 eq 3.23);
+ * false (the points named) when some det F is not positive and finite.
+ * In place (USF's second half), F is read whole before it is written. */
+static bool deform_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
+                            size_t first, size_t count,
+                            const chunk_gather_3d *g, double dt,
+                            bool in_place) {
+  gm_points *points = &domain->points;
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const gm_point_buffers *from = in_place ? to : &points->buffer[points->cur];
+  /* Slot of F_ij, row-major (core.h's F_XX..F_ZY). */
+  static const int slot[9] = {F_XX, F_XY, F_XZ, F_YX, F_YY,
+                              F_YZ, F_ZX, F_ZY, F_ZZ};
+  bool positive = true;
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    double f[9], increment[9], next[9];
+    for (int c = 0; c < 9; c++) {
+      f[c] = from->deformation[slot[c]][p];
+      increment[c] = g->gradient[c][j] * dt + (c % 4 == 0 ? 1.0 : 0.0);
+    }
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        next[3 * r + c] = increment[3 * r] * f[c] +
+                          increment[3 * r + 1] * f[3 + c] +
+                          increment[3 * r + 2] * f[6 + c];
+    double jacobian = next[0] * (next[4] * next[8] - next[5] * next[7]) -
+                      next[1] * (next[3] * next[8] - next[5] * next[6]) +
+                      next[2] * (next[3] * next[7] - next[4] * next[6]);
+    for (int c = 0; c < 9; c++)
+      to->deformation[slot[c]][p] = next[c];
+    to->volume[p] = jacobian * points->initial_volume[p];
+    positive &= jacobian > 0.0 && jacobian < INFINITY;
+  }
+  if (positive)
+    return true;
+  for (size_t p = first; p < first + count; p++) {
+    double jacobian = to->volume[p] / points->initial_volume[p];
+    if (jacobian > 0.0 && jacobian < INFINITY)
+      continue;
+    gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
+                    "step: point id %lld has det F = %g (inverted or "
+                    "non-finite deformation at t = %g s); reduce dt",
+                    (long long)points->id[p], jacobian, domain->time + dt);
+    if (scratch->error_index == p && isfinite(jacobian))
+      scratch->error_inverted = true; /* retried with a smaller dt */
+  }
+  return false;
+}
+
+/* Largest c_p^2 and |v_p|^2 of the chunk's new state (stable_dt.c). */
+static void signal_speed_3d(gm_domain *domain, gm_worker_scratch *scratch,
+                            size_t first, size_t count) {
+  const gm_points *points = &domain->points;
+  const gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  double wave = scratch->max_wave_speed_squared;  /* m^2/s^2 */
+  double flow = scratch->max_point_speed_squared; /* m^2/s^2 */
+  for (size_t p = first; p < first + count; p++) {
+    double speed_squared = 0.0;
+    for (int k = 0; k < 3; k++)
+      speed_squared += to->velocity[k][p] * to->velocity[k][p];
+    /* c^2 = M / rho = M V / m */
+    double wave_squared =
+        domain->materials[points->material[p]].p_wave_modulus * to->volume[p] /
+        points->mass[p];
+    if (!isfinite(speed_squared))
+      gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
+                      "step: point id %lld got a non-finite velocity at t = "
+                      "%g s; the step was not taken",
+                      (long long)points->id[p],
+                      domain->time + domain->current_dt);
+    flow = speed_squared > flow ? speed_squared : flow;
+    wave = wave_squared > wave ? wave_squared : wave;
+  }
+  scratch->max_wave_speed_squared = wave;
+  scratch->max_point_speed_squared = flow;
+}
+
+static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
+  const g2p_3d_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  const gm_g2p_pass *pass = ctx->pass;
+  gm_worker_scratch *scratch = &domain->scratch[worker];
+  chunk_gather_3d *g = (chunk_gather_3d *)(void *)scratch->gather;
+  size_t point_count = domain->points.count;
+  for (size_t chunk = begin; chunk < end; chunk++) {
+    size_t first = chunk * GM_BATCH_SIZE;
+    size_t count = point_count - first < GM_BATCH_SIZE ? point_count - first
+                                                       : GM_BATCH_SIZE;
+    gather_chunk_3d(domain, first, count, g, pass->flip_velocity, pass->deform);
+    if (pass->flip_velocity)
+      flip_chunk_3d(domain, first, count, g, pass->dt);
+    if (pass->move_points)
+      move_chunk_3d(domain, scratch, first, count, g, pass->dt);
+    /* A chunk with an inverted point skips its material call: the step
+     * fails anyway. */
+    if (pass->deform && deform_chunk_3d(domain, scratch, first, count, g,
+                                        pass->dt, pass->in_place)) {
+      const double *gradient[9];
+      for (int c = 0; c < 9; c++)
+        gradient[c] = g->gradient[c];
+      gm_stress_update_chunk_3d(domain, scratch, first, count, pass->dt,
+                                gradient, pass->in_place);
+    }
+    if (pass->finish)
+      signal_speed_3d(domain, scratch, first, count);
+  }
+}
+
+void gm_g2p_3d(gm_domain *domain, const gm_g2p_pass *pass) {
+  g2p_3d_context ctx = {domain, pass};
+  size_t chunks = (domain->points.count + GM_BATCH_SIZE - 1) / GM_BATCH_SIZE;
+  gm_parallel_for(&domain->pool, chunks, g2p_chunks_3d, &ctx);
+}

@@ -1,0 +1,206 @@
+/*
+ * p2g_3d.c - particle-to-grid transfer in 3D with linear shape functions
+ * (trilinear, the 8 nodes of the point's cell): lumped nodal mass, momentum
+ * and forces (004 eqs 3.13-3.15 with three axes). Blocks are 4 x 4 x 4
+ * nodes (block_grid.h); they are scattered colour by colour (8 colours,
+ * the parities of the block coordinates), each block by one worker, so a
+ * node receives the points of one block at a time, in block-key order and
+ * point order: the sums are bitwise identical for any worker count. A
+ * block's points write straight into the grid through its 8 neighbour
+ * links (slot ox + 2 oy + 4 oz).
+ */
+#include "grid/grid.h"
+
+#include <math.h>
+
+typedef struct p2g_3d_context {
+  gm_domain *domain;
+  const gm_p2g_pass *pass;
+  const uint32_t *blocks; /* blocks of the colour being scattered */
+  const double *velocity[3];
+  const double *stress[6]; /* Pa, Voigt xx yy zz xy yz zx */
+  const double *volume;    /* m^3, of the stress buffer */
+} p2g_3d_context;
+
+/* Names the first point of a block whose host inputs (velocity, external
+ * force) are not finite; x * 0 is 0 for finite x and NaN otherwise. */
+static void check_inputs_3d(const p2g_3d_context *ctx,
+                            gm_worker_scratch *scratch, uint32_t begin,
+                            uint32_t end) {
+  const gm_points *points = &ctx->domain->points;
+  double screen = 0.0;
+  for (uint32_t k = begin; k < end; k++) {
+    size_t p = points->order[k];
+    for (int c = 0; c < 3; c++) {
+      screen += ctx->velocity[c][p] * 0.0;
+      if (points->external_force[c])
+        screen += points->external_force[c][p] * 0.0;
+    }
+  }
+  if (screen == 0.0)
+    return;
+  for (uint32_t k = begin; k < end; k++) {
+    size_t p = points->order[k];
+    for (int c = 0; c < 3; c++) {
+      double force =
+          points->external_force[c] ? points->external_force[c][p] : 0.0;
+      if (isfinite(ctx->velocity[c][p]) && isfinite(force))
+        continue;
+      gm_worker_error(
+          scratch, GM_ERR_NOT_FINITE, p,
+          "step: point id %lld has a non-finite %s (component "
+          "%d); the step was not taken",
+          (long long)points->id[p],
+          isfinite(ctx->velocity[c][p]) ? "external force" : "velocity", c);
+    }
+  }
+}
+
+/* do_mass, do_momentum, do_forces are constants in each specialisation
+ * below (scatter_block_3d), so each pass kind gets its own loop; each
+ * field is summed alone, so leaving the others out changes no bit. */
+static GM_ALWAYS_INLINE void scatter_block_3d_kind(const p2g_3d_context *ctx,
+                                                   uint32_t block,
+                                                   const bool do_mass,
+                                                   const bool do_momentum,
+                                                   const bool do_forces) {
+  const gm_domain *domain = ctx->domain;
+  const gm_points *points = &domain->points;
+  const gm_grid *grid = &domain->grid;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  const double *const *position = (const double *const *)current->position;
+  const double *origin = domain->shape_grid.origin; /* m, node 0 */
+  const double *gravity = domain->def.gravity;      /* m/s^2 */
+  double inv_cell = domain->inv_cell;               /* 1/m */
+  const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  const int64_t mask = GM_BLOCK_EDGE_3D - 1;
+  for (uint32_t k = grid->point_start[block]; k < grid->point_start[block + 1];
+       k++) {
+    size_t p = points->order[k];
+    double w[3][2], d[3][2]; /* weights and gradients (1/m) per axis */
+    int64_t local[3];
+    for (int axis = 0; axis < 3; axis++)
+      local[axis] = gm_shape_linear_axis(position[axis][p], origin[axis],
+                                         inv_cell, w[axis], d[axis]) &
+                    mask;
+    double m = points->mass[p]; /* kg */
+    double velocity[3] = {ctx->velocity[0][p], ctx->velocity[1][p],
+                          ctx->velocity[2][p]};   /* m/s */
+    double body[3] = {0.0, 0.0, 0.0};             /* N */
+    double t[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}; /* stress V, N m */
+    if (do_forces) {
+      for (int c = 0; c < 3; c++)
+        body[c] =
+            m * gravity[c] +
+            (points->external_force[c] ? points->external_force[c][p] : 0.0);
+      double V = ctx->volume[p];
+      for (int c = 0; c < 6; c++)
+        t[c] = ctx->stress[c][p] * V;
+    }
+    for (int c = 0; c < 2; c++) {
+      for (int b = 0; b < 2; b++) {
+        for (int a = 0; a < 2; a++) {
+          int64_t nx = local[0] + a, ny = local[1] + b, nz = local[2] + c;
+          int slot = (int)(nx >> GM_BLOCK_SHIFT_3D) +
+                     2 * (int)(ny >> GM_BLOCK_SHIFT_3D) +
+                     4 * (int)(nz >> GM_BLOCK_SHIFT_3D);
+          size_t node =
+              (size_t)links[slot] * GM_BLOCK_NODES +
+              (size_t)((nx & mask) + GM_BLOCK_EDGE_3D * (ny & mask) +
+                       GM_BLOCK_EDGE_3D * GM_BLOCK_EDGE_3D * (nz & mask));
+          double weight = w[0][a] * w[1][b] * w[2][c];
+          if (do_mass)
+            grid->mass[node] += weight * m;
+          if (do_momentum)
+            for (int axis = 0; axis < 3; axis++)
+              grid->momentum[axis][node] += weight * m * velocity[axis];
+          if (!do_forces)
+            continue;
+          double gx = d[0][a] * w[1][b] * w[2][c]; /* 1/m */
+          double gy = w[0][a] * d[1][b] * w[2][c];
+          double gz = w[0][a] * w[1][b] * d[2][c];
+          /* f_i = N_i b - V sigma grad N_i (004 eq 3.15) */
+          grid->force[0][node] +=
+              weight * body[0] -
+              (t[GM_XX] * gx + t[GM_XY] * gy + t[GM_ZX] * gz);
+          grid->force[1][node] +=
+              weight * body[1] -
+              (t[GM_XY] * gx + t[GM_YY] * gy + t[GM_YZ] * gz);
+          grid->force[2][node] +=
+              weight * body[2] -
+              (t[GM_ZX] * gx + t[GM_YZ] * gy + t[GM_ZZ] * gz);
+        }
+      }
+    }
+  }
+}
+
+/* The pass kinds of the three schemes (step.c). */
+static void scatter_block_3d(const p2g_3d_context *ctx, uint32_t block) {
+  const gm_p2g_pass *pass = ctx->pass;
+  if (pass->mass && pass->momentum && pass->forces)
+    scatter_block_3d_kind(ctx, block, true, true, true);
+  else if (pass->mass && pass->momentum)
+    scatter_block_3d_kind(ctx, block, true, true, false);
+  else if (pass->momentum && pass->forces)
+    scatter_block_3d_kind(ctx, block, false, true, true);
+  else if (pass->momentum)
+    scatter_block_3d_kind(ctx, block, false, true, false);
+  else
+    scatter_block_3d_kind(ctx, block, pass->mass, false, pass->forces);
+}
+
+static void scatter_blocks_3d(void *context, size_t begin, size_t end,
+                              int worker) {
+  const p2g_3d_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  const gm_grid *grid = &domain->grid;
+  for (size_t item = begin; item < end; item++) {
+    uint32_t block = ctx->blocks[item];
+    if (ctx->pass->check_inputs)
+      check_inputs_3d(ctx, &domain->scratch[worker], grid->point_start[block],
+                      grid->point_start[block + 1]);
+    scatter_block_3d(ctx, block);
+  }
+}
+
+static void clear_blocks_3d(void *context, size_t begin, size_t end,
+                            int worker) {
+  (void)worker;
+  const p2g_3d_context *ctx = context;
+  gm_grid *grid = &ctx->domain->grid;
+  size_t first = begin * GM_BLOCK_NODES, last = end * GM_BLOCK_NODES;
+  for (size_t node = first; node < last; node++) {
+    if (ctx->pass->mass)
+      grid->mass[node] = 0.0;
+    for (int k = 0; k < 3; k++) {
+      if (ctx->pass->momentum)
+        grid->momentum[k][node] = 0.0;
+      if (ctx->pass->forces)
+        grid->force[k][node] = 0.0;
+    }
+  }
+}
+
+void gm_p2g_3d(gm_domain *domain, const gm_p2g_pass *pass) {
+  gm_grid *grid = &domain->grid;
+  gm_points *points = &domain->points;
+  const gm_point_buffers *moving = &points->buffer[pass->velocity_buffer];
+  const gm_point_buffers *stressed = &points->buffer[pass->stress_buffer];
+  p2g_3d_context ctx;
+  ctx.domain = domain;
+  ctx.pass = pass;
+  ctx.blocks = NULL;
+  for (int k = 0; k < 3; k++)
+    ctx.velocity[k] = moving->velocity[k];
+  for (int k = 0; k < 6; k++)
+    ctx.stress[k] = stressed->stress[k];
+  ctx.volume = stressed->volume;
+  gm_parallel_for(&domain->pool, grid->block_count, clear_blocks_3d, &ctx);
+  for (int colour = 0; colour < GM_BLOCK_COLOURS; colour++) {
+    size_t first = grid->color_start[colour];
+    size_t count = grid->color_start[colour + 1] - first;
+    ctx.blocks = grid->color_block + first;
+    gm_parallel_for(&domain->pool, count, scatter_blocks_3d, &ctx);
+  }
+}
