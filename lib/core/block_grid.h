@@ -128,6 +128,21 @@ static inline void gm_cell_nodes_2d(const uint32_t *links, int shift,
             (size_t)(next_x + edge * next_y);
 }
 
+/* The grid field index of the node at (nx, ny, nz) counted from the origin
+ * node of the block with these links (3D; each coordinate 0..2 edges - 1,
+ * so a node past the block's edge is found through neighbour slot
+ * ox + 2 oy + 4 oz). */
+static inline size_t gm_block_node_3d(const uint32_t *links, int64_t nx,
+                                      int64_t ny, int64_t nz) {
+  const int64_t mask = GM_BLOCK_EDGE_3D - 1;
+  int slot = (int)(nx >> GM_BLOCK_SHIFT_3D) +
+             2 * (int)(ny >> GM_BLOCK_SHIFT_3D) +
+             4 * (int)(nz >> GM_BLOCK_SHIFT_3D);
+  return (size_t)links[slot] * GM_BLOCK_NODES +
+         (size_t)((nx & mask) + GM_BLOCK_EDGE_3D * (ny & mask) +
+                  GM_BLOCK_EDGE_3D * GM_BLOCK_EDGE_3D * (nz & mask));
+}
+
 /* Block key of a position inside the grid (x, y: m; y ignored in 1D).
  * Truncation is floor here: inside the grid the cell coordinates are >= 0.
  * The arithmetic matches gm_shape_linear_axis, so the block agrees with

@@ -66,13 +66,7 @@ static GM_ALWAYS_INLINE void gather_chunk_3d_kind(const gm_domain *domain,
       for (int b = 0; b < 2; b++) {
         for (int a_x = 0; a_x < 2; a_x++) {
           int64_t nx = local[0] + a_x, ny = local[1] + b, nz = local[2] + c;
-          int slot = (int)(nx >> GM_BLOCK_SHIFT_3D) +
-                     2 * (int)(ny >> GM_BLOCK_SHIFT_3D) +
-                     4 * (int)(nz >> GM_BLOCK_SHIFT_3D);
-          size_t node =
-              (size_t)links[slot] * GM_BLOCK_NODES +
-              (size_t)((nx & mask) + GM_BLOCK_EDGE_3D * (ny & mask) +
-                       GM_BLOCK_EDGE_3D * GM_BLOCK_EDGE_3D * (nz & mask));
+          size_t node = gm_block_node_3d(links, nx, ny, nz);
           double weight = w[0][a_x] * w[1][b] * w[2][c];
           double grad[3] = {d[0][a_x] * w[1][b] * w[2][c],
                             w[0][a_x] * d[1][b] * w[2][c],

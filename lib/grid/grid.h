@@ -15,6 +15,8 @@
 #include "granular/granular.h"
 #include "points/points.h"
 
+#include <math.h>
+
 gm_status gm_bin_points(gm_domain *domain); /* bins.c */
 void gm_reorder_points(gm_domain *domain);  /* bins.c */
 /* What a P2G pass accumulates (p2g.c). */
@@ -89,5 +91,24 @@ void gm_stress_update_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
  * is not finite (stress_update.c). */
 void gm_check_stress_chunk(gm_domain *domain, gm_worker_scratch *scratch,
                            size_t first, size_t count, double dt);
+
+/* Newton's law for one velocity component of one node, in place: the
+ * momentum (kg m/s) becomes the new velocity (m/s) and the force (N) the
+ * acceleration (m/s^2); Cundall's local damping (0..1, -) takes a share of
+ * the force's size against the motion. Returns the velocity before the
+ * update (m/s). The grid updates of every dimension share it, so they round
+ * alike. */
+static inline double gm_node_accelerate(double *momentum, double *force,
+                                        double inverse_mass, double damping,
+                                        double dt) {
+  double old_velocity = *momentum * inverse_mass;
+  double f = *force;
+  if (damping > 0.0 && old_velocity != 0.0) /* against the motion */
+    f -= damping * fabs(f) * (old_velocity > 0.0 ? 1.0 : -1.0);
+  double acceleration = f * inverse_mass;
+  *force = acceleration;
+  *momentum = old_velocity + acceleration * dt;
+  return old_velocity;
+}
 
 #endif

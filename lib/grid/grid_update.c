@@ -214,15 +214,8 @@ static void update_free_block_2d(gm_grid *grid, size_t b, double dt,
     double inverse_mass = mass[local] > 0.0 ? 1.0 / mass[local] : 0.0;
     double *momentum[2] = {&momentum_x[local], &momentum_y[local]};
     double *force_of[2] = {&force_x[local], &force_y[local]};
-    for (int k = 0; k < 2; k++) {
-      double old_velocity = *momentum[k] * inverse_mass;
-      double force = *force_of[k];              /* N */
-      if (damping > 0.0 && old_velocity != 0.0) /* against the motion */
-        force -= damping * fabs(force) * (old_velocity > 0.0 ? 1.0 : -1.0);
-      double acceleration = force * inverse_mass;
-      *force_of[k] = acceleration;
-      *momentum[k] = old_velocity + acceleration * dt;
-    }
+    for (int k = 0; k < 2; k++)
+      gm_node_accelerate(momentum[k], force_of[k], inverse_mass, damping, dt);
   }
 }
 
@@ -272,17 +265,11 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
       double old_velocity[2] = {0.0, 0.0};
       for (int k = 0; k < dim; k++) {
         double *motion = &grid->momentum[k][node];
-        old_velocity[k] = *motion * inverse_mass;
-        if (ctx->mode == GM_GRID_VELOCITY_ONLY) {
-          *motion = old_velocity[k];
-          continue;
-        }
-        double force = grid->force[k][node];         /* N */
-        if (damping > 0.0 && old_velocity[k] != 0.0) /* against the motion */
-          force -= damping * fabs(force) * (old_velocity[k] > 0.0 ? 1.0 : -1.0);
-        double acceleration = force * inverse_mass;
-        grid->force[k][node] = acceleration;
-        *motion = old_velocity[k] + acceleration * dt;
+        if (ctx->mode == GM_GRID_VELOCITY_ONLY)
+          *motion = old_velocity[k] = *motion * inverse_mass;
+        else
+          old_velocity[k] = gm_node_accelerate(motion, &grid->force[k][node],
+                                               inverse_mass, damping, dt);
       }
       bool rigid = domain->rigid_count > 0 && grid->rigid_material[node] != 0;
       if (!block_on_wall && !near_walls && !rigid)

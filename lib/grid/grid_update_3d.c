@@ -69,17 +69,11 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
       double old_velocity[3];                              /* m/s */
       for (int k = 0; k < 3; k++) {
         double *motion = &grid->momentum[k][node];
-        old_velocity[k] = *motion * inverse_mass;
-        if (ctx->mode == GM_GRID_VELOCITY_ONLY) {
-          *motion = old_velocity[k];
-          continue;
-        }
-        double force = grid->force[k][node];         /* N */
-        if (damping > 0.0 && old_velocity[k] != 0.0) /* against the motion */
-          force -= damping * fabs(force) * (old_velocity[k] > 0.0 ? 1.0 : -1.0);
-        double acceleration = force * inverse_mass; /* m/s^2 */
-        grid->force[k][node] = acceleration;
-        *motion = old_velocity[k] + acceleration * dt;
+        if (ctx->mode == GM_GRID_VELOCITY_ONLY)
+          *motion = old_velocity[k] = *motion * inverse_mass;
+        else
+          old_velocity[k] = gm_node_accelerate(motion, &grid->force[k][node],
+                                               inverse_mass, damping, dt);
       }
       if (!on_face)
         continue;

@@ -101,13 +101,7 @@ static GM_ALWAYS_INLINE void scatter_block_3d_kind(const p2g_3d_context *ctx,
       for (int b = 0; b < 2; b++) {
         for (int a = 0; a < 2; a++) {
           int64_t nx = local[0] + a, ny = local[1] + b, nz = local[2] + c;
-          int slot = (int)(nx >> GM_BLOCK_SHIFT_3D) +
-                     2 * (int)(ny >> GM_BLOCK_SHIFT_3D) +
-                     4 * (int)(nz >> GM_BLOCK_SHIFT_3D);
-          size_t node =
-              (size_t)links[slot] * GM_BLOCK_NODES +
-              (size_t)((nx & mask) + GM_BLOCK_EDGE_3D * (ny & mask) +
-                       GM_BLOCK_EDGE_3D * GM_BLOCK_EDGE_3D * (nz & mask));
+          size_t node = gm_block_node_3d(links, nx, ny, nz);
           double weight = w[0][a] * w[1][b] * w[2][c];
           if (do_mass)
             grid->mass[node] += weight * m;

@@ -10,6 +10,16 @@
 #include <math.h>
 #include <stdint.h>
 
+/* The two tent weights and gradients (1/m) of a point `fraction` (in
+ * [0, 1)) of the way across its cell, for both axis functions below. */
+static inline void gm_shape_linear_tent(double fraction, double inv_h,
+                                        double weight[2], double gradient[2]) {
+  weight[0] = 1.0 - fraction;
+  weight[1] = fraction;
+  gradient[0] = -inv_h;
+  gradient[1] = inv_h;
+}
+
 /* Cell index and the two node weights/gradients along one axis.
  * coordinate: m; origin: m, grid lower corner; inv_h: 1/m. */
 static inline int64_t gm_shape_linear_axis(double coordinate, double origin,
@@ -20,11 +30,7 @@ static inline int64_t gm_shape_linear_axis(double coordinate, double origin,
    * non-integers (points inside the grid have scaled >= 0 anyway). */
   int64_t cell = (int64_t)scaled;
   cell -= (double)cell > scaled;
-  double fraction = scaled - (double)cell; /* in [0, 1) */
-  weight[0] = 1.0 - fraction;
-  weight[1] = fraction;
-  gradient[0] = -inv_h;
-  gradient[1] = inv_h;
+  gm_shape_linear_tent(scaled - (double)cell, inv_h, weight, gradient);
   return cell;
 }
 
@@ -41,11 +47,7 @@ static inline int64_t gm_shape_linear_axis_inside(double coordinate,
                                                   double gradient[2]) {
   double scaled = (coordinate - origin) * inv_h; /* position in cells, >= 0 */
   int64_t cell = (int64_t)scaled;
-  double fraction = scaled - (double)cell; /* in [0, 1) */
-  weight[0] = 1.0 - fraction;
-  weight[1] = fraction;
-  gradient[0] = -inv_h;
-  gradient[1] = inv_h;
+  gm_shape_linear_tent(scaled - (double)cell, inv_h, weight, gradient);
   return cell;
 }
 
