@@ -1318,6 +1318,15 @@ START_TEST(test_3d_refuses_what_it_lacks) {
       ONLY(GM_ERR_UNSUPPORTED), "GM_FIELD_DOMAIN_CORNERS", "3D corners");
   ck_assert_uint_eq(gm_domain_point_count(domain), 1);
   TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-5));
+  /* APIC is refused in 3D, so B_p is zero; its nine components were read
+   * from a four-slot array before, past it into the point buffers (after
+   * a step: into the committed-buffer index, and a crash). */
+  double affine[9];
+  memset(affine, 0xff, sizeof affine); /* NaNs */
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_AFFINE, affine, 9));
+  for (int k = 0; k < 9; k++)
+    ck_assert_msg(affine[k] == 0.0, "3D affine component %d: %g", k, affine[k]);
   gm_domain_destroy(domain);
 }
 END_TEST
