@@ -1304,15 +1304,8 @@ START_TEST(test_3d_refuses_what_it_lacks) {
   check_domain_error(domain, gm_domain_add_sink(domain, &sink, &id),
                      ONLY(GM_ERR_UNSUPPORTED), "gm_domain_add_sink", "3D sink");
   /* gm_domain_save and gm_domain_load work in 3D (test_checkpoint.c). */
-  check_domain_error(domain, gm_domain_write_vtu(domain, "never.vtu"),
-                     ONLY(GM_ERR_UNSUPPORTED), "gm_domain_write_vtu", "3D VTU");
-  check_domain_error(domain, gm_domain_write_domains_vtu(domain, "never.vtu"),
-                     ONLY(GM_ERR_UNSUPPORTED), "gm_domain_write_domains_vtu",
-                     "3D domains VTU");
-  double corners[24];
-  check_domain_error(
-      domain, gm_domain_get_field(domain, GM_FIELD_DOMAIN_CORNERS, corners, 24),
-      ONLY(GM_ERR_UNSUPPORTED), "GM_FIELD_DOMAIN_CORNERS", "3D corners");
+  /* Checkpoints, VTU output, series and the domain corners work in 3D
+   * (test_checkpoint.c, test_vtu.c). */
   ck_assert_uint_eq(gm_domain_point_count(domain), 1);
   TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-5));
   /* APIC is refused in 3D, so B_p is zero; its nine components were read

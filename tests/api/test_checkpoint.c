@@ -336,14 +336,9 @@ static observed observe(const scene *s) {
   for (int f = 0; f < FIELD_COUNT; f++) {
     size_t components = 0;
     REQUIRE_OK(d, gm_domain_field_components(d, (gm_field)f, &components));
-    /* The domain corners are refused in 3D (docs/3d.md): none compared. */
-    if (s->three_d && f == GM_FIELD_DOMAIN_CORNERS)
-      components = 0;
     o.length[f] = components * o.count;
     o.field[f] = calloc(o.length[f] + 1, sizeof(double));
-    if (components > 0)
-      REQUIRE_OK(d,
-                 gm_domain_get_field(d, (gm_field)f, o.field[f], o.length[f]));
+    REQUIRE_OK(d, gm_domain_get_field(d, (gm_field)f, o.field[f], o.length[f]));
   }
   gm_flow_totals in = gm_flow_totals_default(), out = gm_flow_totals_default();
   if (s->source >= 0)
