@@ -783,7 +783,8 @@ typedef enum gm_field {
   GM_FIELD_DOMAIN_CORNERS = 12, /* m, current domain (copy only): 2 ends in
                                    1D; in 2D 4 corners x, y
                                    counter-clockwise from the lower left
-                                   (see gm_shape) */
+                                   (see gm_shape); in 3D 8 corners x, y, z
+                                   in VTK_HEXAHEDRON order (gm_fields(3)) */
   GM_FIELD_STATE = 13,          /* gm_point_state of the last step */
   GM_FIELD_COMPONENT = 14,      /* parallel grid of the last step: 0, 1, ...
                                    in order of each grid's smallest point
@@ -900,7 +901,8 @@ GM_API gm_status gm_series_create(const char *pvd_path, gm_series **out);
  * .pvd so it is complete after every call. */
 GM_API gm_status gm_series_write(gm_series *series, const gm_domain *domain);
 /** Writes every point's current domain (GM_FIELD_DOMAIN_CORNERS) as a
- * polygon: a VTK_QUAD per point in 2D, a VTK_LINE in 1D, with the point's
+ * polygon: a VTK_QUAD per point in 2D, a VTK_LINE in 1D, a VTK_HEXAHEDRON
+ * in 3D, with the point's
  * fields as cell data, so ParaView draws the domains (000 Figs 12, 16). */
 GM_API gm_status gm_domain_write_domains_vtu(const gm_domain *domain,
                                              const char *path);

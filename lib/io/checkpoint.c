@@ -188,8 +188,11 @@ size_t gm_checkpoint_point_arrays(const gm_domain *domain,
   const gm_points *points = &domain->points;
   const gm_point_buffers *b = &points->buffer[points->cur];
   int dim = domain->dim;
-  /* F_ZZ (the hoop stretch) is stored in axisymmetry only (points.c). */
-  int deformation = domain->axisymmetric ? GM_F_STORED : F_ZZ;
+  /* F_ZZ (the hoop stretch) is stored in axisymmetry only, all nine
+   * components in 3D (points.c). */
+  int deformation = dim == 3               ? GM_F_SLOTS
+                    : domain->axisymmetric ? GM_F_STORED
+                                           : F_ZZ;
   size_t n = 0, d = sizeof(double);
 #define SLOT_AS(pointer, size, kind, form)                                     \
   slots[n++] = (gm_array_slot) {                                               \
@@ -200,7 +203,8 @@ size_t gm_checkpoint_point_arrays(const gm_domain *domain,
     SLOT(b->position[k], d, GM_CHECK_POSITION);
   for (int k = 0; k < dim; k++)
     SLOT(b->velocity[k], d, GM_CHECK_INPUT);
-  for (int k = 0; k < GM_STRESS_STORED; k++)
+  /* xx yy zz xy, then yz zx in 3D (the Voigt order of the slots). */
+  for (int k = 0; k < gm_stress_stored(domain); k++)
     SLOT(b->stress[k], d, GM_CHECK_FINITE);
   for (int k = 0; k < deformation; k++)
     SLOT(b->deformation[k], d,
@@ -313,9 +317,6 @@ gm_status gm_domain_save(const gm_domain *domain, const char *path) {
   if (domain->busy && !domain->in_hook)
     return gm_set_error(mutable_domain, GM_ERR_BUSY,
                         "gm_domain_save: called during a step");
-  gm_status refused = gm_refuse_in_3d(mutable_domain, "gm_domain_save");
-  if (refused != GM_OK)
-    return refused;
   gm_byte_writer out;
   gm_checkpoint_begin(&out);
   gm_byte_writer setup = {0};

@@ -124,7 +124,8 @@ typedef enum gm_array_check {
   GM_CHECK_NONE,        /* material state: its meaning is the material's */
   GM_CHECK_FINITE,      /* stress, F */
   GM_CHECK_DEFORMATION, /* F_XX: with the next three slots (and F_ZZ in
-                           axisymmetry) finite, det F > 0 */
+                           axisymmetry; the next eight in 3D) finite,
+                           det F > 0 */
   GM_CHECK_DOMAIN_MAP,  /* CPDI's D_XX: with the next three slots finite,
                            det D > 0 */
   GM_CHECK_POSITIVE,    /* finite and > 0: volumes, masses, domain sizes */
@@ -151,6 +152,8 @@ typedef struct gm_array_slot {
   gm_array_form form;
 } gm_array_slot;
 
+/* 30 in 3D (positions 3, velocities 3, stress 6, F 9 and 9 others); at
+ * most 31 in 2D (CPDI, granular, APIC, axisymmetry). */
 #define GM_CHECKPOINT_MAX_ARRAYS 32
 
 /* The per-point arrays of the committed state, in file order, into slots

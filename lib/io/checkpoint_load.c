@@ -26,7 +26,7 @@ typedef struct loaded_state {
   int64_t next_id;
   const unsigned char *array[GM_CHECKPOINT_MAX_ARRAYS];
   bool external; /* external forces were allocated */
-  const unsigned char *external_force[2];
+  const unsigned char *external_force[3];
   const unsigned char *index_of_id;
   gm_source sources[GM_MAX_SOURCES];          /* clocks and totals only */
   gm_sink sinks[GM_MAX_SOURCES];              /* totals only */
@@ -166,11 +166,12 @@ static bool valid_small_integers(const unsigned char *bytes, size_t count,
 static bool valid_position(const gm_domain *domain, const loaded_state *state,
                            size_t i) {
   /* The positions are the first dim arrays (gm_checkpoint_point_arrays). */
-  double xy[2] = {real_at(state->array[0], i),
-                  domain->dim > 1 ? real_at(state->array[1], i) : 0.0};
+  double xyz[3] = {0.0, 0.0, 0.0};
+  for (int k = 0; k < domain->dim; k++)
+    xyz[k] = real_at(state->array[k], i);
   int64_t key;
-  return gm_block_key_of(domain, xy, &key) &&
-         (!domain->axisymmetric || xy[0] > 0.0);
+  return gm_block_key_of(domain, xyz, &key) &&
+         (!domain->axisymmetric || xyz[0] > 0.0);
 }
 
 /* The 2x2 tensors in slots first..first+3 (F_XX, F_XY, F_YX, F_YY), times
@@ -188,6 +189,25 @@ static bool valid_jacobians(const loaded_state *state, size_t first,
     double det = xx * yy - xy * yx;
     if (with_hoop)
       det *= real_at(state->array[first + F_ZZ], i);
+    if (!(det > 0.0 && isfinite(det)))
+      return false;
+  }
+  return true;
+}
+
+/* The 3x3 F of 3D in slots first..first+8 (F_XX..F_ZY, core.h) has a
+ * positive determinant at every point, as g2p_3d.c leaves it. */
+static bool valid_jacobians_3d(const loaded_state *state, size_t first) {
+  /* Slot of F_ij, row-major. */
+  static const int slot[9] = {F_XX, F_XY, F_XZ, F_YX, F_YY,
+                              F_YZ, F_ZX, F_ZY, F_ZZ};
+  for (size_t i = 0; i < state->count; i++) {
+    double f[9];
+    for (int c = 0; c < 9; c++)
+      f[c] = real_at(state->array[first + (size_t)slot[c]], i);
+    double det = f[0] * (f[4] * f[8] - f[5] * f[7]) -
+                 f[1] * (f[3] * f[8] - f[5] * f[6]) +
+                 f[2] * (f[3] * f[7] - f[4] * f[6]);
     if (!(det > 0.0 && isfinite(det)))
       return false;
   }
@@ -249,10 +269,13 @@ static const char *first_invalid(const gm_domain *domain,
     case GM_CHECK_DOMAIN_MAP:
       if (!valid_reals(bytes, values, GM_CHECK_FINITE))
         return "a non-finite or non-positive point value";
-      /* F_ZZ follows F_YY in axisymmetry (gm_checkpoint_point_arrays). */
-      if (!valid_jacobians(state, k,
-                           slots[k].check == GM_CHECK_DEFORMATION &&
-                               domain->axisymmetric))
+      /* F_ZZ follows F_YY in axisymmetry, all nine in 3D
+       * (gm_checkpoint_point_arrays). */
+      if (!(domain->dim == 3 && slots[k].check == GM_CHECK_DEFORMATION
+                ? valid_jacobians_3d(state, k)
+                : valid_jacobians(state, k,
+                                  slots[k].check == GM_CHECK_DEFORMATION &&
+                                      domain->axisymmetric)))
         return slots[k].check == GM_CHECK_DEFORMATION
                    ? "an inverted deformation gradient (det F <= 0)"
                    : "an inverted CPDI domain (det <= 0)";
@@ -309,7 +332,7 @@ static gm_status reserve_for(gm_domain *domain, const loaded_state *state) {
     return GM_OK;
   if (gm_points_need_external_force(domain) == GM_OK)
     return GM_OK;
-  for (int k = 0; k < 2; k++) { /* all components or none */
+  for (int k = 0; k < 3; k++) { /* all components or none */
     gm_free(points->external_force[k]);
     points->external_force[k] = NULL;
   }
@@ -454,9 +477,6 @@ gm_status gm_domain_load(gm_domain *domain, const char *path) {
   if (domain->busy)
     return gm_set_error(domain, GM_ERR_BUSY,
                         "gm_domain_load: called during a step");
-  gm_status refused = gm_refuse_in_3d(domain, "gm_domain_load");
-  if (refused != GM_OK)
-    return refused;
   unsigned char *file = NULL;
   gm_byte_reader in;
   gm_status status = gm_checkpoint_read_file(domain, path, &file, &in);

@@ -235,9 +235,6 @@ gm_status gm_series_write(gm_series *series, const gm_domain *domain) {
   if (!series)
     return gm_set_error(error_domain, GM_ERR_NULL,
                         "gm_series_write: series is NULL");
-  gm_status refused = gm_refuse_in_3d(error_domain, "gm_series_write");
-  if (refused != GM_OK)
-    return refused;
   size_t frame = series->frame_count;
   if (frame == series->frame_capacity) {
     size_t capacity = frame ? 2 * frame : 64;

@@ -433,9 +433,6 @@ gm_status gm_vtu_write(const gm_domain *domain, const char *path,
   if (path[0] == '\0')
     return gm_set_error(error_domain, GM_ERR_INVALID_ARGUMENT,
                         "%s: path is empty", layout->caller);
-  gm_status refused = gm_refuse_in_3d(error_domain, layout->caller);
-  if (refused != GM_OK)
-    return refused;
   vtu_writer writer = {0};
   writer.domain = error_domain;
   writer.layout = layout;

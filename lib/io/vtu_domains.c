@@ -2,7 +2,9 @@
  * vtu_domains.c - gm_domain_write_domains_vtu: the current domain of every
  * material point as a polygon, so ParaView draws the domains as the
  * snapshots of 000 Figs 12 and 16 show them (a parallelogram per point with
- * CPDI, a rectangle with the GIMP variants and linear MPM).
+ * CPDI, a rectangle with the GIMP variants and linear MPM; in 3D, linear
+ * MPM only so far, a hexahedron: the parallelepiped F carries the initial
+ * box to).
  *
  * The corners come from GM_FIELD_DOMAIN_CORNERS (support.h), counter-
  * clockwise from the lower left, which is VTK_QUAD's vertex order, so a
@@ -20,6 +22,13 @@ static const gm_vtu_layout quad_layout = {"gm_domain_write_domains_vtu",
                                           GM_FIELD_DOMAIN_CORNERS, 4,
                                           GM_VTK_QUAD, "CellData"};
 
+/* 3D: the eight corners of the domain (fields.c: the parallelepiped
+ * spanned by F times the initial half edges, in VTK_HEXAHEDRON's vertex
+ * order), one VTK_HEXAHEDRON per material point. */
+static const gm_vtu_layout hexahedron_layout = {"gm_domain_write_domains_vtu",
+                                                GM_FIELD_DOMAIN_CORNERS, 8,
+                                                GM_VTK_HEXAHEDRON, "CellData"};
+
 /* 1D: the two ends of the domain (y = z = 0), one VTK_LINE per point. */
 static const gm_vtu_layout line_layout = {"gm_domain_write_domains_vtu",
                                           GM_FIELD_DOMAIN_CORNERS, 2,
@@ -29,6 +38,8 @@ gm_status gm_domain_write_domains_vtu(const gm_domain *domain,
                                       const char *path) {
   if (!domain)
     return GM_ERR_NULL;
-  return gm_vtu_write(domain, path,
-                      domain->dim == 1 ? &line_layout : &quad_layout);
+  const gm_vtu_layout *layout = domain->dim == 1   ? &line_layout
+                                : domain->dim == 3 ? &hexahedron_layout
+                                                   : &quad_layout;
+  return gm_vtu_write(domain, path, layout);
 }

@@ -5,8 +5,9 @@
  *  - points (gm_domain_write_vtu): one VTK point and one VTK_VERTEX cell
  *    per material point, the fields as PointData;
  *  - domains (gm_domain_write_domains_vtu, vtu_domains.c): the corners of
- *    each material point's domain as VTK points, one VTK_LINE (1D) or
- *    VTK_QUAD (2D) cell per material point, the fields as CellData.
+ *    each material point's domain as VTK points, one VTK_LINE (1D),
+ *    VTK_QUAD (2D) or VTK_HEXAHEDRON (3D) cell per material point, the
+ *    fields as CellData.
  *
  * Both files have the same arrays in the same order; only where the VTK
  * points come from, how many there are per material point, the cell type
@@ -18,7 +19,12 @@
 #include "io/io.h"
 
 /* VTK cell type numbers (vtkCellType.h; fixed by the file format). */
-enum { GM_VTK_VERTEX = 1, GM_VTK_LINE = 3, GM_VTK_QUAD = 9 };
+enum {
+  GM_VTK_VERTEX = 1,
+  GM_VTK_LINE = 3,
+  GM_VTK_QUAD = 9,
+  GM_VTK_HEXAHEDRON = 12
+};
 
 typedef struct gm_vtu_layout {
   const char *caller; /* public function name, starts error messages */
@@ -26,7 +32,7 @@ typedef struct gm_vtu_layout {
    * material point, each with components / vertices coordinates (m);
    * padded with zeros to x, y, z. */
   gm_field vertex_field;
-  size_t vertices;        /* VTK points per material point, 1..4 */
+  size_t vertices;        /* VTK points per material point, 1..8 */
   uint8_t cell_type;      /* GM_VTK_*, one cell per material point */
   const char *fields_tag; /* "PointData" or "CellData" */
 } gm_vtu_layout;

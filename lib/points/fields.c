@@ -23,7 +23,7 @@ static size_t components_of(const gm_domain *domain, gm_field field) {
   case GM_FIELD_DEFORMATION_GRADIENT:
     return 9;
   case GM_FIELD_DOMAIN_CORNERS: /* 2 ends in 1D, 4 corners x, y in 2D, 8
-                                   corners x, y, z in 3D (not yet read) */
+                                   corners x, y, z in 3D */
     return domain->dim == 1 ? 2 : domain->dim == 2 ? 8 : 24;
   case GM_FIELD_AFFINE: /* B_p, dim x dim */
     return (size_t)(domain->dim * domain->dim);
@@ -79,11 +79,38 @@ static double *stored_component(const gm_domain *domain, gm_field field,
     return buffer->stress[stress_slot[k]];
   case GM_FIELD_DEFORMATION_GRADIENT:
     return buffer->deformation[deformation_slot[k]];
-  case GM_FIELD_AFFINE: /* NULL without APIC: zeros */
-    return buffer->affine[k];
+  case GM_FIELD_AFFINE: /* NULL without APIC: zeros. 3D has 9 components
+                           and no APIC yet: past the 4 slots, zeros too. */
+    return k < GM_AFFINE_STORED ? buffer->affine[k] : NULL;
   default:
     return NULL;
   }
+}
+
+/* Component k of the 8 corners of point i's domain in 3D: the
+ * parallelepiped spanned from the point by F r1, F r2, F r3, with r_a the
+ * initial half edges (GM_FIELD_DOMAIN_SIZE / 2) along the axes, so its
+ * volume is det F times the initial box's, the point's volume V = det F V0
+ * (g2p_3d.c) when V0 is the initial box (fill_box). Linear MPM has no
+ * domain of its own: this is the material box the point started as,
+ * carried by F (the CPDI domain of 000 Fig. 12 in 3D). Corner c has signs
+ * (s_x, s_y, s_z) in VTK_HEXAHEDRON's vertex order: the lower face
+ * counter-clockwise from (-, -, -) seen from +z, then the upper face. */
+static double corner_value_3d(const gm_domain *domain, size_t k, size_t i) {
+  const gm_points *points = &domain->points;
+  const gm_point_buffers *buffer = &points->buffer[points->cur];
+  static const double sign[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1},
+                                    {-1, 1, -1},  {-1, -1, 1}, {1, -1, 1},
+                                    {1, 1, 1},    {-1, 1, 1}};
+  /* Row `axis` of F, row-major slots (core.h). */
+  static const int row[3][3] = {
+      {F_XX, F_XY, F_XZ}, {F_YX, F_YY, F_YZ}, {F_ZX, F_ZY, F_ZZ}};
+  size_t corner = k / 3, axis = k % 3;
+  double value = buffer->position[axis][i]; /* m */
+  for (int a = 0; a < 3; a++)
+    value += buffer->deformation[row[axis][a]][i] * sign[corner][a] * 0.5 *
+             points->domain_size[a][i];
+  return value;
 }
 
 /* Component k of the current domain corners of point i (support.h). */
@@ -91,6 +118,8 @@ static double corner_value(const gm_domain *domain, size_t k, size_t i) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *buffer = &points->buffer[points->cur];
   int dim = domain->dim;
+  if (dim == 3)
+    return corner_value_3d(domain, k, i);
   gm_point_domain point;
   gm_point_domain_at(domain, buffer, i, &point);
   double corners[4][2];
@@ -143,10 +172,6 @@ gm_status gm_domain_get_field(const gm_domain *domain, gm_field field,
                         "gm_domain_get_field: field %d is not a gm_field "
                         "value",
                         (int)field);
-  if (field == GM_FIELD_DOMAIN_CORNERS && domain->dim == 3)
-    return gm_set_error(mutable_domain, GM_ERR_UNSUPPORTED,
-                        "gm_domain_get_field: GM_FIELD_DOMAIN_CORNERS is not "
-                        "supported in GM_GEOMETRY_3D in this version");
   size_t components = components_of(domain, field);
   size_t count = domain->points.count;
   if (out_length < count * components)

@@ -10,11 +10,15 @@
  *    after the save, the same with uGIMP (interaction boxes kept between
  *    steps), the CPDI one on 2 workers (and restarted on 2 from a 1-worker
  *    file), and a stream from a source sliding down a frictional planar
- *    wall into a sink. The restarted domain takes 3 steps of its own
+ *    wall into a sink, and a sheared elastic block in 3D (USL and MUSL, 1
+ *    and 2 workers). The restarted domain takes 3 steps of its own
  *    before the load, so its caches are stale when the file arrives.
  * 2. Refusals: every truncation of a small file, every single flipped byte,
  *    a wrong version (with a valid checksum), another setup, an inverted F,
- *    a granular state or grid label the library never writes: refused with
+ *    a granular state or grid label the library never writes, the same
+ *    truncations and flips of a 3D file, a 3D F with det F < 0, a 3D
+ *    point outside the box in z alone, a non-finite yz stress, a 3D file
+ *    against another grid or a 2D domain (and back): refused with
  *    the right status, and the domain bitwise unchanged (its observable
  *    state, and the run it then continues).
  * 3. Failed saves: a missing directory, a temporary path that cannot be
@@ -30,6 +34,7 @@
 #include "test_util.h"
 
 #include <check.h>
+#include <math.h>
 #include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -63,19 +68,22 @@ typedef enum scene_kind {
   GRANULAR,
   GRANULAR_GIMP,
   FLOW,
-  PERIODIC
+  PERIODIC,
+  SOLID_3D, /* GM_GEOMETRY_3D: an elastic block, 2 points per cell axis */
+  SMALL_3D  /* the same, one point per cell, for the byte-by-byte tests */
 } scene_kind;
 
 typedef struct scene {
   gm_domain *domain;
   int rigid, wall, source, sink; /* ids, -1 when absent */
   int steps_before, steps_after; /* N and M */
+  bool three_d;                  /* GM_GEOMETRY_3D */
 } scene;
 
 /* An elastic block on a fixed floor, pushed by a rigid plate (linear MPM,
  * USL). Soft enough (c ~ 37 m/s) for 1.4 ms steps. */
 static scene build_elastic(gm_domain_def def, int points_per_cell_axis) {
-  scene s = {NULL, -1, -1, -1, -1, 21, 40};
+  scene s = {NULL, -1, -1, -1, -1, 21, 40, false};
   def.gravity[1] = -9.81; /* m/s^2 */
   def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
   def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] = GM_WALL_SLIP;
@@ -95,7 +103,7 @@ static scene build_elastic(gm_domain_def def, int points_per_cell_axis) {
 /* Granular CPDI: a Mohr-Coulomb layer on the floor and a block thrown down
  * onto it; they are separate parallel grids until they meet. */
 static scene build_granular(gm_domain_def def, gm_shape shape) {
-  scene s = {NULL, -1, -1, -1, -1, 60, 140};
+  scene s = {NULL, -1, -1, -1, -1, 60, 140, false};
   def.cell_size = 0.05; /* m */
   def.extent[0] = def.extent[1] = 0.6;
   def.gravity[1] = -9.81;
@@ -135,7 +143,7 @@ static scene build_granular(gm_domain_def def, gm_shape shape) {
  * wall at 30 degrees, mu = 0.3 < tan 30: they slide), which leads them
  * into a sink by the right-hand wall (MUSL, as in test_sources). */
 static scene build_flow(gm_domain_def def) {
-  scene s = {NULL, -1, -1, -1, -1, 300, 150};
+  scene s = {NULL, -1, -1, -1, -1, 300, 150, false};
   def.scheme = GM_SCHEME_MUSL;
   def.cell_size = 0.25; /* m */
   def.extent[0] = 2.0;
@@ -177,7 +185,7 @@ static scene build_flow(gm_domain_def def) {
  * floor, moving at 2-3 m/s along x: its points cross the seam before and
  * after the save. */
 static scene build_periodic(gm_domain_def def) {
-  scene s = {NULL, -1, -1, -1, -1, 21, 40};
+  scene s = {NULL, -1, -1, -1, -1, 21, 40, false};
   def.gravity[1] = -9.81; /* m/s^2 */
   def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
   def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] = GM_WALL_PERIODIC;
@@ -196,6 +204,41 @@ static scene build_periodic(gm_domain_def def) {
   return s;
 }
 
+/* An elastic block in 3D (linear MPM, the scheme of build()) on a fixed
+ * floor between slip sides, gravity along -z, sheared at the start (v_x =
+ * 2 z, v_y = -1.5 x, in 1/s times m) so that all nine components of F and
+ * all six of the stress move and the file has to carry each of them. */
+static scene build_3d(gm_domain_def def, int points_per_cell_axis) {
+  scene s = {NULL, -1, -1, -1, -1, 21, 40, true};
+  def.geometry = GM_GEOMETRY_3D;
+  def.gravity[1] = 0.0;
+  def.gravity[2] = -9.81; /* m/s^2 */
+  def.walls[GM_FACE_ZMIN] = GM_WALL_FIXED;
+  for (int face = GM_FACE_XMIN; face <= GM_FACE_YMAX; face++)
+    def.walls[face] = GM_WALL_SLIP;
+  s.domain = test_create_domain(&def);
+  int block = test_add_elastic(s.domain, 1e6, 0.3, 1000.0);
+  const double lower[3] = {0.2, 0.2, 0.1}; /* m */
+  const double upper[3] = {0.6, points_per_cell_axis > 1 ? 0.7 : 0.4,
+                           points_per_cell_axis > 1 ? 0.5 : 0.3};
+  test_fill_box(s.domain, block, lower, upper, points_per_cell_axis, NULL);
+  const double *x = NULL, *z = NULL;
+  double *vx = NULL, *vy = NULL;
+  REQUIRE_OK(s.domain,
+             gm_domain_view_field(s.domain, GM_FIELD_POSITION, 0, &x));
+  REQUIRE_OK(s.domain,
+             gm_domain_view_field(s.domain, GM_FIELD_POSITION, 2, &z));
+  REQUIRE_OK(s.domain,
+             gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
+  REQUIRE_OK(s.domain,
+             gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 1, &vy));
+  for (size_t p = 0; p < gm_domain_point_count(s.domain); p++) {
+    vx[p] = 2.0 * z[p];  /* m/s */
+    vy[p] = -1.5 * x[p]; /* m/s */
+  }
+  return s;
+}
+
 /* The scene on top of def (the caller's changes to def stay unless the
  * scene sets that field itself). */
 static scene build_from(scene_kind kind, gm_domain_def def) {
@@ -210,6 +253,10 @@ static scene build_from(scene_kind kind, gm_domain_def def) {
     return build_granular(def, GM_SHAPE_UGIMP);
   case PERIODIC:
     return build_periodic(def);
+  case SOLID_3D:
+    return build_3d(def, 2);
+  case SMALL_3D:
+    return build_3d(def, 1);
   case FLOW:
     break;
   }
@@ -218,11 +265,14 @@ static scene build_from(scene_kind kind, gm_domain_def def) {
 
 /* The velocity transfer of the scenes build() makes (test_restart_apic). */
 static gm_transfer scene_transfer = GM_TRANSFER_FLIP;
+/* Their update scheme (a scene may set its own: FLOW runs MUSL). */
+static gm_update_scheme scene_scheme = GM_SCHEME_USL;
 
 static scene build(scene_kind kind, int workers) {
   gm_domain_def def = gm_domain_def_default();
   def.worker_count = workers;
   def.transfer = scene_transfer;
+  def.scheme = scene_scheme;
   return build_from(kind, def);
 }
 
@@ -242,17 +292,20 @@ static size_t run_steps(const scene *s, int steps) {
 
 /* Host edits pending at the save: they must travel with the file. */
 static void edit_before_save(const scene *s) {
-  if (s->rigid < 0)
+  if (s->rigid < 0 && !s->three_d)
     return;
   const double plate_velocity[3] = {-0.05, 0.0, 0.0}; /* m/s */
-  REQUIRE_OK(s->domain,
-             gm_domain_set_rigid_velocity(s->domain, s->rigid, plate_velocity));
+  if (s->rigid >= 0)
+    REQUIRE_OK(s->domain, gm_domain_set_rigid_velocity(s->domain, s->rigid,
+                                                       plate_velocity));
+  /* The last component: y in 2D, z in 3D. */
+  int last = s->three_d ? 2 : 1;
   double *force = NULL, *velocity = NULL; /* N, m/s */
   REQUIRE_OK(s->domain, gm_domain_edit_field(s->domain, GM_FIELD_EXTERNAL_FORCE,
-                                             1, &force));
+                                             last, &force));
   force[3] = -2.0;
-  REQUIRE_OK(s->domain,
-             gm_domain_edit_field(s->domain, GM_FIELD_VELOCITY, 0, &velocity));
+  REQUIRE_OK(s->domain, gm_domain_edit_field(s->domain, GM_FIELD_VELOCITY, last,
+                                             &velocity));
   velocity[5] += 0.25;
 }
 
@@ -455,6 +508,20 @@ static void check_scene_coverage(scene_kind kind, const observed *at_save,
                                  size_t fewest_components) {
   if (kind == ELASTIC) /* the plate touches the block: a force to report */
     ck_assert_msg(at_save->totals[6] != 0.0, "no rigid force at the save");
+  if (kind == SOLID_3D) { /* every stress and F component moved by the save */
+    const gm_field tensor[2] = {GM_FIELD_STRESS, GM_FIELD_DEFORMATION_GRADIENT};
+    const size_t components[2] = {6, 9};
+    for (int t = 0; t < 2; t++)
+      for (size_t c = 0; c < components[t]; c++) {
+        const double *values = at_save->field[tensor[t]];
+        double largest = 0.0, identity = t == 1 && c % 4 == 0 ? 1.0 : 0.0;
+        for (size_t p = 0; p < at_save->count; p++)
+          largest =
+              fmax(largest, fabs(values[p * components[t] + c] - identity));
+        ck_assert_msg(largest > 0.0, "field %d component %zu never moved",
+                      (int)tensor[t], c);
+      }
+  }
   if (kind == GRANULAR) { /* two grids at the save, merged later; then
                              points in all three states */
     const size_t *states = at_end->granular.state_count;
@@ -558,6 +625,21 @@ START_TEST(test_restart_apic) {
 }
 END_TEST
 
+/* 3D (linear MPM, plain family): USL and MUSL, saved and restarted on 1
+ * and 2 workers (and a 1-worker file restarted on 2). The host edits at
+ * the save include a z velocity and a z external force. */
+START_TEST(test_restart_3d) {
+  const gm_update_scheme schemes[2] = {GM_SCHEME_USL, GM_SCHEME_MUSL};
+  for (int k = 0; k < 2; k++) {
+    scene_scheme = schemes[k];
+    check_restart(SOLID_3D, 1, 1);
+    check_restart(SOLID_3D, 2, 2);
+    check_restart(SOLID_3D, 1, 2);
+  }
+  scene_scheme = GM_SCHEME_USL;
+}
+END_TEST
+
 START_TEST(test_restart_source_sink_wall) {
   check_restart(FLOW, 1, 1);
 }
@@ -584,16 +666,18 @@ START_TEST(test_restart_periodic) {
 }
 END_TEST
 
-START_TEST(test_refuses_damaged_files) {
+/* Every truncation and every flipped byte of a file of the small scene
+ * `kind` (SMALL or SMALL_3D) is refused, the target unchanged. */
+static void check_damaged_files(scene_kind kind) {
   make_temporary_directory();
   char *good = path_in_directory("good.ckpt");
   char *damaged = path_in_directory("damaged.ckpt");
-  scene saved = build(SMALL, 1);
+  scene saved = build(kind, 1);
   run_steps(&saved, 5);
   TEST_ASSERT_OK(saved.domain, gm_domain_save(saved.domain, good));
   /* The target is at another state; its twin takes the same steps
    * without the failed loads. */
-  scene target = build(SMALL, 1), twin = build(SMALL, 1);
+  scene target = build(kind, 1), twin = build(kind, 1);
   run_steps(&target, 3);
   run_steps(&twin, 3);
   observed before = observe(&target);
@@ -637,6 +721,15 @@ START_TEST(test_refuses_damaged_files) {
   gm_domain_destroy(twin.domain);
   remove_temporary_directory();
 }
+
+START_TEST(test_refuses_damaged_files) {
+  check_damaged_files(SMALL);
+}
+END_TEST
+
+START_TEST(test_refuses_damaged_3d_files) {
+  check_damaged_files(SMALL_3D);
+}
 END_TEST
 
 /* Offset of the n-th (0-based) occurrence of the 16 bytes of pattern in
@@ -662,17 +755,17 @@ typedef struct {
   size_t size;
 } damage_fixture;
 
-static damage_fixture damage_fixture_open(void) {
+static damage_fixture damage_fixture_open(scene_kind kind) {
   damage_fixture fixture;
   make_temporary_directory();
   fixture.good = path_in_directory("good.ckpt");
   fixture.damaged = path_in_directory("damaged.ckpt");
-  fixture.saved = build(GRANULAR, 1);
+  fixture.saved = build(kind, 1);
   run_steps(&fixture.saved, 5);
   TEST_ASSERT_OK(fixture.saved.domain,
                  gm_domain_save(fixture.saved.domain, fixture.good));
   fixture.data = read_file(fixture.good, &fixture.size);
-  fixture.target = build(GRANULAR, 1);
+  fixture.target = build(kind, 1);
   run_steps(&fixture.target, 3);
   fixture.before = observe(&fixture.target);
   return fixture;
@@ -717,7 +810,7 @@ static void damage_fixture_close(damage_fixture *fixture) {
  * reset in 5 steps), so the first two points' F_XX appear twice: F's
  * array first, the map's second. */
 START_TEST(test_refuses_inverted_tensors) {
-  damage_fixture fixture = damage_fixture_open();
+  damage_fixture fixture = damage_fixture_open(GRANULAR);
   gm_domain *saved = fixture.saved.domain;
   size_t count = gm_domain_point_count(saved);
   double *f = malloc(count * 9 * sizeof *f);
@@ -732,6 +825,57 @@ START_TEST(test_refuses_inverted_tensors) {
     expect_damage_refused(&fixture, at, -first_two[0], named[tensor]);
   }
   free(f);
+  damage_fixture_close(&fixture);
+}
+END_TEST
+
+/* Offset of the 16 bytes of (values[a], values[b]) in the file, which
+ * must hold them exactly once (so that the damage hits the array meant). */
+static size_t find_unique_pair(const damage_fixture *fixture,
+                               const double *values, size_t a, size_t b) {
+  const double pair[2] = {values[a], values[b]};
+  size_t at = find_bytes(fixture->data, fixture->size, pair, 0);
+  ck_assert_msg(at != SIZE_MAX, "pattern %.17g %.17g not found", pair[0],
+                pair[1]);
+  ck_assert_msg(find_bytes(fixture->data, fixture->size, pair, 1) == SIZE_MAX,
+                "pattern %.17g %.17g found twice", pair[0], pair[1]);
+  return at;
+}
+
+/* 3D values a step never leaves and the file's checksum cannot see (the
+ * file is resealed): an F whose upper-left 2x2 block is untouched but
+ * whose F_zz is negated (det F < 0: only the 3x3 determinant sees it), a
+ * point whose z alone is outside the box (above it, and below the ghost
+ * layer), a non-finite yz stress. Each is refused, naming it, the target
+ * unchanged. Point 0's value is damaged, found by its pair with point 1
+ * in the field's own array (F_zz is stored after F_yy, the yz stress
+ * after xy). */
+START_TEST(test_refuses_damaged_3d_values) {
+  damage_fixture fixture = damage_fixture_open(SMALL_3D);
+  gm_domain *saved = fixture.saved.domain;
+  size_t count = gm_domain_point_count(saved);
+  double *f = malloc(count * 9 * sizeof *f);
+  double *x = malloc(count * 3 * sizeof *x);
+  double *stress = malloc(count * 6 * sizeof *stress);
+  TEST_ASSERT_OK(
+      saved,
+      gm_domain_get_field(saved, GM_FIELD_DEFORMATION_GRADIENT, f, count * 9));
+  TEST_ASSERT_OK(saved,
+                 gm_domain_get_field(saved, GM_FIELD_POSITION, x, count * 3));
+  TEST_ASSERT_OK(
+      saved, gm_domain_get_field(saved, GM_FIELD_STRESS, stress, count * 6));
+  /* GM_FIELD_DEFORMATION_GRADIENT is row-major: F_zz is component 8. */
+  size_t f_zz = find_unique_pair(&fixture, f, 8, 9 + 8);
+  expect_damage_refused(&fixture, f_zz, -f[8], "det F");
+  size_t z = find_unique_pair(&fixture, x, 2, 3 + 2);
+  expect_damage_refused(&fixture, z, 1.5, "outside the grid box"); /* m */
+  expect_damage_refused(&fixture, z, -0.5, "outside the grid box");
+  /* GM_FIELD_STRESS is Voigt: yz is component 4. */
+  size_t yz = find_unique_pair(&fixture, stress, 4, 6 + 4);
+  expect_damage_refused(&fixture, yz, NAN, "non-finite");
+  free(f);
+  free(x);
+  free(stress);
   damage_fixture_close(&fixture);
 }
 END_TEST
@@ -753,7 +897,7 @@ static uint64_t length_before(const unsigned char *data, size_t at) {
  * prefix checked. Before the byte and int32 storage every finite value
  * was accepted, 1.5 included. */
 START_TEST(test_refuses_foreign_granular_values) {
-  damage_fixture fixture = damage_fixture_open();
+  damage_fixture fixture = damage_fixture_open(GRANULAR);
   gm_domain *saved = fixture.saved.domain;
   size_t count = gm_domain_point_count(saved);
   double *mass = malloc(count * sizeof *mass);
@@ -831,6 +975,36 @@ START_TEST(test_refuses_other_setup) {
 }
 END_TEST
 
+/* A 3D file against 3D domains of another grid or faces, and against the
+ * 2D scene; a 2D file against a 3D domain. */
+START_TEST(test_refuses_other_setup_3d) {
+  make_temporary_directory();
+  char *path = path_in_directory("solid3d.ckpt");
+  char *plane = path_in_directory("elastic.ckpt");
+  scene saved = build(SMALL_3D, 1);
+  run_steps(&saved, 5);
+  TEST_ASSERT_OK(saved.domain, gm_domain_save(saved.domain, path));
+  scene saved_2d = build(SMALL, 1);
+  TEST_ASSERT_OK(saved_2d.domain, gm_domain_save(saved_2d.domain, plane));
+  gm_domain_def def = gm_domain_def_default();
+  def.extent[2] = 1.2; /* m */
+  expect_setup_refused(path, build_from(SMALL_3D, def), "gm_domain_def.extent",
+                       "[2]");
+  def = gm_domain_def_default();
+  def.walls[GM_FACE_ZMAX] = GM_WALL_SLIP;
+  expect_setup_refused(path, build_from(SMALL_3D, def),
+                       "gm_domain_def.walls[5]", NULL);
+  expect_setup_refused(path, build(SMALL, 1), "gm_domain_def.geometry", NULL);
+  expect_setup_refused(plane, build(SMALL_3D, 1), "gm_domain_def.geometry",
+                       NULL);
+  gm_domain_destroy(saved.domain);
+  gm_domain_destroy(saved_2d.domain);
+  free(path);
+  free(plane);
+  remove_temporary_directory();
+}
+END_TEST
+
 /* One material of each built-in kind, the `changed` one (or none, -1)
  * with one parameter altered that neither its density nor its P-wave
  * modulus reflects, so only the parameter record can tell. */
@@ -880,16 +1054,16 @@ START_TEST(test_material_parameters) {
   TEST_ASSERT_OK(same, gm_domain_load(same, path));
   gm_domain_destroy(same);
   for (int changed = 0; changed < 5; changed++) {
-    scene other = {materials_domain(changed), -1, -1, -1, -1, 0, 0};
+    scene other = {materials_domain(changed), -1, -1, -1, -1, 0, 0, false};
     char expected[32];
     snprintf(expected, sizeof expected, "material %d (", changed);
     expect_setup_refused(path, other, expected, "parameters");
   }
   /* mu(I) was missing from the parameter records: a checkpoint loaded
    * into a domain with another mu_s or alpha was accepted. */
-  scene other_friction = {materials_domain(5), -1, -1, -1, -1, 0, 0};
+  scene other_friction = {materials_domain(5), -1, -1, -1, -1, 0, 0, false};
   expect_setup_refused(path, other_friction, "material 7 (", "parameters");
-  scene other_exponent = {materials_domain(6), -1, -1, -1, -1, 0, 0};
+  scene other_exponent = {materials_domain(6), -1, -1, -1, -1, 0, 0, false};
   expect_setup_refused(path, other_exponent, "material 7 (", "regularisation");
   gm_domain_destroy(saved);
   free(path);
@@ -1023,10 +1197,14 @@ static Suite *checkpoint_suite(void) {
   tcase_add_test(restart, test_restart_source_sink_wall);
   tcase_add_test(restart, test_restart_apic);
   tcase_add_test(restart, test_restart_periodic);
+  tcase_add_test(restart, test_restart_3d);
   suite_add_tcase(suite, restart);
   TCase *refusals = tcase_create("refusals");
   tcase_set_timeout(refusals, 120);
   tcase_add_test(refusals, test_refuses_damaged_files);
+  tcase_add_test(refusals, test_refuses_damaged_3d_files);
+  tcase_add_test(refusals, test_refuses_damaged_3d_values);
+  tcase_add_test(refusals, test_refuses_other_setup_3d);
   tcase_add_test(refusals, test_refuses_other_setup);
   tcase_add_test(refusals, test_refuses_inverted_tensors);
   tcase_add_test(refusals, test_refuses_foreign_granular_values);
