@@ -20,7 +20,7 @@ for harness in fuzz_api fuzz_checkpoint; do
     cp "$srcdir/fuzz/corpus/$harness"/* "$corpus"/
   fi
   if [ "$harness" = fuzz_checkpoint ]; then
-    GM_FUZZ_WRITE_SEED=$corpus/seed.ckpt "$build/fuzz/$harness"
+    GM_FUZZ_WRITE_SEED=$corpus/seed.ckpt "$build/fuzz/$harness" # and seed.ckpt.3d
   fi
   echo "=== $harness for $seconds s"
   # -timeout: one input over 10 s is a hang; -rss_limit_mb: a leak or an
