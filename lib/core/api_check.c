@@ -6,6 +6,9 @@
  */
 #include "core/core.h"
 
+#include "core/api_check.h"
+#include "core/domain.h"
+
 #include <string.h>
 
 /* Earlier layouts per structure, at most this many. */
