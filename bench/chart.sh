@@ -92,7 +92,7 @@ slope)
   across="along the layer"
   metric=average_density
   name=accuracy_vs_cost_slope
-  title="Moderate flow down a 30 degree slope (000 sec 2.3, Table 1, 0.25 s)"
+  title="Moderate flow down a 30 degree slope (Seyedan and Solowski 2021 [000] sec 2.3, Table 1, 0.25 s)"
   law="final average density against rho_cr = 2235 kg/m^3 (a moderate flow keeps it)"
   quantity="average density"
   band=0.5 band_label="granular target (0.5 %)"

@@ -233,8 +233,8 @@ typedef struct gm_domain gm_domain;
 /** Creates a domain. On failure *out is NULL and the status says why;
  * gm_last_create_error() then holds the message. */
 GM_API gm_status gm_domain_create(const gm_domain_def *def, gm_domain **out);
-/** Message of the last failed gm_domain_create() or gm_series_create() on
- * this thread. */
+/** Message of the last failed gm_domain_create(), gm_series_create() or
+ * gm_set_allocator() on this thread. */
 GM_API const char *gm_last_create_error(void);
 /** Frees the domain and everything it owns. NULL is a no-op, and so is a
  * call from inside a step hook or material callback of that domain. */

@@ -5,6 +5,8 @@
  */
 #include "core/core.h"
 
+#include "core/api_check.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,8 +30,10 @@ gm_status gm_set_allocator(const gm_allocator *allocator) {
     current_allocator.user = NULL;
     return GM_OK;
   }
-  if (allocator->struct_size < sizeof(gm_allocator))
-    return GM_ERR_STRUCT_SIZE;
+  /* The preamble of every call that takes a structure (api_check.h); the
+   * message goes where a failed create's does: there is no domain. */
+  if (!gm_layout_known(GM_LAYOUT_ALLOCATOR, allocator->struct_size))
+    return gm_layout_refuse(NULL, GM_LAYOUT_ALLOCATOR, allocator->struct_size);
   if (!allocator->malloc_fn || !allocator->free_fn)
     return GM_ERR_NULL;
   current_allocator = *allocator;

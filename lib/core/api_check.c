@@ -6,6 +6,9 @@
  */
 #include "core/core.h"
 
+#include "core/api_check.h"
+#include "core/domain.h"
+
 #include <string.h>
 
 /* Earlier layouts per structure, at most this many. */
@@ -47,6 +50,13 @@ DEFAULTS_OF(gm_perzyna_def)
 DEFAULTS_OF(gm_stress_free_def)
 DEFAULTS_OF(gm_von_mises_def)
 DEFAULTS_OF(gm_mu_i_def)
+/* gm_allocator has no gm_X_init (its callbacks have no default a caller
+ * could keep): all but the size zero. It has no earlier layout, so
+ * gm_layout_complete never needs these. */
+static void defaults_gm_allocator(void *out) {
+  gm_allocator none = {sizeof(gm_allocator), NULL, NULL, NULL};
+  memcpy(out, &none, sizeof none);
+}
 
 #define LAYOUT(type, ...)                                                      \
   { #type, sizeof(type), {__VA_ARGS__ }, defaults_##type }
@@ -86,6 +96,7 @@ static const layout_entry layouts[GM_LAYOUT_COUNT] = {
     [GM_LAYOUT_STRESS_FREE_DEF] = LAYOUT(gm_stress_free_def, 0),
     [GM_LAYOUT_VON_MISES_DEF] = LAYOUT(gm_von_mises_def, 0),
     [GM_LAYOUT_MU_I_DEF] = LAYOUT(gm_mu_i_def, 0),
+    [GM_LAYOUT_ALLOCATOR] = LAYOUT(gm_allocator, 0),
 };
 
 const char *gm_layout_name(gm_layout layout) {
@@ -108,15 +119,18 @@ bool gm_layout_known(gm_layout layout, size_t size) {
 
 gm_status gm_layout_refuse(gm_domain *domain, gm_layout layout, size_t size) {
   const layout_entry *entry = &layouts[layout];
-  const char *format = "%s.struct_size is %zu, expected %zu%s: initialise "
-                       "with %s_default()";
+  const char *format = "%s.struct_size is %zu, expected %zu%s: %s%s%s";
   const char *earlier =
       entry->earlier[0] ? " (or the size of an earlier layout)" : "";
+  /* gm_allocator alone has no gm_X_default(): its size is set by hand. */
+  bool by_hand = layout == GM_LAYOUT_ALLOCATOR;
+  const char *how = by_hand ? "set it to sizeof(" : "initialise with ";
+  const char *end = by_hand ? ")" : "_default()";
   if (!domain)
     return gm_set_create_error(GM_ERR_STRUCT_SIZE, format, entry->name, size,
-                               entry->size, earlier, entry->name);
+                               entry->size, earlier, how, entry->name, end);
   return gm_set_error(domain, GM_ERR_STRUCT_SIZE, format, entry->name, size,
-                      entry->size, earlier, entry->name);
+                      entry->size, earlier, how, entry->name, end);
 }
 
 /* struct_size, the first member of every structure of the table. */

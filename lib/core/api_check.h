@@ -44,6 +44,7 @@ typedef enum gm_layout {
   GM_LAYOUT_STRESS_FREE_DEF,
   GM_LAYOUT_VON_MISES_DEF,
   GM_LAYOUT_MU_I_DEF,
+  GM_LAYOUT_ALLOCATOR,
   GM_LAYOUT_COUNT
 } gm_layout;
 

@@ -7,6 +7,8 @@
  */
 #include "core/core.h"
 
+#include "core/domain.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -9,6 +9,9 @@
 #ifndef GM_BLOCK_GRID_H
 #define GM_BLOCK_GRID_H
 
+#include "granmpm.h"
+
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -237,5 +240,10 @@ static inline size_t gm_block_node(const uint32_t *links, int shift, int64_t x,
 
 /* Block index of key this step, or GM_NO_BLOCK. */
 uint32_t gm_grid_find(const gm_grid *grid, int64_t key);
+/* Block key of a position (block_grid.c); false if outside the grid. */
+bool gm_block_key_of(const gm_domain *domain, const double *position_xyz,
+                     int64_t *key);
+/* The block grid of the step from the points' block keys (block_grid.c). */
+gm_status gm_grid_build(gm_domain *domain);
 
 #endif

@@ -14,6 +14,8 @@
  */
 #include "core/core.h"
 
+#include "core/api_check.h"
+
 #include <stddef.h>
 #include <string.h>
 

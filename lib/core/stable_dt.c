@@ -16,6 +16,8 @@
  */
 #include "core/core.h"
 
+#include "core/domain.h"
+
 #include <math.h>
 
 void gm_recompute_signal_speed(gm_domain *domain) {

@@ -3,6 +3,8 @@
  */
 #include "core/core.h"
 
+#include "core/domain.h"
+
 #include <stdio.h>
 #include <string.h>
 

@@ -9,6 +9,8 @@
 
 #include "core/core.h"
 
+#include "core/threads.h"
+
 #include <time.h>
 
 enum { SPIN_ROUNDS = 200000 };

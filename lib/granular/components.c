@@ -46,7 +46,7 @@ static void general_geometry(gm_domain *domain, size_t p,
   /* Cannot fail: the binning checked the same support. */
   gm_support_bounds(&domain->shape_grid, point, low, high);
   for (int k = 0; k < 2; k++) {
-    work->support_low[k][p] = (int32_t)low[k]; /* range: core.h */
+    work->support_low[k][p] = (int32_t)low[k]; /* range: domain_granular.h */
     work->support_high[k][p] = (int32_t)high[k];
   }
   gm_interaction_domain *interaction = &work->interaction[p];
@@ -80,7 +80,7 @@ static void rectangle_geometry(gm_domain *domain, size_t p,
     } else {
       low = gm_gimp_axis_bounds(s, half[k] * grid->inv_cell, &span);
     }
-    work->support_low[k][p] = (int32_t)low; /* range: core.h */
+    work->support_low[k][p] = (int32_t)low; /* range: domain_granular.h */
     if (work->support_high[k]) /* else span - 1 is work->support_reach */
       work->support_high[k][p] = (int32_t)(low + span - 1);
   }
@@ -143,7 +143,8 @@ static void linear_supports(void *context, size_t begin, size_t end,
   const gm_shape_grid *grid = &domain->shape_grid;
   for (int k = 0; k < domain->dim; k++) {
     const double *position = points->buffer[points->cur].position[k];
-    int32_t *low = work->support_low[k]; /* the highest: low + 1 (core.h) */
+    /* The highest: low + 1 (domain_granular.h). */
+    int32_t *low = work->support_low[k];
     double origin = grid->origin[k], inv_cell = grid->inv_cell; /* m, 1/m */
     for (size_t p = begin; p < end; p++)
       low[p] = (int32_t)((position[p] - origin) * inv_cell); /* >= 0 */

@@ -129,7 +129,7 @@ gm_status gm_granular_reserve(gm_domain *domain) {
   size_t capacity = domain->points.capacity;
   size_t old_capacity = work->capacity;
   if (capacity > old_capacity) {
-    /* The highest node only where the span varies (core.h). */
+    /* The highest node only where the span varies (domain_granular.h). */
     work->support_reach = gm_fixed_support_reach(domain->shape_grid.shape);
     for (int k = 0; k < 2; k++) {
       GROW_WORK(work->support_low[k], sizeof(int32_t));
@@ -155,7 +155,7 @@ gm_status gm_granular_reserve(gm_domain *domain) {
     GROW_WORK(work->layer_stamp, sizeof(int32_t));
     GROW_WORK(work->cell_order, sizeof(uint32_t));
     /* components + 1 <= capacity + 1 offsets, and the forest's edges
-     * between steps (core.h): 8 bytes per point. */
+     * between steps (domain_granular.h): 8 bytes per point. */
     GROW_WORK(work->adjacency_start, sizeof(uint64_t));
     work->capacity = capacity;
   }

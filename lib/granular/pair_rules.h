@@ -12,8 +12,9 @@
 #include <math.h>
 
 /* Do the supports of p and q share a node? With a fixed span (no highest
- * node stored, core.h) the lowest nodes are at most support_reach apart:
- * the same test, since high = low + support_reach exactly. */
+ * node stored, core/domain_granular.h) the lowest nodes are at most
+ * support_reach apart: the same test, since high = low + support_reach exactly.
+ */
 static inline bool gm_supports_share_node(const gm_granular_work *work, int dim,
                                           uint32_t p, uint32_t q) {
   if (!work->support_high[0]) {

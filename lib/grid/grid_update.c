@@ -318,6 +318,4 @@ void gm_grid_update(gm_domain *domain, double dt, int mode) {
   }
   update_context ctx = {domain, dt, mode, wall_friction(mode)};
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks, &ctx);
-  if (ctx.wall_friction) /* serial: worker-independent */
-    gm_walls_share_friction(domain, dt, mode);
 }

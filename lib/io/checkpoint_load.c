@@ -148,8 +148,8 @@ static bool valid_reals(const unsigned char *bytes, size_t values,
 /* The granular state or parallel-grid label of every point is a small
  * integer the library writes: a gm_point_state, or a label below the point
  * count (components are numbered from 0 and each holds a point). Memory
- * holds them as bytes and int32 (core.h), so nothing else converts
- * exactly. */
+ * holds them as bytes and int32 (core/domain_points.h), so nothing else
+ * converts exactly. */
 static bool valid_small_integers(const unsigned char *bytes, size_t count,
                                  gm_array_check check) {
   double limit = check == GM_CHECK_GRANULAR_STATE ? GM_STATE_DISCONNECTED

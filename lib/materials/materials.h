@@ -2,8 +2,8 @@
  * materials.h - the materials folder: the registry (materials.c) and the
  * built-in materials, which are written against the public
  * gm_material_update_fn and reach the registry only through
- * gm_add_builtin_material. The record (gm_material) is in core/core.h.
- * Private to the library.
+ * gm_add_builtin_material. The record (gm_material) is in
+ * core/domain_materials.h. Private to the library.
  */
 #ifndef GM_MATERIALS_H
 #define GM_MATERIALS_H

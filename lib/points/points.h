@@ -2,12 +2,13 @@
  * points.h - the points folder: SoA point storage (points.c), taking points
  * out (removal.c), gm_domain_fill_box (fill_box.c), field access
  * (fields.c) and the CPDI domain reset (cpdi_reset.c). The storage itself
- * (gm_points, gm_point_buffers) is in core/core.h. Private to the library.
+ * (gm_points, gm_point_buffers) is in core/domain_points.h. Private to the
+ * library.
  */
 #ifndef GM_POINTS_H
 #define GM_POINTS_H
 
-#include "core/core.h"
+#include "core/domain.h"
 
 /* GM_ERR_INVALID_ARGUMENT if a point of granular material material_id
  * would be placed in the granular family below rho_cr - TOL (points.c says

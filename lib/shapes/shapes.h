@@ -4,8 +4,8 @@
  * (they never see the domain): linear (shape_linear.h), GIMP
  * (shape_gimp.h), B-splines (shape_bspline.h), and the support of a point
  * for every shape variant with the corners of its current domain
- * (support.h, support.c). The bottom layer: core/core.h includes it for
- * gm_shape_grid. Private to the library.
+ * (support.h, support.c). The bottom layer: core/domain.h includes it
+ * for gm_shape_grid. Private to the library.
  */
 #ifndef GM_SHAPES_H
 #define GM_SHAPES_H

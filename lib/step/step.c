@@ -28,6 +28,9 @@
  *     MEASURE_WALL_GAPS    per node, gap to each wall and face (wall_gaps.c)
  *     GRID_SOLVE           v_i = p_i/m_i (3.14), a_i = f_i/m_i (3.15),
  *                          v_i^L = v_i + a_i dt (3.16), walls, rigid nodes
+ *     SHARE_WALL_FRICTION  after GRID_SOLVE: each planar wall's Coulomb
+ *                          friction pooled per one-cell strip along it,
+ *                          serially in block order (walls.c)
  *     GRID_VELOCITIES      v_i = p_i/m_i (3.14), walls, rigid nodes
  *     MIRROR_BSPLINE_GHOSTS after every grid update: B-splines, each ghost
  *                          node takes its mirror's reflected velocity (and
@@ -46,6 +49,10 @@
  *     DEFORM               USL: strain increment (3.18), Jaumann spin
  *                          (3.20-3.21), stress (3.19, 3.22), V = J V0
  *                          (3.23), density (3.24), from the re-mapped v^L
+ *                          (and in every deforming pass, per chunk of
+ *                          points while they are in cache: the granular
+ *                          density control, 000 eqs 13-15, 18, and CPDI's
+ *                          domain reset; g2p.c)
  *     MOVE_AND_DEFORM      MUSL: x_p += dt sum N v^L, then as DEFORM
  *     STRESS_SECOND_HALF   USF: as DEFORM over dt/2, in the next buffer
  *     RIGID_POINTS         rigid points take their prescribed velocity;
@@ -81,6 +88,7 @@ typedef enum step_stage {
   STAGE_MARK_RIGID_NODES,
   STAGE_MEASURE_WALL_GAPS,
   STAGE_GRID_SOLVE,
+  STAGE_SHARE_WALL_FRICTION,
   STAGE_GRID_VELOCITIES,
   STAGE_MIRROR_BSPLINE_GHOSTS,
   STAGE_COPY_PERIODIC_IMAGES,
@@ -117,6 +125,7 @@ static const step_stage usl_stages[] = {STAGE_BIN,
                                         STAGE_MARK_RIGID_NODES,
                                         STAGE_MEASURE_WALL_GAPS,
                                         STAGE_GRID_SOLVE,
+                                        STAGE_SHARE_WALL_FRICTION,
                                         STAGE_MIRROR_BSPLINE_GHOSTS,
                                         STAGE_COPY_PERIODIC_IMAGES,
                                         STAGE_UPDATE_POINTS,
@@ -140,6 +149,7 @@ static const step_stage musl_stages[] = {STAGE_BIN,
                                          STAGE_MARK_RIGID_NODES,
                                          STAGE_MEASURE_WALL_GAPS,
                                          STAGE_GRID_SOLVE,
+                                         STAGE_SHARE_WALL_FRICTION,
                                          STAGE_MIRROR_BSPLINE_GHOSTS,
                                          STAGE_COPY_PERIODIC_IMAGES,
                                          STAGE_UPDATE_VELOCITIES,
@@ -184,6 +194,7 @@ static const step_stage usf_stages[] = {STAGE_BIN,
                                         STAGE_FOLD_PERIODIC_IMAGES,
                                         STAGE_FOLD_BSPLINE_GHOSTS,
                                         STAGE_GRID_SOLVE,
+                                        STAGE_SHARE_WALL_FRICTION,
                                         STAGE_MIRROR_BSPLINE_GHOSTS,
                                         STAGE_COPY_PERIODIC_IMAGES,
                                         STAGE_UPDATE_POINTS,
@@ -285,6 +296,12 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
   case STAGE_GRID_SOLVE:
     gm_grid_update(domain, dt, GM_GRID_FULL);
     attempt->grid_mode = GM_GRID_FULL;
+    break;
+  case STAGE_SHARE_WALL_FRICTION:
+    /* Only the full update exchanges momentum with the walls
+     * (grid_update.c, wall_friction); 3D has no planar walls yet. */
+    if (domain->dim < 3)
+      gm_walls_share_friction(domain, dt, GM_GRID_FULL);
     break;
   case STAGE_GRID_VELOCITIES:
     gm_grid_update(domain, dt, GM_GRID_VELOCITY_ONLY);

@@ -888,10 +888,10 @@ static uint64_t length_before(const unsigned char *data, size_t at) {
 }
 
 /* The granular state and grid label are held in memory as a byte and an
- * int32 (core.h) but written as doubles, so a sealed file with a value the
- * library never writes (a state that is no gm_point_state, a label that is
- * not an integer below the point count) is refused at the load, naming it,
- * instead of being truncated into a different value. In the file the two
+ * int32 (core/domain_points.h) but written as doubles, so a sealed file with a
+ * value the library never writes (a state that is no gm_point_state, a label
+ * that is not an integer below the point count) is refused at the load, naming
+ * it, instead of being truncated into a different value. In the file the two
  * arrays come right before the masses (gm_checkpoint_point_arrays; FLIP,
  * so no affine arrays between): found from the masses, each length
  * prefix checked. Before the byte and int32 storage every finite value

@@ -6,7 +6,9 @@
  * and the size expected, leaving the domain as it was; and the earlier
  * layouts of the structures that grew (gm_domain_def, gm_wall_force) are
  * accepted, a definition's missing fields taking their defaults and a
- * result's missing fields left unwritten.
+ * result's missing fields left unwritten. gm_allocator, which
+ * gm_set_allocator takes without a domain, is refused the same way, its
+ * message in gm_last_create_error().
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -15,6 +17,7 @@
 #include <check.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static int no_stress(const gm_material_batch *batch, void *user, char *message,
@@ -316,6 +319,59 @@ START_TEST(test_wall_force_earlier_layout) {
 }
 END_TEST
 
+/* gm_allocator, taken by gm_set_allocator without a domain: one byte short
+ * and a bare size_t are refused with the message in
+ * gm_last_create_error() (naming the structure and both sizes), and the
+ * allocator in force stays the one installed before (a domain created
+ * after the refusals allocates through it, never through the refused
+ * hook); the current size and a larger one are accepted. */
+static long refused_calls; /* calls to the refused hook: must stay 0 */
+static long kept_calls;    /* calls to the hook installed first */
+static void *refused_malloc(size_t size, void *user) {
+  (void)user;
+  refused_calls++;
+  return malloc(size);
+}
+static void *kept_malloc(size_t size, void *user) {
+  (void)user;
+  kept_calls++;
+  return malloc(size);
+}
+static void plain_free(void *pointer, void *user) {
+  (void)user;
+  free(pointer);
+}
+
+START_TEST(test_allocator_size) {
+  gm_allocator kept = {sizeof(gm_allocator), kept_malloc, plain_free, NULL};
+  ck_assert_int_eq(gm_set_allocator(&kept), GM_OK);
+  gm_allocator refused = {sizeof(gm_allocator), refused_malloc, plain_free,
+                          NULL};
+  const size_t shorts[2] = {sizeof(gm_allocator) - 1, sizeof(size_t)};
+  for (int k = 0; k < 2; k++) {
+    refused.struct_size = shorts[k];
+    ck_assert_int_eq(gm_set_allocator(&refused), GM_ERR_STRUCT_SIZE);
+    char expected[160];
+    snprintf(expected, sizeof expected,
+             "gm_allocator.struct_size is %zu, expected %zu", shorts[k],
+             sizeof(gm_allocator));
+    ck_assert_msg(strstr(gm_last_create_error(), expected),
+                  "message '%s' lacks '%s'", gm_last_create_error(), expected);
+  }
+  kept_calls = refused_calls = 0;
+  gm_domain *domain = fresh_domain();
+  gm_domain_destroy(domain);
+  ck_assert_int_eq(refused_calls, 0);
+  ck_assert_int_gt(kept_calls, 0);
+  /* The current size, and a larger one (its extra bytes ignored). */
+  refused.struct_size = sizeof(gm_allocator);
+  ck_assert_int_eq(gm_set_allocator(&refused), GM_OK);
+  refused.struct_size = sizeof(gm_allocator) + 8;
+  ck_assert_int_eq(gm_set_allocator(&refused), GM_OK);
+  ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
+}
+END_TEST
+
 static Suite *layouts_suite(void) {
   Suite *suite = suite_create("layouts");
   TCase *tcase = tcase_create("struct_size");
@@ -323,6 +379,7 @@ static Suite *layouts_suite(void) {
   tcase_add_loop_test(tcase, test_short_size_refused, 0, CASE_COUNT);
   tcase_add_test(tcase, test_domain_def_earlier_layouts);
   tcase_add_test(tcase, test_wall_force_earlier_layout);
+  tcase_add_test(tcase, test_allocator_size);
   suite_add_tcase(suite, tcase);
   return suite;
 }
