@@ -679,6 +679,74 @@ START_TEST(test_gimp_box_refused_3d) {
 }
 END_TEST
 
+/* cpGIMP's box follows F: a block stretched along x (v_x = k (x - x0),
+ * k = 20 1/s, no gravity and a material soft enough that its forces do
+ * not slow it: E = 1e-3 Pa) keeps its velocities, so F_xx = 1 + k t and
+ * the box edges along x grow with it. Once a box crosses more than 3
+ * node planes (half a cell's box at 2 points per cell: F_xx past 6 at
+ * the least, t = 0.25 s) the step fails with GM_ERR_OUT_OF_GRID naming the
+ * point and leaves the domain as it was; uGIMP's box keeps its initial
+ * size and the same run goes on. */
+START_TEST(test_cpgimp_box_too_long_fails_3d) {
+  const gm_shape shapes[2] = {GM_SHAPE_CPGIMP, GM_SHAPE_UGIMP};
+  for (int s = 0; s < 2; s++) {
+    gm_domain_def def = gm_domain_def_default();
+    def.geometry = GM_GEOMETRY_3D;
+    def.shape = shapes[s];
+    def.cell_size = 0.1;
+    def.extent[0] = 3.0;
+    def.extent[1] = def.extent[2] = 1.0;
+    gm_domain *domain = test_create_domain(&def);
+    int material = test_add_elastic(domain, 1e-3, 0.0, 1000.0);
+    const double lower[3] = {0.4, 0.4, 0.4}, upper[3] = {0.6, 0.6, 0.6};
+    test_fill_box(domain, material, lower, upper, 2, NULL);
+    size_t count = gm_domain_point_count(domain);
+    const double *x = NULL;
+    double *v = NULL;
+    TEST_ASSERT_OK(domain,
+                   gm_domain_view_field(domain, GM_FIELD_POSITION, 0, &x));
+    TEST_ASSERT_OK(domain,
+                   gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 0, &v));
+    for (size_t p = 0; p < count; p++)
+      v[p] = 20.0 * (x[p] - 0.4); /* m/s */
+    gm_status status = GM_OK;
+    int step = 0;
+    double *before = malloc(9 * count * sizeof *before);
+    double *after = malloc(9 * count * sizeof *after);
+    ck_assert(before && after);
+    for (; step < 400 && status == GM_OK; step++) { /* F_xx up to 9 */
+      TEST_ASSERT_OK(domain,
+                     gm_domain_get_field(domain, GM_FIELD_DEFORMATION_GRADIENT,
+                                         before, 9 * count));
+      status = gm_domain_step(domain, 1e-3);
+    }
+    if (shapes[s] == GM_SHAPE_UGIMP) {
+      ck_assert_msg(status == GM_OK, "uGIMP step %d: %s", step,
+                    gm_domain_last_error(domain));
+    } else {
+      double largest = 0.0; /* F_xx before the failed step */
+      for (size_t p = 0; p < count; p++)
+        largest = fmax(largest, before[9 * p]);
+      printf("3D cpGIMP stretched block: step %d refused at max F_xx %.3f: "
+             "%s\n",
+             step, largest, gm_domain_last_error(domain));
+      ck_assert_msg(status == GM_ERR_OUT_OF_GRID, "status %d: %s", (int)status,
+                    gm_domain_last_error(domain));
+      ck_assert(strstr(gm_domain_last_error(domain), "point id") != NULL);
+      /* A half-cell box crossing 4 node planes needs F_xx > 6. */
+      ck_assert_msg(largest > 5.0, "refused at F_xx %g", largest);
+      TEST_ASSERT_OK(domain,
+                     gm_domain_get_field(domain, GM_FIELD_DEFORMATION_GRADIENT,
+                                         after, 9 * count));
+      ck_assert(memcmp(before, after, 9 * count * sizeof *before) == 0);
+    }
+    free(before);
+    free(after);
+    gm_domain_destroy(domain);
+  }
+}
+END_TEST
+
 static Suite *three_d_suite(void) {
   Suite *suite = suite_create("3d");
   TCase *bar = tcase_create("bar");
@@ -692,6 +760,7 @@ static Suite *three_d_suite(void) {
   tcase_add_test(laws, test_column_at_rest_3d);
   tcase_add_loop_test(laws, test_determinism_3d, 0, 9);
   tcase_add_test(laws, test_gimp_box_refused_3d);
+  tcase_add_test(laws, test_cpgimp_box_too_long_fails_3d);
   tcase_add_test(laws, test_failed_step_changes_nothing_3d);
   tcase_add_test(laws, test_stable_dt_3d);
   suite_add_tcase(suite, laws);
