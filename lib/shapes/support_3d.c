@@ -5,9 +5,7 @@
  * supports use (support.c), with the gradients turned from per cell into
  * per metre.
  */
-#include "shapes/support_3d.h"
-
-#include "shapes/shape_gimp.h"
+#include "shapes/shapes.h"
 
 /* Axis k's position s and half length l in cells from node 0, and its
  * lowest node and span; false as gm_box_support_3d. */
