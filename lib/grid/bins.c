@@ -52,6 +52,42 @@ static void scatter_chunks(void *context, size_t begin, size_t end,
   }
 }
 
+/* key_ranges in 3D: linear MPM by the point's cell, uGIMP and cpGIMP by
+ * their support's lowest node (support_3d.h; the other shapes are refused
+ * in 3D, domain.c). */
+static void keys_3d(gm_domain *domain, int worker, size_t begin, size_t end) {
+  gm_points *points = &domain->points;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  const double *const *position = (const double *const *)current->position;
+  const double *origin = domain->shape_grid.origin;
+  if (domain->shape_grid.shape == GM_SHAPE_LINEAR) {
+    for (size_t i = begin; i < end; i++)
+      points->block_key[i] =
+          gm_block_key_inside_3d(&domain->grid, position[0][i], position[1][i],
+                                 position[2][i], origin, domain->inv_cell);
+    return;
+  }
+  for (size_t i = begin; i < end; i++) {
+    double x[3] = {position[0][i], position[1][i], position[2][i]}; /* m */
+    double half[3];                                                 /* m */
+    gm_box_half_edges_3d(domain->shape_grid.shape,
+                         (const double *const *)points->domain_size,
+                         (const double *const *)current->deformation, i, half);
+    int64_t lowest[3];
+    if (gm_box_support_lowest_3d(&domain->shape_grid, x, half, lowest)) {
+      points->block_key[i] = gm_block_key_of_node_3d(&domain->grid, lowest[0],
+                                                     lowest[1], lowest[2]);
+      continue;
+    }
+    points->block_key[i] = 0; /* never used: the step fails */
+    gm_worker_error(&domain->scratch[worker], GM_ERR_OUT_OF_GRID, i,
+                    "step: the domain of point id %lld reaches past the "
+                    "ghost cell layer around the grid box or spans more "
+                    "than %d cells along an axis",
+                    (long long)points->id[i], GM_SUPPORT_3D_MAX_SPAN - 1);
+  }
+}
+
 /* Block key of every committed point (all inside the grid: positions and
  * domains are validated when added and when moved). Needed only when the
  * keys the last move pass wrote are stale (after adding points, a failed
@@ -65,12 +101,8 @@ static void key_ranges(void *context, size_t begin, size_t end, int worker) {
   const double *const position[2] = {current->position[0],
                                      current->position[dim > 1 ? 1 : 0]};
   const double *origin = domain->shape_grid.origin;
-  if (dim == 3) { /* linear shapes only in 3D (domain.c) */
-    const double *z = current->position[2];
-    for (size_t i = begin; i < end; i++)
-      points->block_key[i] =
-          gm_block_key_inside_3d(&domain->grid, position[0][i], position[1][i],
-                                 z[i], origin, domain->inv_cell);
+  if (dim == 3) {
+    keys_3d(domain, worker, begin, end);
     return;
   }
   if (domain->shape_grid.shape == GM_SHAPE_LINEAR) {

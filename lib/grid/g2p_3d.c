@@ -1,6 +1,7 @@
 /*
  * g2p_3d.c - grid-to-particle transfer and kinematics in 3D with linear
- * shape functions (the 8 nodes of the point's cell). One pass can update
+ * shape functions (the 8 nodes of the point's cell) or a GIMP box (uGIMP,
+ * cpGIMP: up to 5 nodes per axis, support_3d.h). One pass can update
  * particle velocities with the nodal accelerations (FLIP, 004 eq 3.17,
  * blended with PIC by gm_domain_def.pic_fraction), move points with the
  * nodal velocities, and compute the velocity gradient L = sum v_i (x)
@@ -8,7 +9,10 @@
  * (004 eq 3.23) and the stress update (stress_update.c, the full Jaumann
  * spin) follow. Points are processed in chunks of GM_BATCH_SIZE in index
  * order, each chunk by one worker: nothing is summed across points, so
- * the results do not depend on the worker count.
+ * the results do not depend on the worker count. A linear point is keyed
+ * by its cell when it moves; a GIMP point by its support's lowest node
+ * once the step's last pass has its final position and F (cpGIMP's box
+ * follows F), as in 2D (g2p_wide.c).
  */
 #include "grid/grid.h"
 
@@ -34,15 +38,16 @@ typedef struct g2p_3d_context {
   const gm_g2p_pass *pass;
 } g2p_3d_context;
 
-/* Interpolates a, v and L at the chunk's committed positions; the
- * acceleration only for a FLIP pass, L only for a deformation pass
- * (constants in each specialisation below; each sum is taken alone, so
- * leaving one out changes no bit of the others). */
-static GM_ALWAYS_INLINE void gather_chunk_3d_kind(const gm_domain *domain,
-                                                  size_t first, size_t count,
-                                                  chunk_gather_3d *out,
-                                                  const bool with_acceleration,
-                                                  const bool with_gradient) {
+/* Interpolates a, v and L at the chunk's committed positions (and, for
+ * GIMP, the committed F: the support the scatter used); the acceleration
+ * only for a FLIP pass, L only for a deformation pass (constants in each
+ * specialisation below, as is wide; each sum is taken alone, so leaving
+ * one out changes no bit of the others). */
+static GM_ALWAYS_INLINE void
+gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
+                     size_t first, size_t count, chunk_gather_3d *out,
+                     const bool with_acceleration, const bool with_gradient,
+                     const bool wide) {
   const gm_points *points = &domain->points;
   const gm_grid *grid = &domain->grid;
   const gm_point_buffers *current = &points->buffer[points->cur];
@@ -51,20 +56,52 @@ static GM_ALWAYS_INLINE void gather_chunk_3d_kind(const gm_domain *domain,
   const int64_t mask = GM_BLOCK_EDGE_3D - 1;
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
+    uint32_t block = points->point_block[p];
     const uint32_t *links =
-        grid->neighbour + (size_t)points->point_block[p] * GM_BLOCK_NEIGHBOURS;
-    double w[3][2], d[3][2];
+        grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+    gm_box_support_3d support; /* weights and gradients (1/m) per axis */
     int64_t local[3];
-    for (int axis = 0; axis < 3; axis++)
-      local[axis] =
-          gm_shape_linear_axis(current->position[axis][p], origin[axis],
-                               inv_cell, w[axis], d[axis]) &
-          mask;
+    bool found = true;
+    if (wide) {
+      double x[3] = {current->position[0][p], current->position[1][p],
+                     current->position[2][p]}; /* m */
+      double half[3];                          /* m */
+      gm_box_half_edges_3d(
+          domain->shape_grid.shape, (const double *const *)points->domain_size,
+          (const double *const *)current->deformation, p, half);
+      found = gm_box_support_compute_3d(&domain->shape_grid, x, half, &support);
+      int64_t base[3];
+      gm_block_coordinates_3d(grid, grid->block_key[block], base);
+      for (int axis = 0; found && axis < 3; axis++) {
+        local[axis] = support.lowest[axis] - (base[axis] << GM_BLOCK_SHIFT_3D);
+        found = local[axis] >= 0 &&
+                local[axis] + support.span[axis] <= 2 * GM_BLOCK_EDGE_3D;
+      }
+    } else {
+      for (int axis = 0; axis < 3; axis++)
+        local[axis] = gm_shape_linear_axis(
+                          current->position[axis][p], origin[axis], inv_cell,
+                          support.weight[axis], support.gradient[axis]) &
+                      mask;
+    }
     double a[3] = {0, 0, 0}, v[3] = {0, 0, 0}, l[9] = {0};
     double empty[3] = {0, 0, 0}; /* gradient sum of massless nodes, 1/m */
-    for (int c = 0; c < 2; c++) {
-      for (int b = 0; b < 2; b++) {
-        for (int a_x = 0; a_x < 2; a_x++) {
+    if (!found) {                /* gathers nothing: the step fails */
+      gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
+                      "step: the support of point id %lld cannot be "
+                      "computed or does not fit the block it was binned "
+                      "in; the step was not taken",
+                      (long long)points->id[p]);
+      support.span[0] = support.span[1] = support.span[2] = 0;
+    }
+    double(*w)[GM_SUPPORT_3D_MAX_SPAN] = support.weight;
+    double(*d)[GM_SUPPORT_3D_MAX_SPAN] = support.gradient;
+    int span_x = wide ? support.span[0] : 2,
+        span_y = wide ? support.span[1] : 2,
+        span_z = wide ? support.span[2] : 2;
+    for (int c = 0; c < span_z; c++) {
+      for (int b = 0; b < span_y; b++) {
+        for (int a_x = 0; a_x < span_x; a_x++) {
           int64_t nx = local[0] + a_x, ny = local[1] + b, nz = local[2] + c;
           size_t node = gm_block_node_3d(links, nx, ny, nz);
           double weight = w[0][a_x] * w[1][b] * w[2][c];
@@ -86,9 +123,10 @@ static GM_ALWAYS_INLINE void gather_chunk_3d_kind(const gm_domain *domain,
         }
       }
     }
-    /* As in 2D (g2p.c): a massless node (a point exactly on a cell face)
-     * takes the point's own interpolated velocity, which removes the
-     * spurious gradient of its stored zero. */
+    /* As in 2D (g2p.c): a massless node (a point exactly on a cell face,
+     * or a GIMP box edge on a node plane) takes the point's own
+     * interpolated velocity, which removes the spurious gradient of its
+     * stored zero. */
     for (int i = 0; i < 3; i++) {
       if (with_acceleration)
         out->acceleration[i][j] = a[i];
@@ -99,16 +137,30 @@ static GM_ALWAYS_INLINE void gather_chunk_3d_kind(const gm_domain *domain,
   }
 }
 
-static void gather_chunk_3d(const gm_domain *domain, size_t first, size_t count,
-                            chunk_gather_3d *out, bool flip, bool deform) {
+static GM_ALWAYS_INLINE void
+gather_chunk_3d_shape(const gm_domain *domain, gm_worker_scratch *scratch,
+                      size_t first, size_t count, chunk_gather_3d *out,
+                      bool flip, bool deform, const bool wide) {
   if (flip && deform)
-    gather_chunk_3d_kind(domain, first, count, out, true, true);
+    gather_chunk_3d_kind(domain, scratch, first, count, out, true, true, wide);
   else if (flip)
-    gather_chunk_3d_kind(domain, first, count, out, true, false);
+    gather_chunk_3d_kind(domain, scratch, first, count, out, true, false, wide);
   else if (deform)
-    gather_chunk_3d_kind(domain, first, count, out, false, true);
+    gather_chunk_3d_kind(domain, scratch, first, count, out, false, true, wide);
   else
-    gather_chunk_3d_kind(domain, first, count, out, false, false);
+    gather_chunk_3d_kind(domain, scratch, first, count, out, false, false,
+                         wide);
+}
+
+static void gather_chunk_3d(const gm_domain *domain, gm_worker_scratch *scratch,
+                            size_t first, size_t count, chunk_gather_3d *out,
+                            bool flip, bool deform) {
+  if (domain->shape_grid.shape == GM_SHAPE_LINEAR)
+    gather_chunk_3d_shape(domain, scratch, first, count, out, flip, deform,
+                          false);
+  else /* uGIMP, cpGIMP (domain.c refuses the others in 3D) */
+    gather_chunk_3d_shape(domain, scratch, first, count, out, flip, deform,
+                          true);
 }
 
 /* v_p += dt sum N a_i (FLIP), blended with PIC sum N v_i. */
@@ -128,7 +180,8 @@ static void flip_chunk_3d(gm_domain *domain, size_t first, size_t count,
 }
 
 /* x_p += dt sum N v_i; a point leaving the grid fails the step. Keys of
- * the moved points for the next step's binning. */
+ * the moved points for the next step's binning (linear MPM; a GIMP box
+ * is keyed by keys_chunk_3d once F is final). */
 static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
                           size_t first, size_t count, const chunk_gather_3d *g,
                           double dt) {
@@ -148,6 +201,8 @@ static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
       inside = inside && scaled >= GM_GHOST_LAYERS &&
                scaled < (double)(domain->cells[k] + GM_GHOST_LAYERS);
     }
+    if (inside && domain->shape_grid.shape != GM_SHAPE_LINEAR)
+      continue;
     if (inside) {
       points->block_key[p] =
           gm_block_key_inside_3d(&domain->grid, moved[0], moved[1], moved[2],
@@ -216,6 +271,40 @@ static bool deform_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
   return false;
 }
 
+/* Keys of the chunk's GIMP points in the new state (next buffer: moved
+ * positions, final F): the block of their support's lowest node, so the
+ * next scatter reaches only that block and its upper neighbours. A box
+ * that leaves the grid's nodes or grows past GM_SUPPORT_3D_MAX_SPAN nodes
+ * (cpGIMP stretched) fails the step. */
+static void keys_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
+                          size_t first, size_t count) {
+  gm_points *points = &domain->points;
+  const gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  for (size_t p = first; p < first + count; p++) {
+    double x[3] = {to->position[0][p], to->position[1][p],
+                   to->position[2][p]}; /* m */
+    double half[3];                     /* m */
+    gm_box_half_edges_3d(domain->shape_grid.shape,
+                         (const double *const *)points->domain_size,
+                         (const double *const *)to->deformation, p, half);
+    int64_t lowest[3];
+    if (gm_box_support_lowest_3d(&domain->shape_grid, x, half, lowest)) {
+      points->block_key[p] = gm_block_key_of_node_3d(&domain->grid, lowest[0],
+                                                     lowest[1], lowest[2]);
+      continue;
+    }
+    gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
+                    "step: the domain of point id %lld (half edges %g, %g, "
+                    "%g m at x = %g, y = %g, z = %g m, t = %g s) would reach "
+                    "past the ghost cell layer around the grid box or span "
+                    "more than %d cells along an axis; the step was not "
+                    "taken",
+                    (long long)points->id[p], half[0], half[1], half[2], x[0],
+                    x[1], x[2], domain->time + domain->current_dt,
+                    GM_SUPPORT_3D_MAX_SPAN - 1);
+  }
+}
+
 /* Largest c_p^2 and |v_p|^2 of the chunk's new state (stable_dt.c). */
 static void signal_speed_3d(gm_domain *domain, gm_worker_scratch *scratch,
                             size_t first, size_t count) {
@@ -255,13 +344,15 @@ static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
     size_t first = chunk * GM_BATCH_SIZE;
     size_t count = point_count - first < GM_BATCH_SIZE ? point_count - first
                                                        : GM_BATCH_SIZE;
-    gather_chunk_3d(domain, first, count, g, pass->flip_velocity, pass->deform);
+    gather_chunk_3d(domain, scratch, first, count, g, pass->flip_velocity,
+                    pass->deform);
     if (pass->flip_velocity)
       flip_chunk_3d(domain, first, count, g, pass->dt);
     if (pass->move_points)
       move_chunk_3d(domain, scratch, first, count, g, pass->dt);
     /* A chunk with an inverted point skips its material call: the step
      * fails anyway. */
+    bool deformed = true;
     if (pass->deform && deform_chunk_3d(domain, scratch, first, count, g,
                                         pass->dt, pass->in_place)) {
       const double *gradient[9];
@@ -269,7 +360,12 @@ static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
         gradient[c] = g->gradient[c];
       gm_stress_update_chunk_3d(domain, scratch, first, count, pass->dt,
                                 gradient, pass->in_place);
+    } else if (pass->deform) {
+      deformed = false;
     }
+    /* GIMP keys need the final F (cpGIMP); an inverted F fails anyway. */
+    if (pass->finish && deformed && domain->shape_grid.shape != GM_SHAPE_LINEAR)
+      keys_chunk_3d(domain, scratch, first, count);
     if (pass->finish)
       signal_speed_3d(domain, scratch, first, count);
   }

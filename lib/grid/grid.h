@@ -34,7 +34,7 @@ void gm_grid_update(gm_domain *domain, double dt, int mode); /* grid_update */
  * them: the folds, mirrors and copies below are stages of their own after
  * them (step.c), as is the walls' friction shared along each wall after a
  * GM_GRID_FULL update (gm_walls_share_friction). */
-/* The 3D kernels (linear shapes, docs/3d.md), which gm_p2g, gm_g2p and
+/* The 3D kernels (linear, uGIMP, cpGIMP; docs/3d.md), which gm_p2g, gm_g2p and
  * gm_grid_update call for GM_GEOMETRY_3D: p2g_3d.c, g2p_3d.c,
  * grid_update_3d.c. */
 void gm_p2g_3d(gm_domain *domain, const gm_p2g_pass *pass);

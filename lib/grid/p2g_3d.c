@@ -1,13 +1,17 @@
 /*
- * p2g_3d.c - particle-to-grid transfer in 3D with linear shape functions
- * (trilinear, the 8 nodes of the point's cell): lumped nodal mass, momentum
- * and forces (004 eqs 3.13-3.15 with three axes). Blocks are 4 x 4 x 4
- * nodes (block_grid.h); they are scattered colour by colour (8 colours,
- * the parities of the block coordinates), each block by one worker, so a
- * node receives the points of one block at a time, in block-key order and
- * point order: the sums are bitwise identical for any worker count. A
- * block's points write straight into the grid through its 8 neighbour
- * links (slot ox + 2 oy + 4 oz).
+ * p2g_3d.c - particle-to-grid transfer in 3D: lumped nodal mass, momentum
+ * and forces (004 eqs 3.13-3.15 with three axes), with linear shape
+ * functions (trilinear, the 8 nodes of the point's cell) or a GIMP box
+ * (uGIMP, cpGIMP: up to 5 nodes per axis, support_3d.h). Either way the
+ * weight of a node is a product of axis factors, formed node by node.
+ * Blocks are 4 x 4 x 4 nodes (block_grid.h); they are scattered colour by
+ * colour (8 colours, the parities of the block coordinates), each block by
+ * one worker, so a node receives the points of one block at a time, in
+ * block-key order and point order: the sums are bitwise identical for any
+ * worker count. A block's points write straight into the grid through its
+ * 8 neighbour links (slot ox + 2 oy + 4 oz): a linear point is binned by
+ * its cell, a GIMP point by its support's lowest node (g2p_3d.c), so both
+ * reach only the block and its upper neighbours.
  */
 #include "grid/grid.h"
 
@@ -56,33 +60,96 @@ static void check_inputs_3d(const p2g_3d_context *ctx,
   }
 }
 
-/* do_mass, do_momentum, do_forces are constants in each specialisation
- * below (scatter_block_3d), so each pass kind gets its own loop; each
- * field is summed alone, so leaving the others out changes no bit. */
-static GM_ALWAYS_INLINE void scatter_block_3d_kind(const p2g_3d_context *ctx,
-                                                   uint32_t block,
-                                                   const bool do_mass,
-                                                   const bool do_momentum,
-                                                   const bool do_forces) {
+/* Point p's support as axis factors: per axis the local index of its
+ * lowest node in the block whose lowest node is base, its span, weights
+ * and gradients (1/m). Linear MPM: the point's cell, span 2 (wide is a
+ * constant in each specialisation, so the linear loops keep their fixed
+ * trip counts). False when a GIMP support cannot be computed or does not
+ * lie in the block and its upper neighbours (its key disagrees with it). */
+static GM_ALWAYS_INLINE bool
+point_support_3d(const gm_domain *domain, const double *const position[3],
+                 const double *const deformation[9], size_t p,
+                 const int64_t base[3], const bool wide,
+                 gm_box_support_3d *support, int64_t local[3]) {
+  const double *origin = domain->shape_grid.origin; /* m, node 0 */
+  double inv_cell = domain->inv_cell;               /* 1/m */
+  if (!wide) {
+    const int64_t mask = GM_BLOCK_EDGE_3D - 1;
+    for (int axis = 0; axis < 3; axis++) {
+      local[axis] =
+          gm_shape_linear_axis(position[axis][p], origin[axis], inv_cell,
+                               support->weight[axis], support->gradient[axis]) &
+          mask;
+      support->span[axis] = 2;
+    }
+    return true;
+  }
+  const gm_points *points = &domain->points;
+  double x[3] = {position[0][p], position[1][p], position[2][p]}; /* m */
+  double half[3];                                                 /* m */
+  gm_box_half_edges_3d(domain->shape_grid.shape,
+                       (const double *const *)points->domain_size, deformation,
+                       p, half);
+  if (!gm_box_support_compute_3d(&domain->shape_grid, x, half, support))
+    return false;
+  bool fits = true;
+  for (int axis = 0; axis < 3; axis++) {
+    local[axis] = support->lowest[axis] - base[axis];
+    fits = fits && local[axis] >= 0 &&
+           local[axis] + support->span[axis] <= 2 * GM_BLOCK_EDGE_3D;
+  }
+  return fits;
+}
+
+/* Names a point whose GIMP support cannot be scattered. */
+static void report_support_3d(const gm_domain *domain,
+                              gm_worker_scratch *scratch, size_t p) {
+  gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
+                  "step: the support of point id %lld cannot be computed "
+                  "or does not fit the block it was binned in; the step "
+                  "was not taken",
+                  (long long)domain->points.id[p]);
+}
+
+/* do_mass, do_momentum, do_forces and wide are constants in each
+ * specialisation below (scatter_block_3d), so each pass kind and support
+ * gets its own loop; each field is summed alone, so leaving the others
+ * out changes no bit. */
+static GM_ALWAYS_INLINE void
+scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
+                      uint32_t block, const bool do_mass,
+                      const bool do_momentum, const bool do_forces,
+                      const bool wide) {
   const gm_domain *domain = ctx->domain;
   const gm_points *points = &domain->points;
   const gm_grid *grid = &domain->grid;
   const gm_point_buffers *current = &points->buffer[points->cur];
   const double *const *position = (const double *const *)current->position;
-  const double *origin = domain->shape_grid.origin; /* m, node 0 */
-  const double *gravity = domain->def.gravity;      /* m/s^2 */
-  double inv_cell = domain->inv_cell;               /* 1/m */
+  const double *const *deformation =
+      (const double *const *)current->deformation;
+  const double *gravity = domain->def.gravity; /* m/s^2 */
   const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
-  const int64_t mask = GM_BLOCK_EDGE_3D - 1;
+  int64_t base[3] = {0, 0, 0}; /* the block's lowest node */
+  if (wide) {
+    gm_block_coordinates_3d(grid, grid->block_key[block], base);
+    for (int axis = 0; axis < 3; axis++)
+      base[axis] <<= GM_BLOCK_SHIFT_3D;
+  }
   for (uint32_t k = grid->point_start[block]; k < grid->point_start[block + 1];
        k++) {
     size_t p = points->order[k];
-    double w[3][2], d[3][2]; /* weights and gradients (1/m) per axis */
+    gm_box_support_3d support; /* weights and gradients (1/m) per axis */
     int64_t local[3];
-    for (int axis = 0; axis < 3; axis++)
-      local[axis] = gm_shape_linear_axis(position[axis][p], origin[axis],
-                                         inv_cell, w[axis], d[axis]) &
-                    mask;
+    if (!point_support_3d(domain, position, deformation, p, base, wide,
+                          &support, local)) {
+      report_support_3d(domain, scratch, p);
+      continue;
+    }
+    double(*w)[GM_SUPPORT_3D_MAX_SPAN] = support.weight;
+    double(*d)[GM_SUPPORT_3D_MAX_SPAN] = support.gradient;
+    int span_x = wide ? support.span[0] : 2,
+        span_y = wide ? support.span[1] : 2,
+        span_z = wide ? support.span[2] : 2;
     double m = points->mass[p]; /* kg */
     double velocity[3] = {ctx->velocity[0][p], ctx->velocity[1][p],
                           ctx->velocity[2][p]};   /* m/s */
@@ -97,9 +164,9 @@ static GM_ALWAYS_INLINE void scatter_block_3d_kind(const p2g_3d_context *ctx,
       for (int c = 0; c < 6; c++)
         t[c] = ctx->stress[c][p] * V;
     }
-    for (int c = 0; c < 2; c++) {
-      for (int b = 0; b < 2; b++) {
-        for (int a = 0; a < 2; a++) {
+    for (int c = 0; c < span_z; c++) {
+      for (int b = 0; b < span_y; b++) {
+        for (int a = 0; a < span_x; a++) {
           int64_t nx = local[0] + a, ny = local[1] + b, nz = local[2] + c;
           size_t node = gm_block_node_3d(links, nx, ny, nz);
           double weight = w[0][a] * w[1][b] * w[2][c];
@@ -129,19 +196,31 @@ static GM_ALWAYS_INLINE void scatter_block_3d_kind(const p2g_3d_context *ctx,
   }
 }
 
-/* The pass kinds of the three schemes (step.c). */
-static void scatter_block_3d(const p2g_3d_context *ctx, uint32_t block) {
+/* The pass kinds of the three schemes (step.c), for one support. */
+static GM_ALWAYS_INLINE void scatter_block_3d_shape(const p2g_3d_context *ctx,
+                                                    gm_worker_scratch *scratch,
+                                                    uint32_t block,
+                                                    const bool wide) {
   const gm_p2g_pass *pass = ctx->pass;
   if (pass->mass && pass->momentum && pass->forces)
-    scatter_block_3d_kind(ctx, block, true, true, true);
+    scatter_block_3d_kind(ctx, scratch, block, true, true, true, wide);
   else if (pass->mass && pass->momentum)
-    scatter_block_3d_kind(ctx, block, true, true, false);
+    scatter_block_3d_kind(ctx, scratch, block, true, true, false, wide);
   else if (pass->momentum && pass->forces)
-    scatter_block_3d_kind(ctx, block, false, true, true);
+    scatter_block_3d_kind(ctx, scratch, block, false, true, true, wide);
   else if (pass->momentum)
-    scatter_block_3d_kind(ctx, block, false, true, false);
+    scatter_block_3d_kind(ctx, scratch, block, false, true, false, wide);
   else
-    scatter_block_3d_kind(ctx, block, pass->mass, false, pass->forces);
+    scatter_block_3d_kind(ctx, scratch, block, pass->mass, false, pass->forces,
+                          wide);
+}
+
+static void scatter_block_3d(const p2g_3d_context *ctx,
+                             gm_worker_scratch *scratch, uint32_t block) {
+  if (ctx->domain->shape_grid.shape == GM_SHAPE_LINEAR)
+    scatter_block_3d_shape(ctx, scratch, block, false);
+  else /* uGIMP, cpGIMP (domain.c refuses the others in 3D) */
+    scatter_block_3d_shape(ctx, scratch, block, true);
 }
 
 static void scatter_blocks_3d(void *context, size_t begin, size_t end,
@@ -154,7 +233,7 @@ static void scatter_blocks_3d(void *context, size_t begin, size_t end,
     if (ctx->pass->check_inputs)
       check_inputs_3d(ctx, &domain->scratch[worker], grid->point_start[block],
                       grid->point_start[block + 1]);
-    scatter_block_3d(ctx, block);
+    scatter_block_3d(ctx, &domain->scratch[worker], block);
   }
 }
 

@@ -243,6 +243,31 @@ gm_status gm_check_placement_density(gm_domain *domain, int material_id,
       what, density, critical, material->tolerance, material_id);
 }
 
+/* A 3D GIMP point's initial box (support_3d.h) must lie within the ghost
+ * layer around the grid box and span at most GM_SUPPORT_3D_MAX_SPAN nodes
+ * per axis. Its weights can always be computed (a box far thinner than a
+ * cell weighs its nodes as the tent), so the bounds are all to check. */
+static gm_status validate_box_3d(gm_domain *domain, const gm_points_def *def,
+                                 size_t i, const double *position,
+                                 double volume) {
+  double half[3]; /* m */
+  for (int k = 0; k < 3; k++)
+    half[k] = 0.5 * (def->domain_size
+                         ? def->domain_size[i * 3 + (size_t)k]
+                         : default_domain_edge(domain, volume, position[0]));
+  int64_t lowest[3];
+  if (gm_box_support_lowest_3d(&domain->shape_grid, position, half, lowest))
+    return GM_OK;
+  return gm_set_error(domain, GM_ERR_OUT_OF_GRID,
+                      "gm_domain_add_points: point %zu domain (edges %g x %g "
+                      "x %g m at x = %g, y = %g, z = %g m) reaches past the "
+                      "ghost cell layer around the grid box or spans more "
+                      "than %d cells along an axis",
+                      i, 2.0 * half[0], 2.0 * half[1], 2.0 * half[2],
+                      position[0], position[1], position[2],
+                      GM_SUPPORT_3D_MAX_SPAN - 1);
+}
+
 /* Checks point i of def; the message names the point and the field. */
 static gm_status validate_point(gm_domain *domain, const gm_points_def *def,
                                 size_t i, double density) {
@@ -300,7 +325,11 @@ static gm_status validate_point(gm_domain *domain, const gm_points_def *def,
                             i, axis_name(k), edge);
     }
   }
-  if (domain->shape_grid.shape != GM_SHAPE_LINEAR) {
+  if (domain->shape_grid.shape != GM_SHAPE_LINEAR && dim == 3) {
+    gm_status status = validate_box_3d(domain, def, i, position, volume);
+    if (status != GM_OK)
+      return status;
+  } else if (domain->shape_grid.shape != GM_SHAPE_LINEAR) {
     gm_point_domain shape = {{position[0], dim > 1 ? position[1] : 0.0},
                              {1.0, 0.0, 0.0, 1.0},
                              {0.0, 0.0}};

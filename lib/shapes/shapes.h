@@ -4,8 +4,9 @@
  * (they never see the domain): linear (shape_linear.h), GIMP
  * (shape_gimp.h), B-splines (shape_bspline.h), and the support of a point
  * for every shape variant with the corners of its current domain
- * (support.h, support.c). The bottom layer: core/domain.h includes it
- * for gm_shape_grid. Private to the library.
+ * (support.h, support.c; in 3D support_3d.h, support_3d.c). The bottom
+ * layer: core/domain.h includes it for gm_shape_grid. Private to the
+ * library.
  */
 #ifndef GM_SHAPES_H
 #define GM_SHAPES_H
@@ -14,5 +15,6 @@
 #include "shapes/shape_gimp.h"
 #include "shapes/shape_linear.h"
 #include "shapes/support.h"
+#include "shapes/support_3d.h"
 
 #endif

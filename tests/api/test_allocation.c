@@ -7,7 +7,8 @@
  * workers and with each update scheme, for linear MPM and for the
  * granular family with CPDI and a planar wall, for a layer sliding
  * across periodic x faces (GM_WALL_PERIODIC), and for a 3D block
- * (GM_GEOMETRY_3D) resting on a fixed floor. Also checks that every
+ * (GM_GEOMETRY_3D) resting on a fixed floor, with linear, uGIMP and
+ * cpGIMP shapes. Also checks that every
  * allocation is freed by gm_domain_destroy (the counts balance), and that
  * running out of memory in the middle of a step or of a material registration
  * fails cleanly without changing the domain.
@@ -59,9 +60,11 @@ static void install_counting_allocator(void) {
  * 3 m/s along x, so its points cross the seam in the measured steps. */
 /* The 3D block: 0.4 m cube on the fixed zmin face, gravity along -z,
  * spanning blocks of several colours (4 x 4 x 4 nodes each). */
-static gm_domain *resting_block_3d(gm_update_scheme scheme, int workers) {
+static gm_domain *resting_block_3d(gm_update_scheme scheme, int workers,
+                                   gm_shape shape) {
   gm_domain_def def = gm_domain_def_default();
   def.geometry = GM_GEOMETRY_3D;
+  def.shape = shape;
   def.scheme = scheme;
   def.worker_count = workers;
   def.cell_size = 0.05;
@@ -128,10 +131,13 @@ START_TEST(test_no_allocation_after_warm_up) {
   int workers = 1 + _i / 3 % 2;
   bool granular = _i >= 6 && _i < 12;
   bool periodic = _i >= 12 && _i < 18;
-  bool solid = _i >= 18; /* GM_GEOMETRY_3D */
+  bool solid = _i >= 18; /* GM_GEOMETRY_3D: linear, uGIMP, cpGIMP */
+  static const gm_shape solid_shapes[3] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
+                                           GM_SHAPE_CPGIMP};
+  gm_shape shape = solid ? solid_shapes[(_i - 18) / 6] : GM_SHAPE_LINEAR;
   install_counting_allocator();
   gm_domain *domain = solid
-                          ? resting_block_3d(scheme, workers)
+                          ? resting_block_3d(scheme, workers, shape)
                           : resting_block(scheme, workers, granular, periodic);
   enum { WARM_UP_STEPS = 5, MEASURED_STEPS = 200 };
   for (int step = 0; step < WARM_UP_STEPS; step++)
@@ -141,13 +147,14 @@ START_TEST(test_no_allocation_after_warm_up) {
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
   long during = atomic_load(&allocations) - before;
   ck_assert_msg(during == 0,
-                "%s, %d workers%s: %ld allocations in %d steps after warm-up",
+                "%s, %d workers%s (%s): %ld allocations in %d steps after "
+                "warm-up",
                 test_scheme_name(scheme), workers,
                 granular   ? ", granular CPDI with a wall"
                 : periodic ? ", periodic layer"
                 : solid    ? ", 3D block"
                            : "",
-                during, MEASURED_STEPS);
+                test_shape_name(shape), during, MEASURED_STEPS);
   gm_domain_destroy(domain);
   ck_assert_msg(atomic_load(&allocations) == atomic_load(&releases),
                 "allocations %ld != frees %ld after destroy",
@@ -371,8 +378,9 @@ int main(void) {
   Suite *suite = suite_create("allocation");
   TCase *tcase = tcase_create("steady_state");
   tcase_set_timeout(tcase, 60);
-  /* 0..5: linear MPM; 6..11: granular CPDI with a planar wall. */
-  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 24);
+  /* 0..5: linear MPM; 6..11: granular CPDI with a planar wall; 12..17:
+   * periodic layer; 18..35: 3D block, linear, uGIMP, cpGIMP. */
+  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 36);
   tcase_add_test(tcase, test_out_of_memory_while_growing_the_grid);
   tcase_add_test(tcase, test_out_of_memory_while_widening_state);
   /* 0: plain, 1: granular family. */

@@ -313,12 +313,9 @@ static const bad_domain_case bad_domain_cases[] = {
     {"extent NaN", DOMAIN_EXTENT_X, NAN, NONFINITE, "extent"},
     {"geometry 0", DOMAIN_GEOMETRY, 0, INVALID, "geometry"},
     {"geometry 99", DOMAIN_GEOMETRY, 99, INVALID, "geometry"},
-    /* GM_GEOMETRY_3D runs linear MPM, the plain family, FLIP and closed
-     * faces (docs/3d.md); the rest is refused by name. */
-    {"3D uGIMP", DOMAIN_3D_SHAPE, GM_SHAPE_UGIMP, ONLY(GM_ERR_UNSUPPORTED),
-     "GM_SHAPE_UGIMP"},
-    {"3D cpGIMP", DOMAIN_3D_SHAPE, GM_SHAPE_CPGIMP, ONLY(GM_ERR_UNSUPPORTED),
-     "GM_SHAPE_CPGIMP"},
+    /* GM_GEOMETRY_3D runs linear MPM, uGIMP and cpGIMP, the plain
+     * family, FLIP and closed faces (docs/3d.md); the rest is refused by
+     * name. */
     {"3D CPDI", DOMAIN_3D_SHAPE, GM_SHAPE_CPDI, ONLY(GM_ERR_UNSUPPORTED),
      "GM_SHAPE_CPDI"},
     {"3D B-spline2", DOMAIN_3D_SHAPE, GM_SHAPE_BSPLINE2,

@@ -11,8 +11,9 @@
  *    steps), the CPDI one on 2 workers (and restarted on 2 from a 1-worker
  *    file), and a stream from a source sliding down a frictional planar
  *    wall into a sink, and a sheared elastic block in 3D (USL and MUSL, 1
- *    and 2 workers). The restarted domain takes 3 steps of its own
- *    before the load, so its caches are stale when the file arrives.
+ *    and 2 workers; uGIMP in USF and cpGIMP in USL from 1 worker to 2). The
+ * restarted domain takes 3 steps of its own before the load, so its caches are
+ * stale when the file arrives.
  * 2. Refusals: every truncation of a small file, every single flipped byte,
  *    a wrong version (with a valid checksum), another setup, an inverted F,
  *    a granular state or grid label the library never writes, the same
@@ -208,9 +209,12 @@ static scene build_periodic(gm_domain_def def) {
  * floor between slip sides, gravity along -z, sheared at the start (v_x =
  * 2 z, v_y = -1.5 x, in 1/s times m) so that all nine components of F and
  * all six of the stress move and the file has to carry each of them. */
+static gm_shape scene_shape_3d = GM_SHAPE_LINEAR; /* the 3D scenes' shape */
+
 static scene build_3d(gm_domain_def def, int points_per_cell_axis) {
   scene s = {NULL, -1, -1, -1, -1, 21, 40, true};
   def.geometry = GM_GEOMETRY_3D;
+  def.shape = scene_shape_3d;
   def.gravity[1] = 0.0;
   def.gravity[2] = -9.81; /* m/s^2 */
   def.walls[GM_FACE_ZMIN] = GM_WALL_FIXED;
@@ -636,6 +640,22 @@ START_TEST(test_restart_3d) {
     check_restart(SOLID_3D, 2, 2);
     check_restart(SOLID_3D, 1, 2);
   }
+  scene_scheme = GM_SCHEME_USL;
+}
+END_TEST
+
+/* The same block with uGIMP and cpGIMP boxes (whose block keys the load
+ * recomputes from the positions and F, g2p_3d.c and bins.c): USF and
+ * USL, a 1-worker file restarted on 2. */
+START_TEST(test_restart_3d_gimp) {
+  const gm_shape shapes[2] = {GM_SHAPE_UGIMP, GM_SHAPE_CPGIMP};
+  const gm_update_scheme schemes[2] = {GM_SCHEME_USF, GM_SCHEME_USL};
+  for (int k = 0; k < 2; k++) {
+    scene_shape_3d = shapes[k];
+    scene_scheme = schemes[k];
+    check_restart(SOLID_3D, 1, 2);
+  }
+  scene_shape_3d = GM_SHAPE_LINEAR;
   scene_scheme = GM_SCHEME_USL;
 }
 END_TEST
@@ -1198,6 +1218,7 @@ static Suite *checkpoint_suite(void) {
   tcase_add_test(restart, test_restart_apic);
   tcase_add_test(restart, test_restart_periodic);
   tcase_add_test(restart, test_restart_3d);
+  tcase_add_test(restart, test_restart_3d_gimp);
   suite_add_tcase(suite, restart);
   TCase *refusals = tcase_create("refusals");
   tcase_set_timeout(refusals, 120);

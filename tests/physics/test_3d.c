@@ -1,10 +1,11 @@
 /*
- * test_3d.c - the first 3D step (GM_GEOMETRY_3D, linear shapes, docs/3d.md)
- * against closed forms and conservation laws:
+ * test_3d.c - the 3D geometry (GM_GEOMETRY_3D, docs/3d.md) with linear,
+ * uGIMP and cpGIMP shapes against closed forms and conservation laws:
  *  - the fixed-free elastic bar along x in its first mode, the side faces
  *    (y and z) SLIP so that v_y = v_z = 0 and the strain is uniaxial:
  *    period 4L/c with c = sqrt(M/rho), M = E(1-nu)/((1+nu)(1-2nu)); with
  *    nu = 0, M = E and uniaxial strain is uniaxial stress, c = sqrt(E/rho);
+ *    the same bar with uGIMP and cpGIMP boxes (27 nodes per point);
  *  - a spinning elastic block in free fall: total mass constant, momentum
  *    p(t) = p(0) + M g t to round-off;
  *  - an elastic column resting on a FIXED floor between SLIP side faces
@@ -12,7 +13,10 @@
  *  - the bar uniform in z between SLIP z faces against the plane-strain
  *    bar of the same points: the same motion to round-off (not bitwise:
  *    see test_3d_matches_plane_strain);
- *  - bitwise the same state with 1 and 2 workers, for every scheme;
+ *  - bitwise the same state with 1 and 2 workers, for every scheme and
+ *    shape;
+ *  - a GIMP box that does not fit the grid or the blocks is refused by
+ *    gm_domain_add_points, by name;
  *  - a failed step (a point would leave the box) changes nothing;
  *  - the stable dt at cfl 1 keeps a cube with every mode excited bounded.
  *
@@ -55,9 +59,11 @@ static void set_mode_one_velocity(gm_domain *domain) {
 
 /* The bar fills the y and z extents between SLIP faces; x = 0 is FIXED,
  * the grid reaches x = 30 m so the free end stays inside. */
-static gm_domain *bar_3d(gm_update_scheme scheme, double poisson, int workers) {
+static gm_domain *bar_3d(gm_update_scheme scheme, double poisson, int workers,
+                         gm_shape shape) {
   gm_domain_def def = gm_domain_def_default();
   def.geometry = GM_GEOMETRY_3D;
+  def.shape = shape;
   def.scheme = scheme;
   def.worker_count = workers;
   def.cell_size = BAR_CELL;
@@ -93,17 +99,66 @@ static int zero_crossings(const double *samples, int sample_count, double dt,
   return found;
 }
 
-/* _i: scheme (_i % 3), nu = 0 (_i < 3: c = sqrt(E/rho)) or 0.3. */
+/* GM_FIELD_DOMAIN_CORNERS of a GIMP point in 3D is its box: centre x_p,
+ * half edges l_k / 2 (uGIMP) or |F_kk| l_k / 2 (cpGIMP) along the axes,
+ * corner c with signs (s_x, s_y, s_z) in VTK_HEXAHEDRON's order. The bar
+ * is stretched along x by then (F_xx off 1 by up to ~1e-3), so a cpGIMP
+ * box taken as uGIMP's, or the reverse, is off by ~1e-4 m; the formula
+ * and the library's are the same arithmetic up to the order of two
+ * additions (1e-15 m). */
+static void check_gimp_corners(const gm_domain *domain, gm_shape shape) {
+  static const double sign[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1},
+                                    {-1, 1, -1},  {-1, -1, 1}, {1, -1, 1},
+                                    {1, 1, 1},    {-1, 1, 1}};
+  size_t count = gm_domain_point_count(domain);
+  double *corners = malloc(24 * count * sizeof *corners);
+  double *x = malloc(3 * count * sizeof *x), *f = malloc(9 * count * sizeof *f);
+  double *size = malloc(3 * count * sizeof *size);
+  ck_assert(corners && x && f && size);
+  TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_DOMAIN_CORNERS,
+                                             corners, 24 * count));
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_POSITION, x, 3 * count));
+  TEST_ASSERT_OK(
+      domain,
+      gm_domain_get_field(domain, GM_FIELD_DEFORMATION_GRADIENT, f, 9 * count));
+  TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_DOMAIN_SIZE, size,
+                                             3 * count));
+  double worst = 0.0, stretch = 0.0; /* m, - */
+  for (size_t p = 0; p < count; p++)
+    for (int c = 0; c < 8; c++)
+      for (int k = 0; k < 3; k++) {
+        double half = 0.5 * size[3 * p + k]; /* m */
+        if (shape == GM_SHAPE_CPGIMP)
+          half *= fabs(f[9 * p + 4 * k]); /* F_kk */
+        double expected = x[3 * p + k] + sign[c][k] * half;
+        worst = fmax(worst, fabs(corners[24 * p + 3 * c + k] - expected));
+        stretch = fmax(stretch, fabs(f[9 * p + 4 * k] - 1.0));
+      }
+  ck_assert_msg(stretch > 1e-4, "the bar is not stretched (%g)", stretch);
+  ck_assert_msg(worst <= 1e-12, "%s corners off by %g m",
+                test_shape_name(shape), worst);
+  free(corners);
+  free(x);
+  free(f);
+  free(size);
+}
+
+/* _i: scheme (_i % 3); linear MPM with nu = 0 (_i < 3: c = sqrt(E/rho))
+ * or 0.3 (_i 3..5); uGIMP (_i 6..8) and cpGIMP (_i 9..11) with nu = 0.3. */
 START_TEST(test_bar_3d_period) {
   gm_update_scheme scheme = (gm_update_scheme)(_i % 3);
   double poisson = _i < 3 ? 0.0 : 0.3;
+  gm_shape shape = _i < 6   ? GM_SHAPE_LINEAR
+                   : _i < 9 ? GM_SHAPE_UGIMP
+                            : GM_SHAPE_CPGIMP;
   double modulus = constrained_modulus(BAR_YOUNGS, poisson); /* Pa */
   double wave_speed = sqrt(modulus / BAR_DENSITY);           /* m/s */
   double period = 4.0 * BAR_LENGTH / wave_speed;             /* s, 4L/c */
   double amplitude = 2.0 * BAR_V0 / PI;    /* m/s, v_cm = 2 v0/pi cos wt */
   double dt = 0.2 * BAR_CELL / wave_speed; /* s */
   int steps = (int)ceil(2.3 * period / dt);
-  gm_domain *domain = bar_3d(scheme, poisson, 1);
+  gm_domain *domain = bar_3d(scheme, poisson, 1, shape);
   double *v_cm = malloc((size_t)(steps + 1) * sizeof *v_cm);
   ck_assert_ptr_nonnull(v_cm);
   v_cm[0] = centre_of_mass_velocity(domain);
@@ -129,15 +184,18 @@ START_TEST(test_bar_3d_period) {
    * (test_bar.c): lumped-mass linear elements lengthen it by
    * (beta_1 h)^2/24 ~ 2e-4, the crossing interpolation and the time
    * integrator ~1e-4; measured +0.055 % to +0.058 % for the three
-   * schemes and both nu. 1 % fails a wrong modulus (E for M at nu =
-   * 0.3 is 16 %), a free end (period halved) or z forces missing. */
+   * schemes and both nu with linear MPM. GIMP's weights are smoother
+   * than the tent but its lumped mass is the same order of dispersion;
+   * measured (2 points per cell) in docs/3d.md. 1 % fails a wrong
+   * modulus (E for M at nu = 0.3 is 16 %), a free end (period halved)
+   * or z forces missing. */
   double crossing[5];
   ck_assert_int_eq(zero_crossings(v_cm, steps + 1, dt, crossing, 5), 5);
   double measured = (crossing[4] - crossing[0]) / 2.0;
-  printf("3D bar %s nu %.1f: period %.6g s, 4L/c = %.6g s (%+.3f %%), "
+  printf("3D bar %s %s nu %.1f: period %.6g s, 4L/c = %.6g s (%+.3f %%), "
          "max lateral |v| %.3g m/s\n",
-         test_scheme_name(scheme), poisson, measured, period,
-         100.0 * (measured / period - 1.0), lateral);
+         test_shape_name(shape), test_scheme_name(scheme), poisson, measured,
+         period, 100.0 * (measured / period - 1.0), lateral);
   ck_assert_msg(fabs(measured - period) <= 0.01 * period,
                 "%s nu %g: period %.6g s, expected 4L/c = %.6g s",
                 test_scheme_name(scheme), poisson, measured, period);
@@ -147,6 +205,8 @@ START_TEST(test_bar_3d_period) {
    * is round-off on v0 = 0.1 m/s. */
   ck_assert_msg(lateral <= 1e-12, "%s: lateral velocity %g m/s",
                 test_scheme_name(scheme), lateral);
+  if (shape != GM_SHAPE_LINEAR)
+    check_gimp_corners(domain, shape);
   free(velocity);
   free(v_cm);
   gm_domain_destroy(domain);
@@ -156,9 +216,11 @@ END_TEST
 /* ----------------------------------------------------- free fall, spin */
 /* An elastic cube spinning about an axis along no grid axis and falling
  * under gravity along all three axes, far from the (open) faces. */
-static gm_domain *spinning_cube(gm_update_scheme scheme, int workers) {
+static gm_domain *spinning_cube(gm_update_scheme scheme, int workers,
+                                gm_shape shape) {
   gm_domain_def def = gm_domain_def_default();
   def.geometry = GM_GEOMETRY_3D;
+  def.shape = shape;
   def.scheme = scheme;
   def.worker_count = workers;
   def.cell_size = 0.1;
@@ -193,9 +255,18 @@ static gm_domain *spinning_cube(gm_update_scheme scheme, int workers) {
   return domain;
 }
 
+/* The shape of case _i of the loop tests over scheme and shape: linear
+ * (_i 0..2), uGIMP (3..5), cpGIMP (6..8); the scheme is _i % 3. */
+static gm_shape shape_of_case(int i) {
+  static const gm_shape shapes[3] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
+                                     GM_SHAPE_CPGIMP};
+  return shapes[i / 3];
+}
+
 START_TEST(test_momentum_and_mass_3d) {
-  gm_update_scheme scheme = (gm_update_scheme)_i;
-  gm_domain *domain = spinning_cube(scheme, 1);
+  gm_update_scheme scheme = (gm_update_scheme)(_i % 3);
+  gm_shape shape = shape_of_case(_i);
+  gm_domain *domain = spinning_cube(scheme, 1, shape);
   gm_summary start = gm_summary_default(), now = gm_summary_default();
   TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &start));
   const double gravity[3] = {1.0, -2.0, -9.81}; /* m/s^2 */
@@ -210,16 +281,19 @@ START_TEST(test_momentum_and_mass_3d) {
                 start.mass);
   /* Sum_p m_p dv_p = dt sum_i m_i a_i = dt sum_i (f_i^int + m_i g) and
    * sum_i f_i^int = -sum_p V sigma sum_i grad N_i = 0: momentum changes by
-   * M g t only. Round-off: 300 steps of sums over ~1700 points of terms
-   * ~ M |v| ~ 200 kg m/s, relative 1e-16 each; measured below 1e-12 of
-   * M |g| t. A force lost on a node (a z force not scattered, a held face
-   * node) would show as O(1) of it. */
+   * M g t only (for GIMP too: its weights sum to 1 and its gradients to
+   * 0, test_support_3d.c). Round-off: 300 steps of sums over ~1700
+   * points of terms ~ M |v| ~ 200 kg m/s, relative 1e-16 each; measured
+   * below 1e-12 of M |g| t. A force lost on a node (a z force not
+   * scattered, a held face node, a GIMP node outside the loops) would
+   * show as O(1) of it. */
   double scale = start.mass * 10.0 * time; /* kg m/s, M |g| t */
   for (int k = 0; k < 3; k++) {
     double expected = start.momentum[k] + start.mass * gravity[k] * time;
     ck_assert_msg(fabs(now.momentum[k] - expected) <= 1e-9 * scale,
-                  "%s: momentum[%d] %.12g, expected %.12g (M g t)",
-                  test_scheme_name(scheme), k, now.momentum[k], expected);
+                  "%s %s: momentum[%d] %.12g, expected %.12g (M g t)",
+                  test_shape_name(shape), test_scheme_name(scheme), k,
+                  now.momentum[k], expected);
   }
   gm_domain_destroy(domain);
 }
@@ -415,10 +489,11 @@ END_TEST
  * axis, so blocks of all 8 colours) with 1 and 2 workers: every field
  * bitwise equal. */
 START_TEST(test_determinism_3d) {
-  gm_update_scheme scheme = (gm_update_scheme)_i;
+  gm_update_scheme scheme = (gm_update_scheme)(_i % 3);
+  gm_shape shape = shape_of_case(_i);
   gm_domain *runs[2];
   for (int r = 0; r < 2; r++) {
-    runs[r] = spinning_cube(scheme, 1 + r);
+    runs[r] = spinning_cube(scheme, 1 + r, shape);
     for (int step = 0; step < 150; step++)
       TEST_ASSERT_OK(runs[r], gm_domain_step(runs[r], 4e-4));
   }
@@ -438,8 +513,9 @@ START_TEST(test_determinism_3d) {
     TEST_ASSERT_OK(runs[1], gm_domain_get_field(runs[1], fields[f], b,
                                                 components * count));
     ck_assert_msg(memcmp(a, b, components * count * sizeof *a) == 0,
-                  "%s: field %d differs between 1 and 2 workers",
-                  test_scheme_name(scheme), (int)fields[f]);
+                  "%s %s: field %d differs between 1 and 2 workers",
+                  test_shape_name(shape), test_scheme_name(scheme),
+                  (int)fields[f]);
   }
   free(a);
   free(b);
@@ -500,7 +576,7 @@ END_TEST
  * GM_ERR_OUT_OF_GRID naming a point, every field is bitwise what it was,
  * and a shorter step then succeeds. */
 START_TEST(test_failed_step_changes_nothing_3d) {
-  gm_domain *domain = spinning_cube(GM_SCHEME_USL, 2);
+  gm_domain *domain = spinning_cube(GM_SCHEME_USL, 2, GM_SHAPE_LINEAR);
   size_t count = gm_domain_point_count(domain);
   double *vz = NULL;
   TEST_ASSERT_OK(domain,
@@ -548,18 +624,143 @@ START_TEST(test_failed_step_changes_nothing_3d) {
 }
 END_TEST
 
+/* ------------------------------------------------------- GIMP refusals */
+/* A 3D GIMP box must lie within the ghost layer around the grid box and
+ * cross at most 3 node planes per axis (5 nodes: the 4 x 4 x 4 block and
+ * its upper neighbours, support_3d.h); gm_domain_add_points refuses the
+ * others with GM_ERR_OUT_OF_GRID and a message naming the point, and
+ * keeps the domain as it was. */
+START_TEST(test_gimp_box_refused_3d) {
+  const gm_shape shapes[2] = {GM_SHAPE_UGIMP, GM_SHAPE_CPGIMP};
+  for (int s = 0; s < 2; s++) {
+    gm_domain_def def = gm_domain_def_default();
+    def.geometry = GM_GEOMETRY_3D;
+    def.shape = shapes[s];
+    def.cell_size = 0.1;
+    def.extent[0] = def.extent[1] = def.extent[2] = 1.0;
+    gm_domain *domain = test_create_domain(&def);
+    int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+    /* A box 3.5 cells long along z from 0.1 cell below a node plane
+     * (z = 0.39 .. 0.74 m: 4 planes crossed, 6 nodes); a 0.1 m cube
+     * whose centre is 0.05 m from the zmin face but whose z edge is 0.32
+     * m, reaching 0.11 m below the face (past the ghost layer). */
+    const double position[2][3] = {{0.52, 0.47, 0.565}, {0.5, 0.5, 0.05}};
+    const double size[2][3] = {{0.1, 0.1, 0.35}, {0.1, 0.1, 0.32}};
+    for (int c = 0; c < 2; c++) {
+      double volume = size[c][0] * size[c][1] * size[c][2]; /* m^3 */
+      gm_points_def points = gm_points_def_default();
+      points.count = 1;
+      points.material = material;
+      points.position = position[c];
+      points.volume = &volume;
+      points.domain_size = size[c];
+      gm_status status = gm_domain_add_points(domain, &points, NULL);
+      ck_assert_msg(status == GM_ERR_OUT_OF_GRID, "%s case %d: status %d",
+                    test_shape_name(shapes[s]), c, (int)status);
+      ck_assert_msg(strstr(gm_domain_last_error(domain), "point 0 domain") &&
+                        strstr(gm_domain_last_error(domain), "ghost cell"),
+                    "message: %s", gm_domain_last_error(domain));
+      ck_assert_int_eq((int)gm_domain_point_count(domain), 0);
+    }
+    /* The first box 3 cells long (z = 0.415 .. 0.715 m, 5 nodes) is
+     * taken. */
+    const double fits[3] = {0.1, 0.1, 0.3};
+    double volume = 0.003;
+    gm_points_def points = gm_points_def_default();
+    points.count = 1;
+    points.material = material;
+    points.position = position[0];
+    points.volume = &volume;
+    points.domain_size = fits;
+    TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-4));
+    gm_domain_destroy(domain);
+  }
+}
+END_TEST
+
+/* cpGIMP's box follows F: a block stretched along x (v_x = k (x - x0),
+ * k = 20 1/s, no gravity and a material soft enough that its forces do
+ * not slow it: E = 1e-3 Pa) keeps its velocities, so F_xx = 1 + k t and
+ * the box edges along x grow with it. Once a box crosses more than 3
+ * node planes (half a cell's box at 2 points per cell: F_xx past 6 at
+ * the least, t = 0.25 s) the step fails with GM_ERR_OUT_OF_GRID naming the
+ * point and leaves the domain as it was; uGIMP's box keeps its initial
+ * size and the same run goes on. */
+START_TEST(test_cpgimp_box_too_long_fails_3d) {
+  const gm_shape shapes[2] = {GM_SHAPE_CPGIMP, GM_SHAPE_UGIMP};
+  for (int s = 0; s < 2; s++) {
+    gm_domain_def def = gm_domain_def_default();
+    def.geometry = GM_GEOMETRY_3D;
+    def.shape = shapes[s];
+    def.cell_size = 0.1;
+    def.extent[0] = 3.0;
+    def.extent[1] = def.extent[2] = 1.0;
+    gm_domain *domain = test_create_domain(&def);
+    int material = test_add_elastic(domain, 1e-3, 0.0, 1000.0);
+    const double lower[3] = {0.4, 0.4, 0.4}, upper[3] = {0.6, 0.6, 0.6};
+    test_fill_box(domain, material, lower, upper, 2, NULL);
+    size_t count = gm_domain_point_count(domain);
+    const double *x = NULL;
+    double *v = NULL;
+    TEST_ASSERT_OK(domain,
+                   gm_domain_view_field(domain, GM_FIELD_POSITION, 0, &x));
+    TEST_ASSERT_OK(domain,
+                   gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 0, &v));
+    for (size_t p = 0; p < count; p++)
+      v[p] = 20.0 * (x[p] - 0.4); /* m/s */
+    gm_status status = GM_OK;
+    int step = 0;
+    double *before = malloc(9 * count * sizeof *before);
+    double *after = malloc(9 * count * sizeof *after);
+    ck_assert(before && after);
+    for (; step < 400 && status == GM_OK; step++) { /* F_xx up to 9 */
+      TEST_ASSERT_OK(domain,
+                     gm_domain_get_field(domain, GM_FIELD_DEFORMATION_GRADIENT,
+                                         before, 9 * count));
+      status = gm_domain_step(domain, 1e-3);
+    }
+    if (shapes[s] == GM_SHAPE_UGIMP) {
+      ck_assert_msg(status == GM_OK, "uGIMP step %d: %s", step,
+                    gm_domain_last_error(domain));
+    } else {
+      double largest = 0.0; /* F_xx before the failed step */
+      for (size_t p = 0; p < count; p++)
+        largest = fmax(largest, before[9 * p]);
+      printf("3D cpGIMP stretched block: step %d refused at max F_xx %.3f: "
+             "%s\n",
+             step, largest, gm_domain_last_error(domain));
+      ck_assert_msg(status == GM_ERR_OUT_OF_GRID, "status %d: %s", (int)status,
+                    gm_domain_last_error(domain));
+      ck_assert(strstr(gm_domain_last_error(domain), "point id") != NULL);
+      /* A half-cell box crossing 4 node planes needs F_xx > 6. */
+      ck_assert_msg(largest > 5.0, "refused at F_xx %g", largest);
+      TEST_ASSERT_OK(domain,
+                     gm_domain_get_field(domain, GM_FIELD_DEFORMATION_GRADIENT,
+                                         after, 9 * count));
+      ck_assert(memcmp(before, after, 9 * count * sizeof *before) == 0);
+    }
+    free(before);
+    free(after);
+    gm_domain_destroy(domain);
+  }
+}
+END_TEST
+
 static Suite *three_d_suite(void) {
   Suite *suite = suite_create("3d");
   TCase *bar = tcase_create("bar");
   tcase_set_timeout(bar, 120);
-  tcase_add_loop_test(bar, test_bar_3d_period, 0, 6);
+  tcase_add_loop_test(bar, test_bar_3d_period, 0, 12);
   tcase_add_test(bar, test_3d_matches_plane_strain);
   suite_add_tcase(suite, bar);
   TCase *laws = tcase_create("laws");
   tcase_set_timeout(laws, 120);
-  tcase_add_loop_test(laws, test_momentum_and_mass_3d, 0, 3);
+  tcase_add_loop_test(laws, test_momentum_and_mass_3d, 0, 9);
   tcase_add_test(laws, test_column_at_rest_3d);
-  tcase_add_loop_test(laws, test_determinism_3d, 0, 3);
+  tcase_add_loop_test(laws, test_determinism_3d, 0, 9);
+  tcase_add_test(laws, test_gimp_box_refused_3d);
+  tcase_add_test(laws, test_cpgimp_box_too_long_fails_3d);
   tcase_add_test(laws, test_failed_step_changes_nothing_3d);
   tcase_add_test(laws, test_stable_dt_3d);
   suite_add_tcase(suite, laws);
