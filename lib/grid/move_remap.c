@@ -29,6 +29,10 @@
  * the 300-byte bound). A grid with more nodes than the buffers have point
  * slots, and every scene gm_move_remap_fits refuses, takes the separate
  * passes.
+ *
+ * The sweep also tells the next binning whether every point stayed in
+ * its block (points.blocks_kept): a scene at rest, or one whose points
+ * cross no block edge in a step, then keeps its grid (bins.c).
  */
 #include "grid/grid.h"
 
@@ -51,6 +55,8 @@ typedef struct move_remap_context {
   linear_move_2d move;
   const uint32_t *blocks; /* blocks of the colour being swept */
   double *sum[2];         /* kg m/s, the new momenta, per grid node */
+  bool left_block[256];   /* per worker (domain.c: at most 256): a point
+                             moved out of its block */
 } move_remap_context;
 
 bool gm_move_remap_fits(const gm_domain *domain) {
@@ -102,7 +108,8 @@ static void flush_tile(double *const sum[2], const uint32_t *links,
  * below. */
 static GM_ALWAYS_INLINE bool
 move_remap_block_kind(const gm_domain *domain, const linear_move_2d *shared,
-                      uint32_t block, momentum_tile *tile, const bool blend) {
+                      uint32_t block, momentum_tile *tile, bool *kept,
+                      const bool blend) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *from = &points->buffer[points->cur];
   const gm_point_buffers *to = &points->buffer[points->cur ^ 1];
@@ -125,7 +132,8 @@ move_remap_block_kind(const gm_domain *domain, const linear_move_2d *shared,
   double inv_cell = m->inv_cell;
   for (int t = 0; t < TILE_NODES; t++)
     tn[t][0] = tn[t][1] = 0.0;
-  bool inside = true;
+  bool inside = true, same = true;
+  int64_t own_key = domain->grid.block_key[block];
   uint32_t end = domain->grid.point_start[block + 1];
   for (uint32_t k = domain->grid.point_start[block]; k < end; k++) {
     size_t p = order[k];
@@ -142,6 +150,7 @@ move_remap_block_kind(const gm_domain *domain, const linear_move_2d *shared,
     next_vy[p] = moved[1];
     next_x[p] = moved[2];
     next_y[p] = moved[3];
+    same &= key[p] == own_key;
     /* m_i v_i += N_ip m_p v_p^{t+dt}: scatter_block_2d_kind's momentum,
      * the same products in the same order. */
     size_t t = (size_t)(local[0] + TILE * local[1]);
@@ -155,6 +164,7 @@ move_remap_block_kind(const gm_domain *domain, const linear_move_2d *shared,
       tn[row + 1][1] += wx[1] * mvy;
     }
   }
+  *kept = same;
   return inside;
 }
 
@@ -166,9 +176,12 @@ static void move_remap_blocks(void *context, size_t begin, size_t end,
   momentum_tile tile;
   for (size_t item = begin; item < end; item++) {
     uint32_t block = ctx->blocks[item];
-    bool inside = m->pic == 0.0
-                      ? move_remap_block_kind(domain, m, block, &tile, false)
-                      : move_remap_block_kind(domain, m, block, &tile, true);
+    bool kept;
+    bool inside =
+        m->pic == 0.0
+            ? move_remap_block_kind(domain, m, block, &tile, &kept, false)
+            : move_remap_block_kind(domain, m, block, &tile, &kept, true);
+    ctx->left_block[worker] |= !kept;
     const uint32_t *links =
         domain->grid.neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
     flush_tile(ctx->sum, links, &tile);
@@ -208,6 +221,8 @@ void gm_move_remap(gm_domain *domain, double dt) {
   gm_points *points = &domain->points;
   move_remap_context ctx;
   ctx.domain = domain;
+  for (int w = 0; w < domain->worker_count; w++)
+    ctx.left_block[w] = false;
   gm_linear_move_2d_init(domain, dt, &ctx.move);
   gm_point_buffers *to = &points->buffer[points->cur ^ 1];
   ctx.sum[0] = to->deformation[F_XX]; /* spare until DEFORM (above) */
@@ -220,4 +235,8 @@ void gm_move_remap(gm_domain *domain, double dt) {
     gm_parallel_for(&domain->pool, count, move_remap_blocks, &ctx);
   }
   gm_parallel_for(&domain->pool, grid->block_count, copy_sums, &ctx);
+  bool kept = true;
+  for (int w = 0; w < domain->worker_count; w++)
+    kept = kept && !ctx.left_block[w];
+  points->blocks_kept = kept; /* read by the next binning (bins.c) */
 }
