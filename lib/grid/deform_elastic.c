@@ -17,10 +17,6 @@
  * in-place second half, another material or a chunk mixing materials)
  * takes the general path.
  *
- * With signal_speed (the last pass of a plain domain) the first loop also
- * takes the signal-speed bound of the new state (g2p.c chunk_signal_speed),
- * which then is not a third loop over the chunk.
- *
  * Two loops, not one: with all 23 point and chunk streams in one loop the
  * pass was 12 % slower than the general path (block-1e5, loads stalled on
  * the stress reads); F and V (10 streams), then the stress (12), made it
@@ -47,8 +43,7 @@ bool gm_elastic_chunk_fits(const gm_domain *domain, const gather_view *v,
 
 bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,
                              gm_worker_scratch *scratch, size_t first,
-                             size_t count, const chunk_gather *g, double dt,
-                             bool signal_speed) {
+                             size_t count, const chunk_gather *g, double dt) {
   gm_points *points = &domain->points;
   const gm_elastic_def *elastic =
       domain->materials[points->material[first]].user;
@@ -85,41 +80,13 @@ bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,
   /* x * 0 is NaN exactly when x is not finite (a sum that overflows only
    * sends the chunk to the exact check) */
   double screen = 0.0;
-  /* chunk_signal_speed (g2p.c) of the last pass, in the first loop: the
-   * same expressions per point in the same order (one material: its
-   * modulus is the chunk's), so the same maxima and the same screen. */
-  const double *restrict vx = v->next_velocity[0], *restrict vy =
-                                                       v->next_velocity[1];
-  const double *restrict mass = v->mass;
-  double modulus = /* Pa */
-      domain->materials[points->material[first]].p_wave_modulus;
-  double wave = scratch->max_wave_speed_squared;  /* m^2/s^2 */
-  double flow = scratch->max_point_speed_squared; /* m^2/s^2 */
-  double speed_screen = 0.0;
-  if (signal_speed) {
-    for (size_t j = 0; j < count; j++) {
-      double jacobian = gm_deform_plane_point(
-          dt, l_xx[j], l_xy[j], l_yx[j], l_yy[j], f_xx[j], f_xy[j], f_yx[j],
-          f_yy[j], &n_xx[j], &n_xy[j], &n_yx[j], &n_yy[j]);
-      double new_volume = jacobian * initial_volume[j];
-      volume[j] = new_volume;
-      positive &= jacobian > 0.0 && jacobian < INFINITY;
-      size_t p = first + j;
-      double speed_squared = vx[p] * vx[p] + vy[p] * vy[p];
-      double wave_squared = modulus * new_volume / mass[p]; /* M V / m */
-      speed_screen += (speed_squared + wave_squared) * 0.0;
-      flow = speed_squared > flow ? speed_squared : flow;
-      wave = wave_squared > wave ? wave_squared : wave;
-    }
-  } else {
-    for (size_t j = 0; j < count; j++) {
-      /* deform_chunk (g2p.c) */
-      double jacobian = gm_deform_plane_point(
-          dt, l_xx[j], l_xy[j], l_yx[j], l_yy[j], f_xx[j], f_xy[j], f_yx[j],
-          f_yy[j], &n_xx[j], &n_xy[j], &n_yx[j], &n_yy[j]);
-      volume[j] = jacobian * initial_volume[j];
-      positive &= jacobian > 0.0 && jacobian < INFINITY;
-    }
+  for (size_t j = 0; j < count; j++) {
+    /* deform_chunk (g2p.c) */
+    double jacobian = gm_deform_plane_point(
+        dt, l_xx[j], l_xy[j], l_yx[j], l_yy[j], f_xx[j], f_xy[j], f_yx[j],
+        f_yy[j], &n_xx[j], &n_xy[j], &n_yx[j], &n_yy[j]);
+    volume[j] = jacobian * initial_volume[j];
+    positive &= jacobian > 0.0 && jacobian < INFINITY;
   }
   for (size_t j = 0; j < count; j++) {
     /* prepare_rows (stress_update.c): Jaumann rotation, strain increment */
@@ -143,15 +110,11 @@ bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,
     rxy[j] = r_xy;
     screen += (r_xx + r_yy + r_zz + r_xy) * 0.0;
   }
-  if (!positive) /* the general path skips the material call: so do we */
+  if (!positive) { /* the general path skips the material call: so do we */
     gm_report_inverted_chunk(domain, v, scratch, first, count, dt);
-  else if (screen != 0.0)
-    gm_check_stress_chunk(domain, scratch, first, count, dt);
-  if (signal_speed) { /* after the others, as chunk_signal_speed */
-    scratch->max_wave_speed_squared = wave;
-    scratch->max_point_speed_squared = flow;
-    if (speed_screen != 0.0)
-      gm_report_nonfinite_velocities(domain, v, scratch, first, count);
+    return false;
   }
-  return positive;
+  if (screen != 0.0)
+    gm_check_stress_chunk(domain, scratch, first, count, dt);
+  return true;
 }

@@ -502,15 +502,8 @@ static void chunk_signal_speed(gm_domain *domain, const gather_view *v,
   }
   scratch->max_wave_speed_squared = wave;
   scratch->max_point_speed_squared = flow;
-  if (screen != 0.0)
-    gm_report_nonfinite_velocities(domain, v, scratch, first, count);
-}
-
-void gm_report_nonfinite_velocities(gm_domain *domain, const gather_view *v,
-                                    gm_worker_scratch *scratch, size_t first,
-                                    size_t count) {
-  const double *vx = v->next_velocity[0], *vy = v->next_velocity[1];
-  bool planar = v->dim > 1;
+  if (screen == 0.0)
+    return;
   for (size_t p = first; p < first + count; p++) {
     if (isfinite(vx[p]) && (!planar || isfinite(vy[p])))
       continue;
@@ -557,17 +550,12 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
     }
     /* A chunk with an inverted point skips its material call: the step
      * fails anyway, and materials never see a non-positive density. */
-    bool deformed = true, speed_done = false;
+    bool deformed = true;
     if (deform && gm_elastic_chunk_fits(domain, v, ctx->pass, first, count)) {
       /* Elastic plane points: F, V, Jaumann and Hooke in two fused loops
-       * (deform_elastic.c), bitwise the arithmetic of the general path;
-       * the signal speed too where nothing else comes between them
-       * (the plain family: no density control; linear shapes: no wide
-       * keys, whose errors would be named first). */
-      speed_done =
-          ctx->pass->finish && !wide && domain->def.family == GM_FAMILY_PLAIN;
-      deformed = gm_deform_elastic_chunk(domain, v, scratch, first, count, g,
-                                         dt, speed_done);
+       * (deform_elastic.c), bitwise the arithmetic of the general path. */
+      deformed =
+          gm_deform_elastic_chunk(domain, v, scratch, first, count, g, dt);
       if (deformed && domain->def.family != GM_FAMILY_PLAIN) {
         double start = gm_monotonic_seconds();
         gm_density_control_chunk(domain, first, count);
@@ -595,7 +583,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
     bool finish = ctx->pass->finish; /* the new state is complete */
     if (finish && wide && deformed)
       gm_wide_keys_chunk(domain, v, scratch, first, count);
-    if (finish && !speed_done)
+    if (finish)
       chunk_signal_speed(domain, v, scratch, first, count);
   }
 }

@@ -214,12 +214,7 @@ bool gm_elastic_chunk_fits(const gm_domain *domain, const gather_view *v,
                            const gm_g2p_pass *pass, size_t first, size_t count);
 bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,
                              gm_worker_scratch *scratch, size_t first,
-                             size_t count, const chunk_gather *g, double dt,
-                             bool signal_speed);
-/* Names the chunk's points whose new velocity is not finite (g2p.c). */
-void gm_report_nonfinite_velocities(gm_domain *domain, const gather_view *v,
-                                    gm_worker_scratch *scratch, size_t first,
-                                    size_t count);
+                             size_t count, const chunk_gather *g, double dt);
 /* Block keys of the chunk's moved and deformed points (next buffer) from
  * their supports; a support leaving the grid fails the step. */
 void gm_wide_keys_chunk(gm_domain *domain, const gather_view *view,
