@@ -67,6 +67,10 @@ typedef struct gm_points {
    * commits). keys_valid: block_key matches the committed positions. */
   int64_t *block_key;
   bool keys_valid;
+  /* blocks_kept: the move of the last step left every point in the block
+   * it was binned in (grid/move_remap.c), so with keys_valid the next
+   * binning would rebuild the same grid, order and point blocks. */
+  bool blocks_kept;
   int64_t next_id;
   size_t state_stride; /* doubles of state per point */
   /* Scratch sized with the points (no allocation inside a step). */

@@ -133,6 +133,13 @@ static void key_ranges(void *context, size_t begin, size_t end, int worker) {
 }
 
 gm_status gm_bin_points(gm_domain *domain) {
+  /* No point left its block in the committed step (and nothing changed
+   * the points since: every change clears keys_valid): the grid, order[]
+   * and point_block of the last binning are what a binning would give
+   * (gm_grid_build reads only the keys; the counting sort below keeps
+   * index order in a block), so they are kept. */
+  bool kept = domain->points.keys_valid && domain->points.blocks_kept;
+  domain->points.blocks_kept = false; /* until this step's move sets it */
   if (!domain->points.keys_valid) {
     gm_parallel_for(&domain->pool, domain->points.count, key_ranges, domain);
     gm_status keys = gm_collect_worker_errors(domain);
@@ -140,12 +147,12 @@ gm_status gm_bin_points(gm_domain *domain) {
       return keys;
   }
   domain->points.keys_valid = false; /* until this step's move pass ends */
-  gm_status status = gm_grid_build(domain);
+  gm_status status = kept ? GM_OK : gm_grid_build(domain);
   if (status == GM_OK && domain->dim < 3) /* no walls nor gaps in 3D yet */
     status = gm_walls_reserve(domain);
   if (status == GM_OK)
     status = gm_rigid_reserve(domain);
-  if (status != GM_OK)
+  if (status != GM_OK || kept)
     return status;
   gm_grid *grid = &domain->grid;
   gm_parallel_for(&domain->pool, GM_BIN_CHUNKS, locate_chunks, domain);

@@ -19,6 +19,7 @@ typedef struct g2p_context {
   gm_domain *domain;
   const gm_g2p_pass *pass;
   gather_view view;
+  linear_move_2d move; /* gather_move_chunk_2d */
 } g2p_context;
 
 /* What a pass needs from the gather decides what it computes:
@@ -46,30 +47,14 @@ static GM_ALWAYS_INLINE void gather_chunk_2d_kind(const gather_view *v,
   const double *restrict gm = v->grid_mass;
   double origin_x = v->origin[0], origin_y = v->origin[1];
   double inv_cell = v->inv_cell;
-  /* 2D blocks are always 8 x 8 nodes (domain.c): a constant shift lets
-   * the node lookup fold its masks and multiplies. */
-  const int shift = GM_BLOCK_SHIFT_2D;
-  const int64_t mask = ((int64_t)1 << shift) - 1;
   bool axisymmetric = v->axisymmetric;
   for (size_t j = 0; j < count; j++) {
     double wx[2], dx[2], wy[2], dy[2];
-    int64_t cx = gm_shape_linear_axis_inside(px[j], origin_x, inv_cell, wx, dx);
-    int64_t cy = gm_shape_linear_axis_inside(py[j], origin_y, inv_cell, wy, dy);
-    const uint32_t *links =
-        neighbour + (size_t)point_block[j] * GM_BLOCK_NEIGHBOURS;
-    int64_t local_x = cx & mask, local_y = cy & mask;
     size_t node[4];
-    if (local_x < mask && local_y < mask) {
-      /* The cell inside its block (49 of 64 cells): its nodes are the
-       * block's own, at fixed offsets, without the neighbour links. */
-      node[0] = (size_t)links[0] * GM_BLOCK_NODES +
-                (size_t)(local_x + GM_BLOCK_EDGE_2D * local_y);
-      node[1] = node[0] + 1;
-      node[2] = node[0] + GM_BLOCK_EDGE_2D;
-      node[3] = node[0] + GM_BLOCK_EDGE_2D + 1;
-    } else {
-      gm_cell_nodes_2d(links, shift, local_x, local_y, node);
-    }
+    int64_t local[2];
+    gm_linear_cell_2d(px[j], py[j], origin_x, origin_y, inv_cell,
+                      neighbour + (size_t)point_block[j] * GM_BLOCK_NEIGHBOURS,
+                      wx, dx, wy, dy, node, local);
     double weight[4] = {wx[0] * wy[0], wx[1] * wy[0], wx[0] * wy[1],
                         wx[1] * wy[1]};
     /* The gradients of node n = a + 2 b are dN/dx = dx[a] wy[b] and dN/dy
@@ -170,6 +155,84 @@ static void gather_chunk_2d(const gather_view *v, size_t first, size_t count,
     gather_chunk_2d_kind(v, first, count, out, false, false);
 }
 
+/* The first pass of USL and USF (flip and move, no deformation) for
+ * linear 2D points without APIC and periodic faces: the gather, the FLIP
+ * update (flip_chunk), the move (move_chunk) and the block keys of the
+ * moved points in one loop over the chunk (gm_linear_move_point_2d, every
+ * bit theirs); what those loops stored to the chunk buffer and read back
+ * stays in registers. Returns false if a moved point left the grid or is
+ * not finite: the caller names it (report_outside_moves) and the step
+ * fails. blend (pic_fraction > 0) is a constant in each specialisation
+ * below. USL's move usually takes move_remap.c, which also sums the
+ * re-mapped momenta; this serves USF and the scenes it does not fit. */
+static GM_ALWAYS_INLINE bool
+gather_move_chunk_2d_kind(const gather_view *v, const linear_move_2d *shared,
+                          size_t first, size_t count, const bool blend) {
+  /* A local copy: its fields stay in registers across the stores. */
+  const linear_move_2d local_move = *shared, *m = &local_move;
+  const double *restrict px = v->position[0] + first;
+  const double *restrict py = v->position[1] + first;
+  const double *restrict pvx = v->velocity[0] + first;
+  const double *restrict pvy = v->velocity[1] + first;
+  const uint32_t *restrict point_block = v->point_block + first;
+  const uint32_t *restrict neighbour = v->neighbour;
+  double *restrict next_x = v->next_position[0] + first;
+  double *restrict next_y = v->next_position[1] + first;
+  double *restrict next_vx = v->next_velocity[0] + first;
+  double *restrict next_vy = v->next_velocity[1] + first;
+  int64_t *restrict key = v->block_key + first;
+  double origin_x = m->origin[0], origin_y = m->origin[1];
+  double inv_cell = m->inv_cell;
+  bool inside = true;
+  for (size_t j = 0; j < count; j++) {
+    double wx[2], dx[2], wy[2], dy[2], moved[4];
+    size_t node[4];
+    int64_t local[2];
+    gm_linear_cell_2d(px[j], py[j], origin_x, origin_y, inv_cell,
+                      neighbour + (size_t)point_block[j] * GM_BLOCK_NEIGHBOURS,
+                      wx, dx, wy, dy, node, local);
+    double weight[4] = {wx[0] * wy[0], wx[1] * wy[0], wx[0] * wy[1],
+                        wx[1] * wy[1]};
+    inside &= gm_linear_move_point_2d(m, weight, node, px[j], py[j], pvx[j],
+                                      pvy[j], blend, moved, &key[j]);
+    next_vx[j] = moved[0];
+    next_vy[j] = moved[1];
+    next_x[j] = moved[2];
+    next_y[j] = moved[3];
+  }
+  return inside;
+}
+
+/* Whether a flip-and-move pass may take gather_move_chunk_2d_kind. */
+static bool fused_move_fits(const gather_view *v) {
+  return v->dim == 2 && v->shape_grid->shape == GM_SHAPE_LINEAR && !v->apic &&
+         !v->periodic_x;
+}
+
+static bool gather_move_chunk_2d(const gather_view *v, const linear_move_2d *m,
+                                 size_t first, size_t count) {
+  if (m->pic == 0.0) /* FLIP: flip_chunk's own branch */
+    return gather_move_chunk_2d_kind(v, m, first, count, false);
+  return gather_move_chunk_2d_kind(v, m, first, count, true);
+}
+
+void gm_linear_move_2d_init(const gm_domain *domain, double dt,
+                            linear_move_2d *m) {
+  const gm_grid *grid = &domain->grid;
+  for (int k = 0; k < 2; k++) {              /* as make_view */
+    m->grid_velocity[k] = grid->momentum[k]; /* velocity by now */
+    m->grid_acceleration[k] = grid->force[k];
+    m->origin[k] = domain->shape_grid.origin[k];
+    m->cells[k] = (double)(domain->cells[k] + GM_GHOST_LAYERS);
+  }
+  m->inv_cell = domain->inv_cell;
+  m->dt = dt;
+  m->pic = domain->def.pic_fraction;
+  m->flip = 1.0 - m->pic;
+  m->shift = grid->shift;
+  m->blocks_x = grid->blocks_per_axis[0];
+}
+
 static void gather_chunk_1d(const gather_view *v, size_t first, size_t count,
                             chunk_gather *out) {
   int64_t edge = (int64_t)1 << v->shift, mask = edge - 1;
@@ -259,6 +322,9 @@ static double wrap_periodic(const gather_view *v, double x) {
   return x;
 }
 
+static void report_outside_moves(gm_domain *domain, gm_worker_scratch *scratch,
+                                 size_t first, size_t count, double dt);
+
 /* x_p += dt * sum N_i v_i; a point leaving the grid fails the step, or
  * across periodic x faces comes back through the other one. */
 static void move_chunk(gm_domain *domain, const gather_view *v,
@@ -299,21 +365,33 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
           gm_block_key_inside(v->grid, x[j], y[j], v->origin_xy, v->inv_cell);
     return;
   }
-  for (size_t p = first; p < first + count; p++) {
-    double moved[2] = {v->next_position[0][p],
-                       v->dim > 1 ? v->next_position[1][p] : 0.0};
-    int64_t key;
-    if (gm_block_key_of(domain, moved, &key))
-      continue;
-    bool finite = isfinite(moved[0]) && isfinite(moved[1]);
-    gm_worker_error(scratch, finite ? GM_ERR_OUT_OF_GRID : GM_ERR_NOT_FINITE, p,
-                    "step: point id %lld %s (x = %g, y = %g m at t = %g s); "
-                    "the step was not taken",
-                    (long long)domain->points.id[p],
-                    finite ? "would leave the grid box"
-                           : "got a non-finite position",
-                    moved[0], moved[1], domain->time + dt);
-  }
+  report_outside_moves(domain, scratch, first, count, dt);
+}
+
+/* Names the moved points of a chunk (next buffer) outside the grid box or
+ * not finite; the step then fails. */
+static void report_outside_moves(gm_domain *domain, gm_worker_scratch *scratch,
+                                 size_t first, size_t count, double dt) {
+  for (size_t p = first; p < first + count; p++)
+    gm_report_moved_point(domain, scratch, p, dt);
+}
+
+void gm_report_moved_point(gm_domain *domain, gm_worker_scratch *scratch,
+                           size_t p, double dt) {
+  const gm_point_buffers *next = &domain->points.buffer[domain->points.cur ^ 1];
+  double moved[2] = {next->position[0][p],
+                     domain->dim > 1 ? next->position[1][p] : 0.0};
+  int64_t key;
+  if (gm_block_key_of(domain, moved, &key))
+    return;
+  bool finite = isfinite(moved[0]) && isfinite(moved[1]);
+  gm_worker_error(scratch, finite ? GM_ERR_OUT_OF_GRID : GM_ERR_NOT_FINITE, p,
+                  "step: point id %lld %s (x = %g, y = %g m at t = %g s); "
+                  "the step was not taken",
+                  (long long)domain->points.id[p],
+                  finite ? "would leave the grid box"
+                         : "got a non-finite position",
+                  moved[0], moved[1], domain->time + dt);
 }
 
 /* F <- (I + L dt) F and V = det F V0 (004 eq 3.23); det F <= 0 fails the
@@ -455,16 +533,21 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
     size_t count = point_count - first < GM_BATCH_SIZE ? point_count - first
                                                        : GM_BATCH_SIZE;
     bool wide = v->shape_grid->shape != GM_SHAPE_LINEAR;
-    if (wide)
-      gm_gather_chunk_wide(v, first, count, g, domain, scratch);
-    else if (v->dim == 1)
-      gather_chunk_1d(v, first, count, g);
-    else
-      gather_chunk_2d(v, first, count, g, flip, deform);
-    if (flip)
-      flip_chunk(v, first, count, g, dt);
-    if (move)
-      move_chunk(domain, v, scratch, first, count, g, dt);
+    if (flip && move && !deform && fused_move_fits(v)) {
+      if (!gather_move_chunk_2d(v, &ctx->move, first, count))
+        report_outside_moves(domain, scratch, first, count, dt);
+    } else {
+      if (wide)
+        gm_gather_chunk_wide(v, first, count, g, domain, scratch);
+      else if (v->dim == 1)
+        gather_chunk_1d(v, first, count, g);
+      else
+        gather_chunk_2d(v, first, count, g, flip, deform);
+      if (flip)
+        flip_chunk(v, first, count, g, dt);
+      if (move)
+        move_chunk(domain, v, scratch, first, count, g, dt);
+    }
     /* A chunk with an inverted point skips its material call: the step
      * fails anyway, and materials never see a non-positive density. */
     bool deformed = true;
@@ -602,6 +685,7 @@ void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass) {
   ctx.domain = domain;
   ctx.pass = pass;
   make_view(domain, &ctx.view);
+  gm_linear_move_2d_init(domain, pass->dt, &ctx.move);
   ctx.view.affine = ctx.view.apic && pass->flip_velocity;
   if (pass->in_place) {
     for (int k = 0; k < GM_F_STORED; k++)

@@ -220,4 +220,105 @@ bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,
 void gm_wide_keys_chunk(gm_domain *domain, const gather_view *view,
                         gm_worker_scratch *scratch, size_t first, size_t count);
 
+/* The linear weights and gradients of a 2D point at (x, y) (m), the grid
+ * indices of its cell's 4 nodes (n = a + 2 b at (cell + a, cell + b)) from
+ * the links of the point's block, and the cell's node (0, 0) inside that
+ * block (local). 2D blocks are always 8 x 8 nodes (domain.c): a constant
+ * shift lets the lookup fold its masks and multiplies. */
+static GM_ALWAYS_INLINE void
+gm_linear_cell_2d(double x, double y, double origin_x, double origin_y,
+                  double inv_cell, const uint32_t *links, double wx[2],
+                  double dx[2], double wy[2], double dy[2], size_t node[4],
+                  int64_t local[2]) {
+  const int shift = GM_BLOCK_SHIFT_2D;
+  const int64_t mask = ((int64_t)1 << shift) - 1;
+  int64_t cx = gm_shape_linear_axis_inside(x, origin_x, inv_cell, wx, dx);
+  int64_t cy = gm_shape_linear_axis_inside(y, origin_y, inv_cell, wy, dy);
+  int64_t local_x = cx & mask, local_y = cy & mask;
+  local[0] = local_x;
+  local[1] = local_y;
+  if (local_x < mask && local_y < mask) {
+    /* The cell inside its block (49 of 64 cells): its nodes are the
+     * block's own, at fixed offsets, without the neighbour links. */
+    node[0] = (size_t)links[0] * GM_BLOCK_NODES +
+              (size_t)(local_x + GM_BLOCK_EDGE_2D * local_y);
+    node[1] = node[0] + 1;
+    node[2] = node[0] + GM_BLOCK_EDGE_2D;
+    node[3] = node[0] + GM_BLOCK_EDGE_2D + 1;
+  } else {
+    gm_cell_nodes_2d(links, shift, local_x, local_y, node);
+  }
+}
+
+/* What USL's move of linear 2D points reads besides the point itself:
+ * the updated nodal velocities v_i^L and accelerations a_i, and the
+ * constants of the FLIP update, the move and the block keys. */
+typedef struct linear_move_2d {
+  const double *grid_velocity[2];     /* m/s */
+  const double *grid_acceleration[2]; /* m/s^2 */
+  double origin[2];                   /* m, node 0 */
+  double inv_cell;                    /* 1/m */
+  double cells[2];                    /* scaled upper bounds of x' */
+  double dt;                          /* s */
+  double pic, flip;                   /* -, pic_fraction and 1 - it */
+  int shift;                          /* the grid's block shift */
+  int64_t blocks_x;                   /* blocks along x */
+} linear_move_2d;
+
+/* One point of the flip-and-move pass (g2p.c gather_chunk_2d_kind,
+ * flip_chunk, move_chunk, with the same expressions in the same order, so
+ * every bit is theirs): from its weights on its cell's nodes, its committed
+ * position x (m) and velocity v (m/s), the FLIP (or blended) velocity
+ * v' = v + dt sum N a_i (004 eq 3.17) and the moved x' = x + dt sum N
+ * v_i^L into out (v'x, v'y, x'x, x'y), and the block key of x' (the
+ * arithmetic of gm_block_key_inside from the scaled coordinates the bounds
+ * test already has; 0 for a point outside, never a cast of an
+ * out-of-range double). Returns whether x' is inside the grid box. blend
+ * (pic > 0) is a constant at each call. */
+static GM_ALWAYS_INLINE bool
+gm_linear_move_point_2d(const linear_move_2d *m, const double weight[4],
+                        const size_t node[4], double x, double y, double vx,
+                        double vy, const bool blend, double out[4],
+                        int64_t *key) {
+  const double *restrict gvx = m->grid_velocity[0];
+  const double *restrict gvy = m->grid_velocity[1];
+  const double *restrict gax = m->grid_acceleration[0];
+  const double *restrict gay = m->grid_acceleration[1];
+  double dt = m->dt;
+  double ax = 0, ay = 0, nvx = 0, nvy = 0;
+  for (int n = 0; n < 4; n++) {
+    ax += weight[n] * gax[node[n]];
+    ay += weight[n] * gay[node[n]];
+    nvx += weight[n] * gvx[node[n]];
+    nvy += weight[n] * gvy[node[n]];
+  }
+  if (blend) { /* flip_chunk */
+    out[0] = m->flip * (vx + dt * ax) + m->pic * nvx;
+    out[1] = m->flip * (vy + dt * ay) + m->pic * nvy;
+  } else {
+    out[0] = vx + dt * ax;
+    out[1] = vy + dt * ay;
+  }
+  double moved_x = x + dt * nvx, moved_y = y + dt * nvy; /* m */
+  out[2] = moved_x;
+  out[3] = moved_y;
+  double scaled_x = (moved_x - m->origin[0]) * m->inv_cell; /* move_chunk */
+  double scaled_y = (moved_y - m->origin[1]) * m->inv_cell;
+  bool inside = (scaled_x >= GM_GHOST_LAYERS) & (scaled_x < m->cells[0]) &
+                (scaled_y >= GM_GHOST_LAYERS) & (scaled_y < m->cells[1]);
+  scaled_x = inside ? scaled_x : 0.0;
+  scaled_y = inside ? scaled_y : 0.0;
+  *key = ((int64_t)scaled_y >> m->shift) * m->blocks_x +
+         ((int64_t)scaled_x >> m->shift);
+  return inside;
+}
+
+/* The linear_move_2d of the domain's current grid update, over dt. */
+void gm_linear_move_2d_init(const gm_domain *domain, double dt,
+                            linear_move_2d *m);
+/* Names the point p (index) if its moved position in the next buffer is
+ * outside the grid box or not finite (g2p.c); the step then fails. */
+void gm_report_moved_point(gm_domain *domain, gm_worker_scratch *scratch,
+                           size_t p, double dt);
+
 #endif

@@ -46,6 +46,10 @@
  *     UPDATE_VELOCITIES    MUSL: v_p += dt sum N a_i only (3.17, first half)
  *     REMAP_MOMENTUM       P2G momentum of the updated v_p (Sulsky, Zhou &
  *                          Schreyer 1995), then GRID_VELOCITIES gives v^L
+ *     MOVE_AND_REMAP       USL: UPDATE_POINTS and REMAP_MOMENTUM in one
+ *                          sweep over the points where gm_move_remap_fits
+ *                          (move_remap.c, bitwise the same), else the two
+ *                          stages in turn
  *     DEFORM               USL: strain increment (3.18), Jaumann spin
  *                          (3.20-3.21), stress (3.19, 3.22), V = J V0
  *                          (3.23), density (3.24), from the re-mapped v^L
@@ -97,6 +101,7 @@ typedef enum step_stage {
   STAGE_UPDATE_POINTS,
   STAGE_UPDATE_VELOCITIES,
   STAGE_REMAP_MOMENTUM,
+  STAGE_MOVE_AND_REMAP,
   STAGE_DEFORM,
   STAGE_MOVE_AND_DEFORM,
   STAGE_STRESS_SECOND_HALF,
@@ -128,8 +133,7 @@ static const step_stage usl_stages[] = {STAGE_BIN,
                                         STAGE_SHARE_WALL_FRICTION,
                                         STAGE_MIRROR_BSPLINE_GHOSTS,
                                         STAGE_COPY_PERIODIC_IMAGES,
-                                        STAGE_UPDATE_POINTS,
-                                        STAGE_REMAP_MOMENTUM,
+                                        STAGE_MOVE_AND_REMAP,
                                         STAGE_FOLD_PERIODIC_IMAGES,
                                         STAGE_FOLD_BSPLINE_GHOSTS,
                                         STAGE_GRID_VELOCITIES,
@@ -346,6 +350,17 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
     attempt->scattered = pass;
     break;
   }
+  case STAGE_MOVE_AND_REMAP:
+    if (gm_move_remap_fits(domain)) {
+      gm_move_remap(domain, dt);
+      gm_p2g_pass pass = {false, true, false, cur ^ 1, cur, false};
+      attempt->scattered = pass; /* what REMAP_MOMENTUM scatters */
+      break;
+    }
+    status = run_stage(domain, STAGE_UPDATE_POINTS, dt, attempt);
+    if (status == GM_OK)
+      status = run_stage(domain, STAGE_REMAP_MOMENTUM, dt, attempt);
+    break;
   case STAGE_DEFORM: {
     gm_g2p_pass pass = {false, false, true, true, dt, false};
     gm_g2p(domain, &pass);
