@@ -75,12 +75,12 @@ bool gm_grow(void **array, size_t elem, size_t old_count, size_t new_count);
 /* What a wall or rigid material reports (force_report.c): the last
  * successful gm_domain_step() call and running totals. */
 typedef struct gm_force_report {
-  double impulse[2];        /* N s, of the last successful call */
-  double force[2];          /* N, impulse / duration */
+  double impulse[3];        /* N s, of the last successful call (z: 3D) */
+  double force[3];          /* N, impulse / duration */
   double duration;          /* s, that call's dt */
-  double total_impulse[2];  /* N s, since the wall or material was added */
+  double total_impulse[3];  /* N s, since the wall or material was added */
   double total_duration;    /* s */
-  double smoothed_force[2]; /* N, first-order low-pass of the force */
+  double smoothed_force[3]; /* N, first-order low-pass of the force */
 } gm_force_report;
 
 /* ------------------------------------------------------------ materials */
@@ -175,8 +175,8 @@ typedef struct gm_points {
 
 /* ------------------------------------------------------------------ walls */
 typedef struct gm_wall {
-  double point[2];         /* m, on the plane */
-  double normal[2];        /* unit, into the material */
+  double point[3];         /* m, on the plane (z: 3D, else 0) */
+  double normal[3];        /* unit, into the material (z: 3D, else 0) */
   double friction_static;  /* mu_s */
   double friction_kinetic; /* mu_k */
 } gm_wall;
@@ -321,7 +321,7 @@ struct gm_domain {
   gm_wall walls[GM_MAX_WALLS];
   int wall_count;
   gm_force_report wall_report[GM_MAX_WALLS]; /* last successful call, run */
-  double wall_impulse[GM_MAX_WALLS][2];      /* N s, of the call in progress */
+  double wall_impulse[GM_MAX_WALLS][3];      /* N s, of the call in progress */
   double force_smoothing_time;               /* s, tau of the smoothed forces */
   bool wall_profile_valid; /* grid contact records are of a committed step */
   int rigid_count;         /* rigid materials; 0 = no rigid machinery runs */
