@@ -106,8 +106,10 @@ static gm_domain *slope_scene(gm_update_scheme scheme, int workers,
     def.gravity[k] = GRAVITY * (-cos(theta) * f->n[k] + sin(theta) * f->d[k]);
   }
   gm_domain *domain = test_create_domain(&def);
-  /* Through the node (8, 8, 6) raised by offset cells along z. */
-  double point[3] = {8 * CELL, 8 * CELL, (6.0 + offset_cells) * CELL};
+  /* Through the node nearest (0.4, 0.4, 0.3) m, (8, 8, 6) with 0.05 m
+   * cells, raised by offset cells along z. */
+  double point[3] = {round(0.4 / CELL) * CELL, round(0.4 / CELL) * CELL,
+                     (round(0.3 / CELL) + offset_cells) * CELL};
   gm_wall_def wall = gm_wall_def_default();
   for (int k = 0; k < 3; k++) {
     wall.point[k] = point[k];
@@ -212,7 +214,12 @@ static run_result run(gm_update_scheme scheme, double theta, double mu,
   return result;
 }
 
-/* 2 %: the tolerance (item 3), as in 2D (test_wall_offsets.c). */
+/* 2 %: the issue's tolerance (item 3), as in 2D (test_wall_offsets.c).
+ * Measured here: slides +0.45 / +0.46 % (30 deg), stuck blocks 2e-6 m of
+ * 0.092 m, normal force within 0.01 %. Not a converged number: the same
+ * slide at 30 deg (USL, 0.3 cells off) is +1.90 % with 0.025 m cells and
+ * +2.71 % with 0.0167 m (docs/3d.md: the block's lateral Poisson motion at
+ * the contact turns the patches' friction away from the slide). */
 static const double SLIDE_TOLERANCE = 0.02;
 static const double NORMAL_TOLERANCE = 0.02;
 
