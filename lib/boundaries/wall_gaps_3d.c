@@ -14,7 +14,6 @@
  * deterministic and free of races.
  */
 #include "boundaries/boundaries.h"
-#include "shapes/shape_linear.h"
 
 #include <math.h>
 
