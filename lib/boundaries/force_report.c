@@ -29,11 +29,11 @@ static double relaxed_fraction(double x) {
   return x > 0.0 ? -expm1(-x) / x : 1.0;
 }
 
-void gm_force_report_commit(gm_force_report *report, const double impulse[2],
-                            double dt, double tau) {
+void gm_force_report_commit(gm_force_report *report, const double *impulse,
+                            int components, double dt, double tau) {
   double x = dt / tau;
   double decay = exp(-x), gain = relaxed_fraction(x) / tau; /* 1, 1/s */
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < components; k++) {
     report->impulse[k] = impulse[k];
     report->force[k] = impulse[k] / dt;
     report->total_impulse[k] += impulse[k];

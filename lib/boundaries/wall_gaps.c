@@ -29,9 +29,11 @@
 
 #include <math.h>
 
-/* Does box face f (2 axis + side) hold material and get a gap? */
+/* Does box face f (2 axis + side) hold material and get a gap? Not in
+ * 3D, whose faces hold their nodes without one (grid_update_3d.c). */
 static bool face_measured(const gm_domain *domain, int face) {
-  return face / 2 < domain->dim && domain->def.walls[face] != GM_WALL_OPEN &&
+  return domain->dim < 3 && face / 2 < domain->dim &&
+         domain->def.walls[face] != GM_WALL_OPEN &&
          domain->def.walls[face] != GM_WALL_PERIODIC &&
          !gm_shape_is_bspline(domain->def.shape);
 }

@@ -81,6 +81,8 @@ typedef struct gm_grid {
   int32_t *pool_wall;
   double *pool_normal;
   double *pool_tangent;
+  double *pool_tangent_3d; /* 3D: the second tangential component (m/s,
+                              along the wall's t2, walls_3d.c) */
   /* Per wall and tangential bin of one cell: the pooled normal impulse and
    * tangential momentum (kg m/s), wall_bins pairs per wall. */
   double *pool_sums;

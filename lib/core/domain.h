@@ -52,7 +52,7 @@ struct gm_domain {
   gm_wall walls[GM_MAX_WALLS];
   int wall_count;
   gm_force_report wall_report[GM_MAX_WALLS]; /* last successful call, run */
-  double wall_impulse[GM_MAX_WALLS][2];      /* N s, of the call in progress */
+  double wall_impulse[GM_MAX_WALLS][3];      /* N s, of the call in progress */
   double force_smoothing_time;               /* s, tau of the smoothed forces */
   bool wall_profile_valid; /* grid contact records are of a committed step */
   int rigid_count;         /* rigid materials; 0 = no rigid machinery runs */

@@ -16,18 +16,18 @@
 /* What a wall or rigid material reports (force_report.c): the last
  * successful gm_domain_step() call and running totals. */
 typedef struct gm_force_report {
-  double impulse[2];        /* N s, of the last successful call */
-  double force[2];          /* N, impulse / duration */
+  double impulse[3];        /* N s, of the last successful call (z: 3D) */
+  double force[3];          /* N, impulse / duration */
   double duration;          /* s, that call's dt */
-  double total_impulse[2];  /* N s, since the wall or material was added */
+  double total_impulse[3];  /* N s, since the wall or material was added */
   double total_duration;    /* s */
-  double smoothed_force[2]; /* N, first-order low-pass of the force */
+  double smoothed_force[3]; /* N, first-order low-pass of the force */
 } gm_force_report;
 
 /* ------------------------------------------------------------------ walls */
 typedef struct gm_wall {
-  double point[2];         /* m, on the plane */
-  double normal[2];        /* unit, into the material */
+  double point[3];         /* m, on the plane (z: 3D, else 0) */
+  double normal[3];        /* unit, into the material (z: 3D, else 0) */
   double friction_static;  /* mu_s */
   double friction_kinetic; /* mu_k */
 } gm_wall;

@@ -148,7 +148,7 @@ gm_status gm_bin_points(gm_domain *domain) {
   }
   domain->points.keys_valid = false; /* until this step's move pass ends */
   gm_status status = kept ? GM_OK : gm_grid_build(domain);
-  if (status == GM_OK && domain->dim < 3) /* no walls nor gaps in 3D yet */
+  if (status == GM_OK)
     status = gm_walls_reserve(domain);
   if (status == GM_OK)
     status = gm_rigid_reserve(domain);

@@ -15,16 +15,58 @@
  * gaps, not measured in 3D yet (docs/3d.md). After a condition changes a
  * velocity the acceleration becomes (v_new - v_old)/dt, so particle (FLIP)
  * and nodal velocities agree on the faces.
+ *
+ * Planar walls of any normal act after the faces, on the nodes near them
+ * (walls_3d.c: the contact and Coulomb friction of walls.c, with the
+ * friction pooled over patches of the plane after the nodal update).
  */
 #include "grid/grid.h"
 
 #include <math.h>
+#include <string.h>
 
 typedef struct update_3d_context {
   gm_domain *domain;
   double dt; /* s */
   int mode;
 } update_3d_context;
+
+/* The planar walls (walls_3d.c) on one node with mass; the acceleration
+ * is made consistent with the constrained velocity again. Friction acts
+ * in the full update only, in every scheme, as in 2D (grid_update.c,
+ * wall_friction: the only pass in which the wall exchanges momentum). */
+static void apply_walls_3d(const update_3d_context *ctx, size_t node,
+                           const int64_t index[3], const double old_velocity[3],
+                           double *block_force) {
+  gm_domain *domain = ctx->domain;
+  gm_grid *grid = &domain->grid;
+  double h = domain->def.cell_size;
+  double position[3], velocity[3]; /* m, m/s */
+  for (int k = 0; k < 3; k++) {
+    position[k] = domain->shape_grid.origin[k] + (double)index[k] * h;
+    velocity[k] = grid->momentum[k][node];
+  }
+  bool full = ctx->mode == GM_GRID_FULL;
+  const double *gap =
+      grid->wall_gap + node * (size_t)gm_gap_plane_count(domain);
+  gm_wall_pool_record_3d record = {-1, 0.0, {0.0, 0.0}};
+  bool acted = gm_walls_contact_3d(domain, position, velocity, gap, ctx->dt,
+                                   full, full ? block_force : NULL,
+                                   grid->mass[node] / ctx->dt, &record);
+  if (record.wall >= 0) { /* its friction is shared over a patch */
+    grid->pool_wall[node] = record.wall + 1;
+    grid->pool_normal[node] = record.normal_change;
+    grid->pool_tangent[node] = record.tangent_before[0];
+    grid->pool_tangent_3d[node] = record.tangent_before[1];
+  }
+  if (!acted)
+    return;
+  for (int k = 0; k < 3; k++) {
+    grid->momentum[k][node] = velocity[k];
+    if (full)
+      grid->force[k][node] = (velocity[k] - old_velocity[k]) / ctx->dt;
+  }
+}
 
 /* Which components the box faces hold at node (ix, iy, iz). */
 static void held_components(const gm_domain *domain, const int64_t index[3],
@@ -62,6 +104,17 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
       on_face = on_face || base[axis] <= GM_GHOST_LAYERS ||
                 base[axis] + edge - 1 >= domain->cells[axis] + GM_GHOST_LAYERS;
     }
+    bool near_walls =
+        domain->wall_count > 0 && gm_walls_near_block_3d(domain, base);
+    double *block_force = NULL;
+    if (domain->wall_count > 0) { /* this block's share of the wall forces */
+      block_force = grid->wall_force + b * (size_t)grid->wall_stride * 3;
+      if (ctx->mode == GM_GRID_FULL)
+        for (int w = 0; w < 3 * domain->wall_count; w++)
+          block_force[w] = 0.0;
+      memset(grid->pool_wall + b * GM_BLOCK_NODES, 0,
+             GM_BLOCK_NODES * sizeof(int32_t));
+    }
     for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
       size_t node = b * GM_BLOCK_NODES + local;
       double mass = grid->mass[node];                      /* kg */
@@ -75,7 +128,7 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
           old_velocity[k] = gm_node_accelerate(motion, &grid->force[k][node],
                                                inverse_mass, damping, dt);
       }
-      if (!on_face)
+      if (!on_face && !near_walls)
         continue;
       int64_t index[3] = {base[0] + (int64_t)(local & (size_t)mask),
                           base[1] + (int64_t)((local >> 2) & (size_t)mask),
@@ -89,6 +142,8 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
         if (ctx->mode != GM_GRID_VELOCITY_ONLY)
           grid->force[k][node] = -old_velocity[k] / dt;
       }
+      if (near_walls && mass > 0.0)
+        apply_walls_3d(ctx, node, index, old_velocity, block_force);
     }
   }
 }
@@ -97,4 +152,6 @@ void gm_grid_update_3d(gm_domain *domain, double dt, int mode) {
   update_3d_context ctx = {domain, dt, mode};
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks_3d,
                   &ctx);
+  if (mode == GM_GRID_FULL && domain->wall_count > 0) /* serial */
+    gm_walls_share_friction_3d(domain, dt, mode);
 }

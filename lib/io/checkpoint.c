@@ -160,11 +160,19 @@ void gm_checkpoint_describe_setup(const gm_domain *domain,
   gm_record_integer(out, "planar wall count", domain->wall_count);
   for (int w = 0; w < domain->wall_count; w++) {
     const gm_wall *wall = &domain->walls[w];
+    char name[64];
+    snprintf(name, sizeof name, "planar wall %d point, normal, friction", w);
+    if (domain->dim == 3) { /* the z components too (no 2D file changes) */
+      const double values[8] = {wall->point[0],        wall->point[1],
+                                wall->point[2],        wall->normal[0],
+                                wall->normal[1],       wall->normal[2],
+                                wall->friction_static, wall->friction_kinetic};
+      gm_record_reals(out, name, values, 8);
+      continue;
+    }
     const double values[6] = {wall->point[0],        wall->point[1],
                               wall->normal[0],       wall->normal[1],
                               wall->friction_static, wall->friction_kinetic};
-    char name[64];
-    snprintf(name, sizeof name, "planar wall %d point, normal, friction", w);
     gm_record_reals(out, name, values, 6);
   }
   gm_record_integer(out, "source count", domain->source_count);
@@ -261,7 +269,9 @@ static void write_points(const gm_domain *domain, gm_byte_writer *out) {
                   (size_t)points->next_id * sizeof(uint32_t));
 }
 
-static void write_force_report(const gm_force_report *report,
+/* The x and y components, the durations, then (walls of a 3D domain,
+ * `solid`) the z components: 2D files are as before. */
+static void write_force_report(const gm_force_report *report, bool solid,
                                gm_byte_writer *out) {
   for (int k = 0; k < 2; k++) {
     gm_writer_f64(out, report->impulse[k]);        /* N s */
@@ -271,6 +281,12 @@ static void write_force_report(const gm_force_report *report,
   }
   gm_writer_f64(out, report->duration);       /* s */
   gm_writer_f64(out, report->total_duration); /* s */
+  if (!solid)
+    return;
+  gm_writer_f64(out, report->impulse[2]);        /* N s */
+  gm_writer_f64(out, report->force[2]);          /* N */
+  gm_writer_f64(out, report->total_impulse[2]);  /* N s */
+  gm_writer_f64(out, report->smoothed_force[2]); /* N */
 }
 
 static void write_totals(const gm_domain *domain, gm_byte_writer *out) {
@@ -288,10 +304,10 @@ static void write_totals(const gm_domain *domain, gm_byte_writer *out) {
   for (int m = 0; m < domain->material_count; m++) {
     for (int k = 0; k < 2; k++)
       gm_writer_f64(out, domain->materials[m].rigid_velocity[k]); /* m/s */
-    write_force_report(&domain->materials[m].rigid_report, out);
+    write_force_report(&domain->materials[m].rigid_report, false, out);
   }
   for (int w = 0; w < domain->wall_count; w++)
-    write_force_report(&domain->wall_report[w], out);
+    write_force_report(&domain->wall_report[w], domain->dim == 3, out);
   gm_writer_f64(out, domain->force_smoothing_time); /* s */
   const gm_granular_summary *summary = &domain->granular_summary;
   for (int k = 0; k < 3; k++)

@@ -75,7 +75,10 @@ static void read_points(gm_byte_reader *in, const gm_domain *domain,
       gm_reader_array(in, (size_t)state->next_id * sizeof(uint32_t));
 }
 
-static void read_force_report(gm_byte_reader *in, gm_force_report *report) {
+/* As checkpoint.c writes it: z last, for the walls of a 3D domain. */
+static void read_force_report(gm_byte_reader *in, bool solid,
+                              gm_force_report *report) {
+  *report = (gm_force_report){0};
   for (int k = 0; k < 2; k++) {
     report->impulse[k] = gm_reader_f64(in);
     report->force[k] = gm_reader_f64(in);
@@ -84,6 +87,12 @@ static void read_force_report(gm_byte_reader *in, gm_force_report *report) {
   }
   report->duration = gm_reader_f64(in);
   report->total_duration = gm_reader_f64(in);
+  if (!solid)
+    return;
+  report->impulse[2] = gm_reader_f64(in);
+  report->force[2] = gm_reader_f64(in);
+  report->total_impulse[2] = gm_reader_f64(in);
+  report->smoothed_force[2] = gm_reader_f64(in);
 }
 
 static void read_totals(gm_byte_reader *in, const gm_domain *domain,
@@ -105,10 +114,10 @@ static void read_totals(gm_byte_reader *in, const gm_domain *domain,
   for (int m = 0; m < domain->material_count; m++) {
     for (int k = 0; k < 2; k++)
       state->rigid_velocity[m][k] = gm_reader_f64(in);
-    read_force_report(in, &state->rigid_report[m]);
+    read_force_report(in, false, &state->rigid_report[m]);
   }
   for (int w = 0; w < domain->wall_count; w++)
-    read_force_report(in, &state->wall_report[w]);
+    read_force_report(in, domain->dim == 3, &state->wall_report[w]);
   state->force_smoothing_time = gm_reader_f64(in);
   if (!(state->force_smoothing_time > 0.0) ||
       !isfinite(state->force_smoothing_time))

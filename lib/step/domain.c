@@ -292,6 +292,7 @@ static void free_grid(gm_grid *grid) {
   gm_free(grid->pool_wall);
   gm_free(grid->pool_normal);
   gm_free(grid->pool_tangent);
+  gm_free(grid->pool_tangent_3d);
   gm_free(grid->pool_sums);
   gm_free(grid->rigid_material);
   gm_free(grid->rigid_impulse[0]);

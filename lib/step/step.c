@@ -290,9 +290,12 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
       gm_rigid_mark_nodes(domain);
     break;
   case STAGE_MEASURE_WALL_GAPS:
-    /* 3D has no planar walls yet and its box faces hold their nodes
-     * without a gap (grid_update_3d.c). */
-    if (domain->dim < 3 && gm_gap_plane_count(domain) > 0) {
+    /* 3D: the planar walls only; its box faces hold their nodes without
+     * a gap (grid_update_3d.c). */
+    if (domain->dim == 3) {
+      if (domain->wall_count > 0)
+        gm_walls_measure_gaps_3d(domain);
+    } else if (gm_gap_plane_count(domain) > 0) {
       gm_walls_measure_gaps(domain);
       gm_periodic_fold_gaps(domain); /* owners see across the seam */
     }
@@ -619,12 +622,12 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
    * none), and the running totals and smoothed forces (force_report.c). */
   double tau = domain->force_smoothing_time; /* s */
   for (int w = 0; w < domain->wall_count; w++)
-    gm_force_report_commit(&domain->wall_report[w], domain->wall_impulse[w], dt,
-                           tau);
+    gm_force_report_commit(&domain->wall_report[w], domain->wall_impulse[w],
+                           domain->dim == 3 ? 3 : 2, dt, tau);
   for (int m = 0; m < domain->material_count; m++)
     if (domain->materials[m].rigid)
       gm_force_report_commit(&domain->materials[m].rigid_report,
-                             domain->materials[m].rigid_impulse, dt, tau);
+                             domain->materials[m].rigid_impulse, 2, dt, tau);
   gm_sinks_remove(domain);
   run_hook(domain, GM_HOOK_AFTER_STEP);
   domain->busy = false;

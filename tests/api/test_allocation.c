@@ -8,7 +8,8 @@
  * granular family with CPDI and a planar wall, for a layer sliding
  * across periodic x faces (GM_WALL_PERIODIC), and for a 3D block
  * (GM_GEOMETRY_3D) resting on a fixed floor, with linear, uGIMP and
- * cpGIMP shapes. Also checks that every
+ * cpGIMP shapes, the linear block beside an oblique planar wall. Also
+ * checks that every
  * allocation is freed by gm_domain_destroy (the counts balance), and that
  * running out of memory in the middle of a step or of a material registration
  * fails cleanly without changing the domain.
@@ -76,6 +77,19 @@ static gm_domain *resting_block_3d(gm_update_scheme scheme, int workers,
   const double lower[3] = {0.3, 0.3, 0.0};
   const double upper[3] = {0.7, 0.7, 0.4};
   test_fill_box(domain, material, lower, upper, 2, NULL);
+  if (shape != GM_SHAPE_LINEAR) /* 3D walls take linear shapes only */
+    return domain;
+  /* A frictional wall of oblique normal against the block's x side, 0.01
+   * to 0.09 m from it (wall gaps, contact and friction patches). */
+  gm_wall_def wall = gm_wall_def_default();
+  const double point[3] = {0.25, 0.5, 0.2}, normal[3] = {1.0, 0.1, 0.1};
+  for (int k = 0; k < 3; k++) {
+    wall.point[k] = point[k];
+    wall.normal[k] = normal[k];
+  }
+  wall.friction_static = wall.friction_kinetic = 0.3;
+  int wall_id = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &wall_id));
   return domain;
 }
 

@@ -1263,7 +1263,8 @@ END_TEST
 /* A 3D domain (linear MPM, the plain family) refuses every call whose
  * feature is not done in 3D yet with GM_ERR_UNSUPPORTED and a message
  * naming the call, and is left as it was: it still steps, with its one
- * point. It takes the off-plane stresses 2D refuses. */
+ * point (and a wall it accepts). It takes the off-plane stresses 2D
+ * refuses. */
 START_TEST(test_3d_refuses_what_it_lacks) {
   gm_domain_def def = gm_domain_def_default();
   def.geometry = GM_GEOMETRY_3D;
@@ -1286,9 +1287,35 @@ START_TEST(test_3d_refuses_what_it_lacks) {
   ck_assert_msg(memcmp(stored, stress, sizeof stress) == 0,
                 "3D: the six stress components were not stored as given");
   int id = -1;
+  /* Planar walls work in 3D (tests/physics/test_walls_3d.c): any normal,
+   * the z components included; a zero one is still refused, and the
+   * traction profile along a line has no 3D form yet. */
   gm_wall_def wall = gm_wall_def_default();
+  wall.normal[0] = 0.0;
+  wall.normal[1] = 0.0;
+  wall.normal[2] = 0.0;
   check_domain_error(domain, gm_domain_add_wall(domain, &wall, &id),
-                     ONLY(GM_ERR_UNSUPPORTED), "gm_domain_add_wall", "3D wall");
+                     ONLY(GM_ERR_INVALID_ARGUMENT), "gm_wall_def.normal",
+                     "3D wall with a zero normal");
+  wall.normal[0] = 0.2;
+  wall.normal[1] = -0.3;
+  wall.normal[2] = 1.0;
+  wall.point[2] = 0.05; /* m: below the point, on no node plane */
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &id));
+  size_t traction_count = 0;
+  check_domain_error(
+      domain,
+      gm_domain_get_wall_tractions(domain, id, NULL, 0, &traction_count),
+      ONLY(GM_ERR_UNSUPPORTED), "gm_domain_get_wall_tractions",
+      "3D wall tractions");
+  /* ... with linear shapes only: a 3D uGIMP domain refuses the wall. */
+  gm_domain_def gimp_def = def;
+  gimp_def.shape = GM_SHAPE_UGIMP;
+  gm_domain *gimp = test_create_domain(&gimp_def);
+  check_domain_error(gimp, gm_domain_add_wall(gimp, &wall, &id),
+                     ONLY(GM_ERR_UNSUPPORTED), "GM_SHAPE_LINEAR only",
+                     "3D wall with uGIMP");
+  gm_domain_destroy(gimp);
   gm_rigid_def rigid = gm_rigid_def_default();
   check_domain_error(domain, gm_domain_add_rigid(domain, &rigid, &id),
                      ONLY(GM_ERR_UNSUPPORTED), "gm_domain_add_rigid",

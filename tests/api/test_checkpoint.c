@@ -226,6 +226,20 @@ static scene build_3d(gm_domain_def def, int points_per_cell_axis) {
   const double upper[3] = {0.6, points_per_cell_axis > 1 ? 0.7 : 0.4,
                            points_per_cell_axis > 1 ? 0.5 : 0.3};
   test_fill_box(s.domain, block, lower, upper, points_per_cell_axis, NULL);
+  if (points_per_cell_axis > 1) {
+    /* A frictional wall of oblique normal 0.003-0.12 m beyond the block's
+     * +x side, which the sheared block (v_x = 2 z) reaches before the
+     * save: its z components, its friction patches and its report with a
+     * z component travel with the file. */
+    gm_wall_def wall = gm_wall_def_default();
+    const double point[3] = {0.66, 0.45, 0.3}, normal[3] = {-1.0, 0.15, -0.1};
+    for (int k = 0; k < 3; k++) {
+      wall.point[k] = point[k];
+      wall.normal[k] = normal[k];
+    }
+    wall.friction_static = wall.friction_kinetic = 0.3;
+    TEST_ASSERT_OK(s.domain, gm_domain_add_wall(s.domain, &wall, &s.wall));
+  }
   const double *x = NULL, *z = NULL;
   double *vx = NULL, *vy = NULL;
   REQUIRE_OK(s.domain,
@@ -323,9 +337,9 @@ typedef struct observed {
   int64_t *ids;
   double *field[FIELD_COUNT];
   size_t length[FIELD_COUNT];
-  double totals[16]; /* source kg, points; sink kg, points; wall N x2, rigid
+  double totals[19]; /* source kg, points; sink kg, points; wall N x2, rigid
                         N x2; wall and rigid impulse totals (N s x2) and
-                        smoothed forces (N x2) */
+                        smoothed forces (N x2); the wall's z: N, N s, N */
   gm_granular_summary granular;
 } observed;
 
@@ -358,7 +372,7 @@ static observed observe(const scene *s) {
     REQUIRE_OK(d, gm_domain_get_rigid_force(d, s->rigid, rigid));
     REQUIRE_OK(d, gm_domain_get_rigid_load(d, s->rigid, &load));
   }
-  const double totals[16] = {in.mass,
+  const double totals[19] = {in.mass,
                              (double)in.points,
                              out.mass,
                              (double)out.points,
@@ -373,7 +387,10 @@ static observed observe(const scene *s) {
                              load.total_impulse[0],
                              load.total_impulse[1],
                              load.smoothed_force[0],
-                             load.smoothed_force[1]};
+                             load.smoothed_force[1],
+                             wall.force[2],
+                             wall.total_impulse[2],
+                             wall.smoothed_force[2]};
   memcpy(o.totals, totals, sizeof totals);
   o.granular = gm_granular_summary_default();
   REQUIRE_OK(d, gm_domain_get_granular_summary(d, &o.granular));
@@ -412,8 +429,8 @@ static void assert_same(const observed *a, const observed *b,
       ck_abort_msg("%s: field %d value %zu: %.17g vs %.17g", what, f, i,
                    a->field[f][i], b->field[f][i]);
   }
-  size_t k = first_difference(a->totals, b->totals, 16);
-  if (k < 16)
+  size_t k = first_difference(a->totals, b->totals, 19);
+  if (k < 19)
     ck_abort_msg("%s: total %zu: %.17g vs %.17g", what, k, a->totals[k],
                  b->totals[k]);
   const gm_granular_summary *x = &a->granular, *y = &b->granular;
@@ -513,6 +530,9 @@ static void check_scene_coverage(scene_kind kind, const observed *at_save,
   if (kind == ELASTIC) /* the plate touches the block: a force to report */
     ck_assert_msg(at_save->totals[6] != 0.0, "no rigid force at the save");
   if (kind == SOLID_3D) { /* every stress and F component moved by the save */
+    ck_assert_msg(at_save->totals[8] != 0.0 && at_save->totals[17] != 0.0,
+                  "the 3D wall had no impulse (x %g, z %g N s) by the save",
+                  at_save->totals[8], at_save->totals[17]);
     const gm_field tensor[2] = {GM_FIELD_STRESS, GM_FIELD_DEFORMATION_GRADIENT};
     const size_t components[2] = {6, 9};
     for (int t = 0; t < 2; t++)

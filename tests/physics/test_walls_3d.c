@@ -1,0 +1,348 @@
+/*
+ * test_walls_3d.c - planar walls with Coulomb friction in 3D (issue 16
+ * items 1 and 3; walls_3d.c): an elastic block on an inclined plane whose
+ * normal lies along no grid axis.
+ *
+ * The plane's normal n = (0.25, 0.35, 1) / |.| is tilted about x and y
+ * (14 and 19 deg off z), and gravity makes the slope angle theta with it:
+ * g = 9.81 m/s^2 (-cos th n + sin th d), d a unit vector in the plane along
+ * no grid axis and no axis of the wall's friction patches. The block
+ * (0.3 x 0.3 m on the plane, 0.15 m high, 2 x 2 x 2 points per cell of
+ * 0.05 m) starts at rest with the uniaxial stress of its weight,
+ * sigma = -rho g cos th (H - depth) n n. Its centre of mass moves along d
+ * by s = 1/2 g (sin th - mu cos th) t^2 when tan th > mu (design.md,
+ * references.md "Block sliding on an incline"), and stays put otherwise.
+ * Two slopes: 12 deg on mu = 0.3 (sticks) and 30 deg on mu = 0.4 (slides;
+ * the most sensitive to lost friction, as in test_wall_offsets.c: a
+ * friction coefficient 1 % short slides it 2.3 % too far), two plane
+ * positions (0.3 and 0.7 cells along z off the point where the plane
+ * crosses a node), in USL, MUSL and USF. Asserted: the slide within 2 % of
+ * the closed form (slip) or below 2 % of the frictionless slide (stick),
+ * and the mean normal force of the wall over the second half of the run
+ * within 2 % of m g cos th. Before walls_3d.c a 3D domain refused
+ * gm_domain_add_wall.
+ *
+ * Also: the same state bitwise with 1 and 2 workers (a sliding block, each
+ * scheme), and the wall's impulse equal to the block's momentum change
+ * less gravity's impulse (momentum balance, to round-off).
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test_util.h"
+
+static const double PI = 3.14159265358979323846;
+static const double GRAVITY = 9.81;   /* m/s^2 */
+static const double CELL = 0.05;      /* m */
+static const double DURATION = 0.3;   /* s simulated */
+static const double BLOCK_W = 0.3;    /* m, both edges along the plane */
+static const double BLOCK_H = 0.15;   /* m, along the normal */
+static const double DENSITY = 2000.0; /* kg/m^3 */
+static const double POISSON = 0.3;
+/* Stiff enough to move as a rigid block (wave speed 100 m/s). */
+static const double YOUNGS = 2e7; /* Pa */
+static const double EXTENT = 1.0; /* m, the grid box edge */
+
+typedef struct slope_case {
+  double degrees;  /* slope angle */
+  double friction; /* mu_s = mu_k */
+} slope_case;
+enum { SLOPE_COUNT = 2, OFFSET_COUNT = 2 };
+static const slope_case SLOPES[SLOPE_COUNT] = {{12.0, 0.3}, {30.0, 0.4}};
+/* Plane positions: cells along z from a node. */
+static const double OFFSETS[OFFSET_COUNT] = {0.3, 0.7};
+static const gm_update_scheme SCHEMES[3] = {GM_SCHEME_USL, GM_SCHEME_MUSL,
+                                            GM_SCHEME_USF};
+
+static void normalise(double v[3]) {
+  double length = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  for (int k = 0; k < 3; k++)
+    v[k] /= length;
+}
+
+static void cross(const double a[3], const double b[3], double out[3]) {
+  out[0] = a[1] * b[2] - a[2] * b[1];
+  out[1] = a[2] * b[0] - a[0] * b[2];
+  out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* The plane's frame: normal n, slide direction d, and e = n x d. */
+typedef struct frame {
+  double n[3], d[3], e[3];
+} frame;
+
+static frame slope_frame(void) {
+  frame f = {{0.25, 0.35, 1.0}, {0}, {0}};
+  normalise(f.n);
+  /* d: x projected onto the plane, turned by 30 deg about n */
+  double a[3] = {1.0, 0.0, 0.0}, b[3];
+  for (int k = 0; k < 3; k++)
+    a[k] -= f.n[0] * f.n[k];
+  normalise(a);
+  cross(f.n, a, b);
+  for (int k = 0; k < 3; k++)
+    f.d[k] = cos(PI / 6) * a[k] + sin(PI / 6) * b[k];
+  cross(f.n, f.d, f.e);
+  return f;
+}
+
+/* A 3D box of cell CELL with a wall through `point` (normal f->n) and a
+ * block on it, gravity at theta to the normal. */
+static gm_domain *slope_scene(gm_update_scheme scheme, int workers,
+                              const frame *f, double theta, double mu,
+                              double offset_cells, int *wall_id) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.scheme = scheme;
+  def.worker_count = workers;
+  def.cell_size = CELL;
+  for (int k = 0; k < 3; k++) {
+    def.extent[k] = EXTENT;
+    def.gravity[k] = GRAVITY * (-cos(theta) * f->n[k] + sin(theta) * f->d[k]);
+  }
+  gm_domain *domain = test_create_domain(&def);
+  /* Through the node nearest (0.4, 0.4, 0.3) m, (8, 8, 6) with 0.05 m
+   * cells, raised by offset cells along z. */
+  double point[3] = {round(0.4 / CELL) * CELL, round(0.4 / CELL) * CELL,
+                     (round(0.3 / CELL) + offset_cells) * CELL};
+  gm_wall_def wall = gm_wall_def_default();
+  for (int k = 0; k < 3; k++) {
+    wall.point[k] = point[k];
+    wall.normal[k] = f->n[k];
+  }
+  wall.friction_static = wall.friction_kinetic = mu;
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, wall_id));
+  int material = test_add_elastic(domain, YOUNGS, POISSON, DENSITY);
+  /* The block: 2 points per cell along each of d, e, n, from
+   * point - 0.25 W d - W/2 e upwards. */
+  enum { PER_AXIS = 2 };
+  int along = (int)lround(BLOCK_W / CELL) * PER_AXIS;
+  int up = (int)lround(BLOCK_H / CELL) * PER_AXIS;
+  size_t count = (size_t)(along * along * up);
+  double spacing = CELL / PER_AXIS; /* m */
+  double *position = malloc(count * 3 * sizeof(double));
+  double *volume = malloc(count * sizeof(double));
+  double *stress = calloc(count * 6, sizeof(double));
+  ck_assert(position && volume && stress);
+  double weight_stress = DENSITY * GRAVITY * cos(theta); /* Pa/m */
+  size_t p = 0;
+  for (int k = 0; k < up; k++)
+    for (int j = 0; j < along; j++)
+      for (int i = 0; i < along; i++, p++) {
+        double s = -0.25 * BLOCK_W + (i + 0.5) * spacing; /* m, along d */
+        double r = -0.5 * BLOCK_W + (j + 0.5) * spacing;  /* m, along e */
+        double height = (k + 0.5) * spacing;              /* m, along n */
+        for (int c = 0; c < 3; c++)
+          position[3 * p + c] =
+              point[c] + s * f->d[c] + r * f->e[c] + height * f->n[c];
+        volume[p] = spacing * spacing * spacing;
+        double sigma = -weight_stress * (BLOCK_H - height); /* Pa */
+        const double *n = f->n;
+        stress[6 * p + GM_XX] = sigma * n[0] * n[0];
+        stress[6 * p + GM_YY] = sigma * n[1] * n[1];
+        stress[6 * p + GM_ZZ] = sigma * n[2] * n[2];
+        stress[6 * p + GM_XY] = sigma * n[0] * n[1];
+        stress[6 * p + GM_YZ] = sigma * n[1] * n[2];
+        stress[6 * p + GM_ZX] = sigma * n[2] * n[0];
+      }
+  gm_points_def points = gm_points_def_default();
+  points.count = count;
+  points.material = material;
+  points.position = position;
+  points.volume = volume;
+  points.stress = stress;
+  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  free(position);
+  free(volume);
+  free(stress);
+  return domain;
+}
+
+static double centre_along(const gm_domain *domain, const double d[3],
+                           double *mass) {
+  gm_summary summary = gm_summary_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &summary));
+  if (mass)
+    *mass = summary.mass;
+  return summary.centre_of_mass[0] * d[0] + summary.centre_of_mass[1] * d[1] +
+         summary.centre_of_mass[2] * d[2];
+}
+
+typedef struct run_result {
+  double slide;       /* m along d */
+  double mean_normal; /* N */
+  double mass;        /* kg */
+} run_result;
+
+static run_result run(gm_update_scheme scheme, double theta, double mu,
+                      double offset_cells) {
+  frame f = slope_frame();
+  int wall_id = -1;
+  gm_domain *domain =
+      slope_scene(scheme, 1, &f, theta, mu, offset_cells, &wall_id);
+  run_result result;
+  double start = centre_along(domain, f.d, &result.mass);
+  double time = 0.0, weighted = 0.0, weight = 0.0; /* s, N s, s */
+  while (time < DURATION) {
+    double dt = 0.0;
+    TEST_ASSERT_OK(domain, gm_domain_stable_dt(domain, &dt));
+    if (time + dt > DURATION)
+      dt = DURATION - time;
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, dt));
+    time += dt;
+    if (time <= 0.5 * DURATION)
+      continue;
+    /* The mean normal force since the start, averaged over the second
+     * half (test_wall_offsets.c: J_n(T) / T alone carries the elastic
+     * vibration's normal momentum). */
+    gm_wall_force force = gm_wall_force_default();
+    TEST_ASSERT_OK(domain, gm_domain_get_wall_force(domain, wall_id, &force));
+    double impulse = 0.0; /* N s */
+    for (int k = 0; k < 3; k++)
+      impulse += force.total_impulse[k] * f.n[k];
+    weighted += impulse / force.total_duration * dt;
+    weight += dt;
+  }
+  result.mean_normal = weighted / weight;
+  result.slide = centre_along(domain, f.d, NULL) - start;
+  gm_domain_destroy(domain);
+  return result;
+}
+
+/* 2 %: the issue's tolerance (item 3), as in 2D (test_wall_offsets.c).
+ * Measured here: slides +0.45 / +0.46 % (30 deg), stuck blocks 2e-6 m of
+ * 0.092 m, normal force within 0.01 %. Not a converged number: the same
+ * slide at 30 deg (USL, 0.3 cells off) is +1.90 % with 0.025 m cells and
+ * +2.71 % with 0.0167 m (docs/3d.md: the block's lateral Poisson motion at
+ * the contact turns the patches' friction away from the slide). */
+static const double SLIDE_TOLERANCE = 0.02;
+static const double NORMAL_TOLERANCE = 0.02;
+
+/* _i: scheme (3) x slope (2) x offset (2). */
+START_TEST(test_block_on_oblique_plane) {
+  gm_update_scheme scheme = SCHEMES[_i % 3];
+  const slope_case *slope = &SLOPES[_i / 3 % SLOPE_COUNT];
+  double offset = OFFSETS[_i / (3 * SLOPE_COUNT)];
+  double theta = slope->degrees * PI / 180.0, mu = slope->friction;
+  run_result r = run(scheme, theta, mu, offset);
+  double t = DURATION;
+  double frictionless = 0.5 * GRAVITY * sin(theta) * t * t; /* m */
+  double acceleration = GRAVITY * (sin(theta) - mu * cos(theta));
+  double expected = acceleration > 0.0 ? 0.5 * acceleration * t * t : 0.0;
+  if (expected > 0.0)
+    ck_assert_msg(fabs(r.slide - expected) < SLIDE_TOLERANCE * expected,
+                  "%s, %.0f deg mu %.1f, plane %.1f cells off a node: slid "
+                  "%.5f m, expected %.5f m (%+.2f %%)",
+                  test_scheme_name(scheme), slope->degrees, mu, offset, r.slide,
+                  expected, 100.0 * (r.slide - expected) / expected);
+  else
+    ck_assert_msg(fabs(r.slide) < 0.02 * frictionless,
+                  "%s, %.0f deg mu %.1f, plane %.1f cells off a node: slid "
+                  "%.5f m = %.2f %% of the frictionless %.5f m; should stick",
+                  test_scheme_name(scheme), slope->degrees, mu, offset, r.slide,
+                  100.0 * r.slide / frictionless, frictionless);
+  double weight_normal = r.mass * GRAVITY * cos(theta); /* N */
+  ck_assert_msg(
+      fabs(r.mean_normal - weight_normal) < NORMAL_TOLERANCE * weight_normal,
+      "%s, %.0f deg, plane %.1f cells off a node: mean normal "
+      "force %g N, m g cos(theta) = %g N (%+.2f %%)",
+      test_scheme_name(scheme), slope->degrees, offset, r.mean_normal,
+      weight_normal, 100.0 * (r.mean_normal - weight_normal) / weight_normal);
+  printf("%s %.0f deg mu %.1f offset %.1f: slide %.6f m expected %.6f m "
+         "(frictionless %.6f), normal %.4f of m g cos th\n",
+         test_scheme_name(scheme), slope->degrees, mu, offset, r.slide,
+         expected, frictionless, r.mean_normal / weight_normal);
+}
+END_TEST
+
+/* The fields a step writes, for the bitwise comparison. */
+static double *state_of(const gm_domain *domain, size_t *length) {
+  size_t count = gm_domain_point_count(domain);
+  *length = count * (3 + 3 + 6);
+  double *state = malloc(*length * sizeof(double));
+  ck_assert_ptr_nonnull(state);
+  TEST_ASSERT_OK(
+      domain, gm_domain_get_field(domain, GM_FIELD_POSITION, state, 3 * count));
+  TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_VELOCITY,
+                                             state + 3 * count, 3 * count));
+  TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_STRESS,
+                                             state + 6 * count, 6 * count));
+  return state;
+}
+
+/* A sliding block (30 deg on mu = 0.4, the plane 0.7 cells off a node),
+ * 200 steps in each scheme: with 2 workers every point field and the
+ * wall's report are bitwise those of 1 worker (the friction patches are
+ * summed serially in block order). The wall's total impulse equals the
+ * block's momentum change less gravity's impulse M g t (nothing else acts
+ * on it: the box faces are far), to round-off: 1e-9 of M g t. */
+START_TEST(test_workers_and_momentum) {
+  gm_update_scheme scheme = SCHEMES[_i];
+  frame f = slope_frame();
+  double theta = 30.0 * PI / 180.0;
+  double *state[2] = {NULL, NULL};
+  size_t length[2] = {0, 0};
+  gm_wall_force report[2];
+  for (int run = 0; run < 2; run++) {
+    int wall_id = -1;
+    gm_domain *domain =
+        slope_scene(scheme, 1 + run, &f, theta, 0.4, 0.7, &wall_id);
+    gm_summary before = gm_summary_default();
+    TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &before));
+    double dt = 0.0, time = 0.0; /* s */
+    TEST_ASSERT_OK(domain, gm_domain_stable_dt(domain, &dt));
+    for (int step = 0; step < 200; step++, time += dt)
+      TEST_ASSERT_OK(domain, gm_domain_step(domain, dt));
+    gm_summary after = gm_summary_default();
+    TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &after));
+    report[run] = gm_wall_force_default();
+    TEST_ASSERT_OK(domain,
+                   gm_domain_get_wall_force(domain, wall_id, &report[run]));
+    double scale = after.mass * GRAVITY * time; /* N s */
+    for (int k = 0; k < 3; k++) {
+      double gravity = GRAVITY * (-cos(theta) * f.n[k] + sin(theta) * f.d[k]);
+      double change = after.momentum[k] - before.momentum[k] -
+                      after.mass * gravity * time; /* N s */
+      ck_assert_msg(fabs(change - report[run].total_impulse[k]) < 1e-9 * scale,
+                    "%s, %d workers, component %d: momentum change less "
+                    "gravity's impulse %.12g N s, wall impulse %.12g N s",
+                    test_scheme_name(scheme), 1 + run, k, change,
+                    report[run].total_impulse[k]);
+    }
+    ck_assert_msg(report[run].total_impulse[0] * f.n[0] +
+                          report[run].total_impulse[1] * f.n[1] +
+                          report[run].total_impulse[2] * f.n[2] >
+                      0.5 * scale * cos(theta),
+                  "the wall did not carry the block");
+    state[run] = state_of(domain, &length[run]);
+    gm_domain_destroy(domain);
+  }
+  ck_assert_uint_eq(length[0], length[1]);
+  ck_assert_msg(memcmp(state[0], state[1], length[0] * sizeof(double)) == 0,
+                "%s: 1 and 2 workers differ", test_scheme_name(scheme));
+  ck_assert_msg(
+      memcmp(report[0].total_impulse, report[1].total_impulse,
+             sizeof report[0].total_impulse) == 0 &&
+          memcmp(report[0].force, report[1].force, sizeof report[0].force) == 0,
+      "%s: the wall's report differs with 1 and 2 workers",
+      test_scheme_name(scheme));
+  free(state[0]);
+  free(state[1]);
+}
+END_TEST
+
+int main(void) {
+  Suite *suite = suite_create("walls_3d");
+  TCase *tcase = tcase_create("block on an oblique plane");
+  tcase_set_timeout(tcase, 600);
+  tcase_add_loop_test(tcase, test_block_on_oblique_plane, 0,
+                      3 * SLOPE_COUNT * OFFSET_COUNT);
+  tcase_add_loop_test(tcase, test_workers_and_momentum, 0, 3);
+  suite_add_tcase(suite, tcase);
+  return test_run_suite(suite) ? 1 : 0;
+}
