@@ -57,8 +57,9 @@
  * Other options: --cell --ppc --method --family --workers --rows --t-end
  * --aspect --friction --dilation --youngs --cfl --gap --speed --floor
  * --floor-mu; --material perzyna --fluidity GAMMA (1/s) replaces
- * Mohr-Coulomb with the Perzyna Drucker-Prager material (psi = 0, N = 1,
- * sigma_n = max(m p, --reference-stress Pa), default 0: the paper's m p),
+ * Mohr-Coulomb with the Perzyna Drucker-Prager material (psi = 0, N =
+ * --exponent, default 1, sigma_n = max(m p, --reference-stress Pa), default
+ * 0: the paper's m p),
  * its cone matched to --friction's flow in plane strain
  * (collapse_scene_dp_friction).
  * Build and run from the worktree after `make`:
@@ -155,6 +156,7 @@ typedef struct options {
                            --friction's plane-strain flow) */
   double fluidity;      /* perzyna: gamma, 1/s */
   double reference;     /* perzyna: sigma_n = max(m p, this), Pa */
+  double exponent;      /* perzyna: N of Phi = (f / sigma_n)^N, > 0 */
 } options;
 
 /* Everything the rows need. */
@@ -379,6 +381,7 @@ static int add_material(budget_run *run, int plastic) {
       collapse_scene_dp_friction(o->friction_deg * PI / 180.0);
   m->viscoplastic.fluidity = o->fluidity;
   m->viscoplastic.reference_stress = o->reference;
+  m->viscoplastic.exponent = o->exponent;
   m->elastic = gm_elastic_def_default();
   m->elastic.youngs_modulus = o->youngs;
   m->elastic.poisson_ratio = o->poisson;
@@ -636,6 +639,8 @@ static int parse(int argc, char **argv, options *o) {
       o->fluidity = number;
     else if (strcmp(name, "--reference-stress") == 0)
       o->reference = number;
+    else if (strcmp(name, "--exponent") == 0)
+      o->exponent = number;
     else if (strcmp(name, "--method") == 0) {
       if (parse_shape(value, &o->shape)) {
         fprintf(stderr, "--method %s unknown\n", value);
@@ -670,8 +675,10 @@ static int parse(int argc, char **argv, options *o) {
     return 2;
   }
   if ((strcmp(o->material, "mc") != 0 && strcmp(o->material, "perzyna") != 0) ||
-      (strcmp(o->material, "perzyna") == 0 && !(o->fluidity > 0.0))) {
-    fprintf(stderr, "--material is mc or perzyna (with --fluidity > 0)\n");
+      (strcmp(o->material, "perzyna") == 0 &&
+       (!(o->fluidity > 0.0) || !(o->exponent > 0.0)))) {
+    fprintf(stderr, "--material is mc or perzyna (with --fluidity > 0, "
+                    "--exponent > 0)\n");
     return 2;
   }
   return 0;
@@ -694,7 +701,8 @@ int main(int argc, char **argv) {
                .floor = "wall",
                .floor_mu = -1.0,
                .material = "mc",
-               .fluidity = 0.0};
+               .fluidity = 0.0,
+               .exponent = 1.0};
   int status = parse(argc, argv, &o);
   if (status != 0)
     return status;
