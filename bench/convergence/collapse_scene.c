@@ -18,6 +18,23 @@ double collapse_scene_tau(const collapse_scene *scene) {
   return sqrt(collapse_scene_height(scene) / COLLAPSE_GRAVITY);
 }
 
+double collapse_scene_law_runout(double aspect) {
+  /* examples/column_collapse lube_runout: 1.2 a for a <= 1.8, 1.9 a^(2/3)
+   * for a >= 2.8, linear between the two ends (no fit there) */
+  const double low = 1.8, high = 2.8;
+  if (aspect <= low)
+    return 1.2 * aspect;
+  if (aspect >= high)
+    return 1.9 * pow(aspect, 2.0 / 3.0);
+  double at_low = 1.2 * low, at_high = 1.9 * pow(high, 2.0 / 3.0);
+  return at_low + (at_high - at_low) * (aspect - low) / (high - low);
+}
+
+double collapse_scene_law_height(double aspect) {
+  /* examples/column_collapse lube_final_height */
+  return aspect <= 1.15 ? aspect : pow(aspect, 0.4);
+}
+
 gm_domain_def collapse_scene_domain_def(const collapse_scene *scene) {
   gm_domain_def def = gm_domain_def_default();
   def.cell_size = scene->cell;
@@ -27,9 +44,9 @@ gm_domain_def collapse_scene_domain_def(const collapse_scene *scene) {
   if (scene->cfl > 0.0)
     def.cfl = scene->cfl;
   /* examples/column_collapse size_scene: room for twice Lube et al.'s
-   * (2005) run-out 1.2 a (a <= 1.8) beyond the column */
+   * (2005) run-out beyond the column */
   double height = collapse_scene_height(scene);
-  double law = 1.2 * scene->aspect;
+  double law = collapse_scene_law_runout(scene->aspect);
   def.extent[0] = scene->length * (2.0 + 2.0 * law);
   def.extent[1] = 1.25 * height + 4.0 * scene->cell;
   def.gravity[1] = -COLLAPSE_GRAVITY;

@@ -1,6 +1,6 @@
 /*
  * collapse_scene.h - the planar column collapse of examples/column_collapse
- * (size_scene and build_scene for a <= 1.8, the built-in floors), shared by
+ * (size_scene and build_scene, the built-in floors), shared by
  * the convergence probes energy_budget.c and toe_probe.c so that the scene
  * they study is built in one place: the grid box, the floor, the back wall,
  * the fill and the connected deposit's front.
@@ -36,7 +36,7 @@ typedef struct collapse_scene {
   gm_family family;  /* plain | stress_free | granular */
   int workers;       /* worker threads */
   double cfl;        /* Courant number, <= 0: the library's */
-  double aspect;     /* a = H / L0, 0 < a <= 1.8 */
+  double aspect;     /* a = H / L0, > 0 */
   double length;     /* L0, m */
   const char *floor; /* "wall": a Coulomb wall of friction floor_mu;
                         "face": the no-slip box face; "slip": the
@@ -47,6 +47,13 @@ typedef struct collapse_scene {
 /* H = a L0 (m) and tau_c = sqrt(H / g) (s). */
 double collapse_scene_height(const collapse_scene *scene);
 double collapse_scene_tau(const collapse_scene *scene);
+
+/* Lube et al.'s (2005) planar law as examples/column_collapse has it: the
+ * run-out (L_inf - L0) / L0 and the final height H_inf / L0 (secondary,
+ * /work/shared/references.md; between a = 1.8 and 2.8 the run-out is
+ * interpolated, indicative only). */
+double collapse_scene_law_runout(double aspect);
+double collapse_scene_law_height(double aspect);
 
 /* gm_domain_def_default() with the scene's cell, shapes, family, workers,
  * CFL, grid box (2 + 2 x Lube's run-out law wide, 1.25 H + 4 cells high),

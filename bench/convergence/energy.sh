@@ -12,8 +12,9 @@
 # released at the end reached by 1, 2 and 3 tau_c, seconds, and with a
 # Coulomb floor wall (--floor wall, --floor-mu MU) the share of the floor's
 # slip work (an estimate, see energy_budget.c) at the end and by 2 tau_c (0
-# on other floors; the numerical share less it is the discretisation's loss).
-# BUDGET is the
+# on other floors; the numerical share less it is the discretisation's loss),
+# and last the final height H_inf / L0 (the deposit's highest top; rows
+# written before docs/convergence.md section 20 lack it). BUDGET is the
 # energy_budget binary (build line at the top of energy_budget.c).
 BUDGET=${BUDGET:-./energy_budget}
 label=$1 cells=$2 ppcs=$3
@@ -25,11 +26,12 @@ for cell in $cells; do
     "$BUDGET" collapse --cell "$cell" --ppc "$ppc" "$@" > "$tmp" 2>&1
     end=$(date +%s.%N)
     r=$(sed -n 's/^RESULT runout=\([^ ]*\).*/\1/p' "$tmp")
+    h=$(sed -n 's/^RESULT .*height=\([^ ]*\).*/\1/p' "$tmp")
     if [ -z "$r" ]; then
       echo "$label,$cell,$ppc,failed:$(tail -1 "$tmp" | tr ',' ' ')"
       continue
     fi
-    awk -v label="$label" -v cell="$cell" -v ppc="$ppc" -v r="$r" \
+    awk -v label="$label" -v cell="$cell" -v ppc="$ppc" -v r="$r" -v h="$h" \
       -v secs="$(echo "$end - $start" | bc)" '
       function field(line, name,   a) {
         if (match(line, name "=[^ ]*")) {
@@ -50,10 +52,10 @@ for cell in $cells; do
         }
       }
       END {
-        printf "%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.1f,%.4f,%.4f\n",
+        printf "%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.1f,%.4f,%.4f,%s\n",
           label, cell, ppc, r, dpe, ke, el, wp, num, ke / dpe, wp / dpe,
           num / dpe, phase[1] / dpe, phase[2] / dpe, phase[3] / dpe, secs,
-          fr / dpe, friction[2] / dpe
+          fr / dpe, friction[2] / dpe, h
       }' "$tmp"
   done
 done

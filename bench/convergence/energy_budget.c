@@ -50,14 +50,16 @@
  * dPE + KE(0)), PHASES (the budget at 1..6 tau_c of the collapse, or
  * sixths of the run), CHECK (the sum of the final positions in %a, to
  * compare with --builtin) and, for the collapse, PROFILE (the deposit's
- * surface) and RESULT runout; --history FILE writes one CSV row per output
+ * surface) and RESULT runout and height (H_inf / L0, the profile's
+ * highest top); --history FILE writes one CSV row per output
  * row. --floor-mu MU sets the floor wall's friction (collapse; default
  * tan phi) or puts the slide scene's block on such a wall.
  * Other options: --cell --ppc --method --family --workers --rows --t-end
  * --aspect --friction --dilation --youngs --cfl --gap --speed --floor
  * --floor-mu; --material perzyna --fluidity GAMMA (1/s) replaces
- * Mohr-Coulomb with the Perzyna Drucker-Prager material (psi = 0, N = 1,
- * sigma_n = max(m p, --reference-stress Pa), default 0: the paper's m p),
+ * Mohr-Coulomb with the Perzyna Drucker-Prager material (psi = 0, N =
+ * --exponent, default 1, sigma_n = max(m p, --reference-stress Pa), default
+ * 0: the paper's m p),
  * its cone matched to --friction's flow in plane strain
  * (collapse_scene_dp_friction).
  * Build and run from the worktree after `make`:
@@ -154,6 +156,7 @@ typedef struct options {
                            --friction's plane-strain flow) */
   double fluidity;      /* perzyna: gamma, 1/s */
   double reference;     /* perzyna: sigma_n = max(m p, this), Pa */
+  double exponent;      /* perzyna: N of Phi = (f / sigma_n)^N, > 0 */
 } options;
 
 /* Everything the rows need. */
@@ -330,9 +333,10 @@ static void write_history(budget_run *run, const budget *b) {
 /* The deposit's surface: the highest point top (centre plus half a point
  * spacing) in bins of L0/20 from the back wall, in L0, from the positions
  * last read into run->positions; to compare deposits and fronts across
- * cells and points per cell. */
-static void print_profile(const budget_run *run, double time) {
-  enum { BINS = 80 };
+ * cells and points per cell. Returns the highest top (L0), the final
+ * height H_inf / L0 of Lube et al. (2005) at the end of the run. */
+static double print_profile(const budget_run *run, double time) {
+  enum { BINS = 240 }; /* 12 L0: the run-out of a = 8 is 7.6 L0 */
   double top[BINS] = {0}, bin = run->length / 20.0;
   double half = 0.5 * run->opt->cell / run->opt->ppc;
   for (size_t i = 0; i < run->count; i++) {
@@ -341,9 +345,13 @@ static void print_profile(const budget_run *run, double time) {
       top[(int)x] = fmax(top[(int)x], run->positions[2 * i + 1] + half);
   }
   printf("PROFILE t_s=%.4g bin=L0/20 top/L0:", time);
-  for (int k = 0; k < BINS; k++)
+  double highest = 0.0;
+  for (int k = 0; k < BINS; k++) {
     printf(" %.3f", top[k] / run->length);
+    highest = fmax(highest, top[k] / run->length);
+  }
   printf("\n");
+  return highest;
 }
 
 static int fail(const gm_domain *domain, const char *what, gm_status status) {
@@ -373,6 +381,7 @@ static int add_material(budget_run *run, int plastic) {
       collapse_scene_dp_friction(o->friction_deg * PI / 180.0);
   m->viscoplastic.fluidity = o->fluidity;
   m->viscoplastic.reference_stress = o->reference;
+  m->viscoplastic.exponent = o->exponent;
   m->elastic = gm_elastic_def_default();
   m->elastic.youngs_modulus = o->youngs;
   m->elastic.poisson_ratio = o->poisson;
@@ -630,6 +639,8 @@ static int parse(int argc, char **argv, options *o) {
       o->fluidity = number;
     else if (strcmp(name, "--reference-stress") == 0)
       o->reference = number;
+    else if (strcmp(name, "--exponent") == 0)
+      o->exponent = number;
     else if (strcmp(name, "--method") == 0) {
       if (parse_shape(value, &o->shape)) {
         fprintf(stderr, "--method %s unknown\n", value);
@@ -653,9 +664,9 @@ static int parse(int argc, char **argv, options *o) {
   }
   if (o->cell <= 0.0 || o->ppc < 1 || o->ppc > 16 || o->workers < 1 ||
       o->workers > MAX_WORKERS || o->rows < 1 || o->aspect <= 0.0 ||
-      o->aspect > 1.8 || o->youngs <= 0.0) {
+      o->aspect > 10.0 || o->youngs <= 0.0) {
     fprintf(stderr, "an option is out of range (cell > 0, ppc 1..16, "
-                    "workers 1..64, rows >= 1, 0 < aspect <= 1.8, E > 0)\n");
+                    "workers 1..64, rows >= 1, 0 < aspect <= 10, E > 0)\n");
     return 2;
   }
   if (strcmp(o->floor, "wall") != 0 && strcmp(o->floor, "face") != 0 &&
@@ -664,8 +675,10 @@ static int parse(int argc, char **argv, options *o) {
     return 2;
   }
   if ((strcmp(o->material, "mc") != 0 && strcmp(o->material, "perzyna") != 0) ||
-      (strcmp(o->material, "perzyna") == 0 && !(o->fluidity > 0.0))) {
-    fprintf(stderr, "--material is mc or perzyna (with --fluidity > 0)\n");
+      (strcmp(o->material, "perzyna") == 0 &&
+       (!(o->fluidity > 0.0) || !(o->exponent > 0.0)))) {
+    fprintf(stderr, "--material is mc or perzyna (with --fluidity > 0, "
+                    "--exponent > 0)\n");
     return 2;
   }
   return 0;
@@ -688,7 +701,8 @@ int main(int argc, char **argv) {
                .floor = "wall",
                .floor_mu = -1.0,
                .material = "mc",
-               .fluidity = 0.0};
+               .fluidity = 0.0,
+               .exponent = 1.0};
   int status = parse(argc, argv, &o);
   if (status != 0)
     return status;
@@ -731,7 +745,7 @@ int main(int argc, char **argv) {
     while (phases < PHASE_COUNT &&
            (b.time >= (phases + 1) * period * (1.0 - 1e-9) || row == o.rows)) {
       if (strcmp(o.scene, "collapse") == 0)
-        print_profile(&run, b.time); /* positions of measure() */
+        (void)print_profile(&run, b.time); /* positions of measure() */
       phase[phases++] = b;
     }
   }
@@ -769,8 +783,9 @@ int main(int argc, char **argv) {
       sum += run.positions[i];
   printf("CHECK position_sum=%a\n", sum);
   if (strcmp(o.scene, "collapse") == 0) {
-    print_profile(&run, b.time);
-    printf("RESULT runout=%.6f\n", (b.front - front_start) / o.length);
+    double height = print_profile(&run, b.time);
+    printf("RESULT runout=%.6f height=%.4f\n",
+           (b.front - front_start) / o.length, height);
   }
   gm_domain_destroy(run.domain);
   free((void *)material.mass_by_id);
