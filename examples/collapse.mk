@@ -12,6 +12,16 @@ tests_physics_test_column_collapse_SOURCES = tests/physics/test_column_collapse.
 tests_physics_test_column_collapse_CFLAGS = $(TEST_CFLAGS)
 tests_physics_test_column_collapse_LDADD = $(TEST_LDADD)
 
+# The setting of docs/convergence.md sec. 20 under refinement (issue 13 item
+# 4): the scene of the convergence probes, bench/convergence/collapse_scene.c.
+check_PROGRAMS += tests/physics/test_collapse_refinement
+tests_physics_test_collapse_refinement_SOURCES = \
+	tests/physics/test_collapse_refinement.c bench/convergence/collapse_scene.c \
+	bench/convergence/collapse_scene.h
+tests_physics_test_collapse_refinement_CFLAGS = $(TEST_CFLAGS) \
+	-I$(top_srcdir)/bench/convergence -I$(top_srcdir)/include
+tests_physics_test_collapse_refinement_LDADD = $(TEST_LDADD)
+
 # The demo: a tall column (a = 3, L0 = 10 cm, 5 mm cells, 4800 points,
 # Granular uGIMP; about 20 s on one core), progress on stderr, VTU + CSV +
 # PNG snapshots in $(DEMO_OUT)/column_collapse, run-out against the law as
