@@ -75,9 +75,14 @@ static const double SPEED_FACTOR = 4.5;
  * 1.019 (the same with no light node: 1.000, 1.000, 1.018); elastic USL
  * 1.110, MUSL 1.650, USF 1.026 (no light node: 1.125, 1.125, 1.026). The
  * elastic block gains 12 % in USL and MUSL whether or not a node is light
- * (FLIP release of a free elastic block; not this test's subject), and
- * MUSL gains 65 % with the light nodes: open (the re-map moves the points
- * with the re-mapped velocities, and that node's carries little mass). */
+ * (FLIP release of a free elastic block; not this test's subject). MUSL
+ * with the light nodes is open: it gains 65 % in these 200 steps and keeps
+ * gaining (1.19, 1.65, 2.12, 3.14, 3.95, 4.51 times the start after 100,
+ * ..., 600 steps), while USL (0.71-0.96) and USF (1.004-1.011) stay
+ * bounded over 600 steps, and so does MUSL with no light node (0.95-1.07).
+ * Its slack pins the 200-step value so that a change shows; it is not a
+ * bound MUSL is known to keep. (The Mohr-Coulomb block comes apart into
+ * free-flying points, energy 0.81 of its start, from about step 100.) */
 static const double ENERGY_SLACK[2][3] = {{0.03, 0.03, 0.03},
                                           {0.2, 0.75, 0.05}};
 
