@@ -22,9 +22,10 @@
  * (gm_domain_fill_box would snap it to its lattice of h/2). It must fall
  * the whole gap: its centre-of-mass speed reaches sqrt(2 g gap) before
  * contact, and after the bounce its kinetic energy never exceeds the one
- * at impact and its centre never rises above where it started. Box faces
- * are not used as the floor of the fall: they hold material up to a cell
- * away (issue 12, being made gap-aware on another branch).
+ * at impact and its centre never rises above where it started. The same
+ * fall onto a slip or fixed box face, at the same gaps, is
+ * test_face_gaps.c (the faces measure their gap to the material since
+ * 2dc9c40).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */

@@ -242,7 +242,7 @@ static void check(gm_update_scheme scheme, const slope_case *slope, bool tilted,
                 r.mean_normal, weight_normal);
 }
 
-/* _i: scheme (3) x slope (3) x offset (9). */
+/* _i: scheme (3) x slope (3) x offset (OFFSET_COUNT, 11). */
 START_TEST(test_floor_offsets) {
   check(SCHEMES[_i % 3], &SLOPES[_i / 3 % SLOPE_COUNT], false,
         OFFSETS[_i / (3 * SLOPE_COUNT)]);
