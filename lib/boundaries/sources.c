@@ -65,9 +65,10 @@ static gm_status validate_source(gm_domain *domain, const gm_source_def *def) {
     if (!inside_grid(domain, position) ||
         (domain->axisymmetric && !(position[0] > 0.0)))
       return gm_set_error(domain, GM_ERR_OUT_OF_GRID,
-                          "gm_source_def: point %zu (%g, %g) is outside the "
-                          "grid%s",
+                          "gm_source_def: point %zu (%g, %g, %g) is outside "
+                          "the grid%s",
                           i, position[0], domain->dim > 1 ? position[1] : 0.0,
+                          domain->dim > 2 ? position[2] : 0.0,
                           domain->axisymmetric ? " or at radius <= 0" : "");
   }
   return GM_OK;
@@ -82,8 +83,6 @@ gm_status gm_domain_add_source(gm_domain *domain, const gm_source_def *def,
   if (status != GM_OK)
     return status;
   def = &full;
-  if ((status = gm_refuse_in_3d(domain, "gm_domain_add_source")) != GM_OK)
-    return status;
   status = validate_source(domain, def);
   if (status != GM_OK)
     return status;
@@ -122,8 +121,6 @@ gm_status gm_domain_add_sink(gm_domain *domain, const gm_sink_def *def,
   if (status != GM_OK)
     return status;
   def = &full;
-  if ((status = gm_refuse_in_3d(domain, "gm_domain_add_sink")) != GM_OK)
-    return status;
   if (domain->sink_count >= GM_MAX_SOURCES)
     return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
                         "gm_domain_add_sink: at most %d sinks", GM_MAX_SOURCES);
@@ -139,9 +136,9 @@ gm_status gm_domain_add_sink(gm_domain *domain, const gm_sink_def *def,
     sink->lower[k] = def->lower[k];
     sink->upper[k] = def->upper[k];
   }
-  if (domain->dim == 1) { /* the y extent is irrelevant in 1D */
-    sink->lower[1] = -INFINITY;
-    sink->upper[1] = INFINITY;
+  for (int k = domain->dim; k < 3; k++) { /* axes the domain lacks */
+    sink->lower[k] = -INFINITY;
+    sink->upper[k] = INFINITY;
   }
   *sink_id = domain->sink_count++;
   return GM_OK;
@@ -274,17 +271,21 @@ void gm_sinks_remove(gm_domain *domain) {
     return;
   gm_points *points = &domain->points;
   const gm_point_buffers *buffer = &points->buffer[points->cur];
-  const double *y = buffer->position[domain->dim > 1 ? 1 : 0];
+  int dim = domain->dim;
   /* point_block is free after a committed step: it holds the flags. */
   uint32_t *flags = points->point_block;
   bool any = false;
   for (size_t i = 0; i < points->count; i++) {
-    double x = buffer->position[0][i], height = domain->dim > 1 ? y[i] : 0.0;
+    /* A missing axis reads 0, inside the sink's infinite extent there. */
+    double x[3] = {buffer->position[0][i],
+                   dim > 1 ? buffer->position[1][i] : 0.0,
+                   dim > 2 ? buffer->position[2][i] : 0.0};
     flags[i] = 0;
     for (int s = 0; s < domain->sink_count; s++) {
       gm_sink *sink = &domain->sinks[s];
-      if (x < sink->lower[0] || x >= sink->upper[0] ||
-          height < sink->lower[1] || height >= sink->upper[1])
+      if (x[0] < sink->lower[0] || x[0] >= sink->upper[0] ||
+          x[1] < sink->lower[1] || x[1] >= sink->upper[1] ||
+          x[2] < sink->lower[2] || x[2] >= sink->upper[2])
         continue;
       flags[i] = 1;
       sink->removed_mass += points->mass[i];

@@ -37,7 +37,7 @@ typedef struct gm_source {
   int material;
   size_t count;         /* points per injection */
   double *position;     /* m, count * dim, owned */
-  double velocity[2];   /* m/s */
+  double velocity[3];   /* m/s (z: 3D, else 0) */
   double point_size;    /* m */
   double density;       /* kg/m^3 */
   double next_time;     /* s, next injection; INFINITY when done */
@@ -48,7 +48,7 @@ typedef struct gm_source {
 } gm_source;
 
 typedef struct gm_sink {
-  double lower[2], upper[2]; /* m */
+  double lower[3], upper[3]; /* m; unused axes +-infinity */
   double removed_mass;       /* kg */
   uint64_t removed_points;
 } gm_sink;

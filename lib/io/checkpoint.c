@@ -144,6 +144,13 @@ static void describe_source(const gm_domain *domain, int s,
   gm_record_reals(out, name, source->position,
                   source->count * (size_t)domain->dim);
   snprintf(name, sizeof name, "source %d velocity, size, density, period", s);
+  if (domain->dim == 3) { /* the z velocity too (no 2D file changes) */
+    const double values[6] = {source->velocity[0], source->velocity[1],
+                              source->velocity[2], source->point_size,
+                              source->density,     source->period};
+    gm_record_reals(out, name, values, 6);
+    return;
+  }
   const double values[5] = {source->velocity[0], source->velocity[1],
                             source->point_size, source->density,
                             source->period};
@@ -181,10 +188,16 @@ void gm_checkpoint_describe_setup(const gm_domain *domain,
   gm_record_integer(out, "sink count", domain->sink_count);
   for (int s = 0; s < domain->sink_count; s++) {
     const gm_sink *sink = &domain->sinks[s];
-    const double box[4] = {sink->lower[0], sink->lower[1], sink->upper[0],
-                           sink->upper[1]};
     char name[48];
     snprintf(name, sizeof name, "sink %d lower, upper", s);
+    if (domain->dim == 3) { /* the z extent too (no 2D file changes) */
+      const double box[6] = {sink->lower[0], sink->lower[1], sink->lower[2],
+                             sink->upper[0], sink->upper[1], sink->upper[2]};
+      gm_record_reals(out, name, box, 6);
+      continue;
+    }
+    const double box[4] = {sink->lower[0], sink->lower[1], sink->upper[0],
+                           sink->upper[1]};
     gm_record_reals(out, name, box, 4);
   }
 }

@@ -1320,13 +1320,7 @@ START_TEST(test_3d_refuses_what_it_lacks) {
   check_domain_error(domain, gm_domain_add_rigid(domain, &rigid, &id),
                      ONLY(GM_ERR_UNSUPPORTED), "gm_domain_add_rigid",
                      "3D rigid");
-  gm_source_def source = gm_source_def_default();
-  check_domain_error(domain, gm_domain_add_source(domain, &source, &id),
-                     ONLY(GM_ERR_UNSUPPORTED), "gm_domain_add_source",
-                     "3D source");
-  gm_sink_def sink = gm_sink_def_default();
-  check_domain_error(domain, gm_domain_add_sink(domain, &sink, &id),
-                     ONLY(GM_ERR_UNSUPPORTED), "gm_domain_add_sink", "3D sink");
+  /* Sources and sinks work in 3D (test_sources.c). */
   /* gm_domain_save and gm_domain_load work in 3D (test_checkpoint.c). */
   /* Checkpoints, VTU output, series and the domain corners work in 3D
    * (test_checkpoint.c, test_vtu.c). */

@@ -241,6 +241,28 @@ static scene build_3d(gm_domain_def def, int points_per_cell_axis) {
     wall.friction_static = wall.friction_kinetic = 0.3;
     TEST_ASSERT_OK(s.domain, gm_domain_add_wall(s.domain, &wall, &s.wall));
   }
+  if (points_per_cell_axis > 1) {
+    /* A source of two points every 10 ms, one inside a sink box (removed
+     * at the end of the step that injects it), one beside it that falls
+     * freely: the sources' clocks and totals and the sink's, with their z
+     * components, travel with the file. */
+    const double position[6] = {0.85, 0.85, 0.85, 0.85, 0.15, 0.85}; /* m */
+    gm_source_def source = gm_source_def_default();
+    source.material = block;
+    source.count = 2;
+    source.position = position;
+    source.velocity[2] = -0.5; /* m/s */
+    source.point_size = 0.05;  /* m */
+    source.period = 0.01;      /* s */
+    TEST_ASSERT_OK(s.domain,
+                   gm_domain_add_source(s.domain, &source, &s.source));
+    gm_sink_def sink = gm_sink_def_default();
+    for (int k = 0; k < 3; k++) {
+      sink.lower[k] = 0.8; /* m */
+      sink.upper[k] = 0.9;
+    }
+    TEST_ASSERT_OK(s.domain, gm_domain_add_sink(s.domain, &sink, &s.sink));
+  }
   const double *x = NULL, *z = NULL;
   double *vx = NULL, *vy = NULL;
   REQUIRE_OK(s.domain,
@@ -530,6 +552,13 @@ static void check_scene_coverage(scene_kind kind, const observed *at_save,
                                  size_t fewest_components) {
   if (kind == ELASTIC) /* the plate touches the block: a force to report */
     ck_assert_msg(at_save->totals[6] != 0.0, "no rigid force at the save");
+  if (kind == SOLID_3D) /* the sink took points before and after the save */
+    ck_assert_msg(at_save->totals[3] > 0.0 &&
+                      at_end->totals[3] > at_save->totals[3] &&
+                      at_end->totals[1] > at_end->totals[3],
+                  "3D source and sink: %g points injected, %g removed by the "
+                  "save, %g by the end",
+                  at_end->totals[1], at_save->totals[3], at_end->totals[3]);
   if (kind == SOLID_3D) { /* every stress and F component moved by the save */
     if (scene_shape_3d == GM_SHAPE_LINEAR) /* the GIMP scenes: no wall */
       ck_assert_msg(at_save->totals[8] != 0.0 && at_save->totals[17] != 0.0,

@@ -9,6 +9,12 @@
  *   injected - discharged = mass in the domain
  * must hold EXACTLY, at every step.
  *
+ * Each test runs in plane strain and in 3D (GM_GEOMETRY_3D, a chute 1 m
+ * deep with slip z faces; density 64 kg/m^3, so again 1 kg per point). In
+ * 3D a fourth point per injection falls at z = 0.875 m, beyond the sink's
+ * z extent [0, 0.75) m: the sink must leave it alone, and it comes to rest
+ * on the no-slip floor below the sink.
+ *
  * SPDX-License-Identifier: BSD-2-Clause
  */
 #include <math.h>
@@ -21,14 +27,21 @@
 static const double PERIOD = 0.17;     /* s, 000 sec 4.3 */
 static const double POINT_SIZE = 0.25; /* m */
 static const double DENSITY = 16.0;    /* kg/m^3: 1 kg per point per m */
+static const double DENSITY_3D = 64.0; /* kg/m^3: 1 kg per point (3D) */
+static const double SINK_DEPTH = 0.75; /* m, the 3D sink's z extent */
+enum { DIMENSIONS = 2 };               /* loop index 0: 2D, 1: 3D */
 
 typedef struct scene {
   gm_domain *domain;
   int source, sink;
+  int dim;       /* 2 or 3 */
+  size_t stream; /* points per injection */
 } scene;
 
-static scene falling_stream(int refuse_unstable_dt) {
+static scene falling_stream(int refuse_unstable_dt, int three_d) {
   scene s;
+  s.dim = three_d ? 3 : 2;
+  s.stream = three_d ? 4 : 3;
   gm_domain_def def = gm_domain_def_default();
   /* MUSL: injected points are isolated, and an isolated point just past a
    * cell edge gives the far nodes a tiny mass; USL then amplifies
@@ -41,25 +54,36 @@ static scene falling_stream(int refuse_unstable_dt) {
   def.gravity[1] = -9.81;
   def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] =
       GM_WALL_SLIP; /* a chute */
+  /* the floor below the sink: only the 3D stream's fourth point gets there */
+  def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
+  if (three_d) {
+    def.geometry = GM_GEOMETRY_3D;
+    def.extent[2] = 1.0;
+    def.walls[GM_FACE_ZMIN] = def.walls[GM_FACE_ZMAX] = GM_WALL_SLIP;
+  }
   def.refuse_unstable_dt = refuse_unstable_dt;
   s.domain = test_create_domain(&def);
-  /* Soft (c ~ 29 m/s) so the fixed 1 ms steps stay below the stable dt
-   * (0.125 m / (c + |v|) > 2 ms while |v| < 30 m/s). */
-  int material = test_add_elastic(s.domain, 1e4, 0.3, DENSITY);
-  const double position[6] = {0.5, 5.5, 1.0, 5.5, 1.5, 5.5};
+  double density = three_d ? DENSITY_3D : DENSITY; /* kg/m^3 */
+  /* Soft (c ~ 29 m/s in 2D, 14.5 m/s in 3D) so the fixed 1 ms steps stay
+   * below the stable dt (0.125 m / (c + |v|) > 2 ms while |v| < 30 m/s). */
+  int material = test_add_elastic(s.domain, 1e4, 0.3, density);
+  const double position_2d[6] = {0.5, 5.5, 1.0, 5.5, 1.5, 5.5};
+  const double position_3d[12] = {0.5, 5.5, 0.5, 1.0, 5.5, 0.5,
+                                  1.5, 5.5, 0.5, 1.0, 5.5, 0.875};
   gm_source_def source = gm_source_def_default();
   source.material = material;
-  source.count = 3;
-  source.position = position;
+  source.count = s.stream;
+  source.position = three_d ? position_3d : position_2d;
   source.point_size = POINT_SIZE;
-  source.density = DENSITY;
+  source.density = density;
   source.period = PERIOD;
   TEST_ASSERT_OK(s.domain, gm_domain_add_source(s.domain, &source, &s.source));
   gm_sink_def sink = gm_sink_def_default();
   sink.lower[0] = 0.0;
   sink.upper[0] = 2.0;
   sink.lower[1] = 0.0;
-  sink.upper[1] = 1.0; /* the orifice: the bottom metre */
+  sink.upper[1] = 1.0;        /* the orifice: the bottom metre */
+  sink.upper[2] = SINK_DEPTH; /* 3D only */
   TEST_ASSERT_OK(s.domain, gm_domain_add_sink(s.domain, &sink, &s.sink));
   return s;
 }
@@ -79,8 +103,23 @@ static void check_balance(const scene *s, const char *when) {
                 "%s: point counts do not balance", when);
 }
 
+/* Points (3D) that stay beyond the sink's z extent. */
+static size_t points_beyond_sink(const scene *s) {
+  if (s->dim < 3)
+    return 0;
+  size_t count = gm_domain_point_count(s->domain), beyond = 0;
+  double *position = malloc(3 * count * sizeof *position + 1);
+  ck_assert_ptr_nonnull(position);
+  TEST_ASSERT_OK(s->domain, gm_domain_get_field(s->domain, GM_FIELD_POSITION,
+                                                position, 3 * count));
+  for (size_t i = 0; i < count; i++)
+    beyond += position[3 * i + 2] >= SINK_DEPTH;
+  free(position);
+  return beyond;
+}
+
 START_TEST(test_mass_balance_exact) {
-  scene s = falling_stream(0);
+  scene s = falling_stream(0, _i);
   double time = 0.0;
   bool discharged = false;
   for (int step = 0; step < 4000 && time < 3.0; step++) {
@@ -101,10 +140,15 @@ START_TEST(test_mass_balance_exact) {
    * starts at or after that time; the last step started at t - dt. */
   double last_start = time - 1e-3;
   uint64_t injections = (uint64_t)floor(last_start / PERIOD + 1e-9) + 1;
-  ck_assert_msg(in.points == 3 * injections,
+  ck_assert_msg(in.points == s.stream * injections,
                 "%llu points injected by t = %g s, expected %llu",
                 (unsigned long long)in.points, time,
-                (unsigned long long)(3 * injections));
+                (unsigned long long)(s.stream * injections));
+  /* 3D: every point injected at z = 0.875 m is still there (none of them
+   * crossed z = 0.75 m: the slip z faces and the fall keep z). */
+  ck_assert_msg(s.dim < 3 || points_beyond_sink(&s) == injections,
+                "%zu points beyond the sink's z extent, %llu injected there",
+                points_beyond_sink(&s), (unsigned long long)injections);
   gm_domain_destroy(s.domain);
 }
 END_TEST
@@ -112,7 +156,7 @@ END_TEST
 /* Removed points leave no hole: every remaining id maps to its point, and
  * removed ids are reported unknown. */
 START_TEST(test_ids_after_removal) {
-  scene s = falling_stream(0);
+  scene s = falling_stream(0, _i);
   for (int step = 0; step < 1600; step++)
     TEST_ASSERT_OK(s.domain, gm_domain_step(s.domain, 1e-3));
   gm_flow_totals in = gm_flow_totals_default(), out = gm_flow_totals_default();
@@ -146,12 +190,12 @@ END_TEST
  * stable bound with refuse_unstable_dt) leaves no injected point behind
  * and does not advance the source's clock. */
 START_TEST(test_failed_step_undoes_injection) {
-  scene s = falling_stream(1);
+  scene s = falling_stream(1, _i);
   double stable = 0.0;
   size_t before = gm_domain_point_count(s.domain); /* 0: nothing yet */
   /* Without points there is no stable dt, so a step of 1 ms injects. */
   TEST_ASSERT_OK(s.domain, gm_domain_step(s.domain, 1e-3));
-  ck_assert_uint_eq(gm_domain_point_count(s.domain), before + 3);
+  ck_assert_uint_eq(gm_domain_point_count(s.domain), before + s.stream);
   TEST_ASSERT_OK(s.domain, gm_domain_stable_dt(s.domain, &stable));
   /* Step to just before the next injection, then fail the step that would
    * inject it. */
@@ -174,7 +218,7 @@ START_TEST(test_failed_step_undoes_injection) {
   ck_assert(after.points == in.points && after.mass == in.mass);
   /* The next valid step injects the due points. */
   TEST_ASSERT_OK(s.domain, gm_domain_step(s.domain, 0.0));
-  ck_assert_uint_eq(gm_domain_point_count(s.domain), count + 3);
+  ck_assert_uint_eq(gm_domain_point_count(s.domain), count + s.stream);
   gm_domain_destroy(s.domain);
 }
 END_TEST
@@ -217,14 +261,44 @@ START_TEST(test_source_and_sink_arguments) {
 }
 END_TEST
 
+/* The same checks in 3D: the z coordinate and extent are checked too. */
+START_TEST(test_source_and_sink_arguments_3d) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, 1e5, 0.3, DENSITY_3D);
+  const double outside[3] = {0.5, 0.5, 1.5}; /* the box is 1 m deep */
+  gm_source_def source = gm_source_def_default();
+  source.material = material;
+  source.count = 1;
+  source.position = outside;
+  source.point_size = 0.1;
+  int id = -1;
+  ck_assert_int_eq(gm_domain_add_source(domain, &source, &id),
+                   GM_ERR_OUT_OF_GRID);
+  ck_assert_ptr_nonnull(
+      strstr(gm_domain_last_error(domain), "point 0 (0.5, 0.5, 1.5)"));
+  gm_sink_def sink = gm_sink_def_default();
+  sink.upper[0] = sink.upper[1] = 1.0; /* upper[2] == lower[2]: empty */
+  ck_assert_int_eq(gm_domain_add_sink(domain, &sink, &id),
+                   GM_ERR_INVALID_ARGUMENT);
+  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "lower[2]"));
+  sink.upper[2] = 1.0;
+  TEST_ASSERT_OK(domain, gm_domain_add_sink(domain, &sink, &id));
+  ck_assert_int_eq(id, 0);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 int main(void) {
   Suite *suite = suite_create("sources");
   TCase *tcase = tcase_create("filling_and_discharge");
   tcase_set_timeout(tcase, 60);
-  tcase_add_test(tcase, test_mass_balance_exact);
-  tcase_add_test(tcase, test_ids_after_removal);
-  tcase_add_test(tcase, test_failed_step_undoes_injection);
+  tcase_add_loop_test(tcase, test_mass_balance_exact, 0, DIMENSIONS);
+  tcase_add_loop_test(tcase, test_ids_after_removal, 0, DIMENSIONS);
+  tcase_add_loop_test(tcase, test_failed_step_undoes_injection, 0, DIMENSIONS);
   tcase_add_test(tcase, test_source_and_sink_arguments);
+  tcase_add_test(tcase, test_source_and_sink_arguments_3d);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
