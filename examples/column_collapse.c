@@ -54,7 +54,12 @@
  * takes the options --transfer flip|apic, --pic (FLIP-PIC blend), --floor
  * wall|face|rigid (Coulomb wall, no-slip box face, no-slip rigid points),
  * --floor-mu, --dilation (psi), --material mu_i (mu_s = sin phi), --grain
- * --scheme usl|musl|usf and --cfl.
+ * --scheme usl|musl|usf and --cfl; --material perzyna (Perzyna
+ * Drucker-Prager, 001 sec 5.1.1: psi = 0, N = 1, cone matched to --friction
+ * in plane strain) with --fluidity (gamma, 1/s) and --reference-stress
+ * (sigma_n = max(m p, it), Pa), defaults docs/convergence.md sec. 20's
+ * 300 1/s and 1795 Pa; sec. 20's setting is --material perzyna --method
+ * bspline2 --family plain --friction 37 --floor wall --floor-mu 0.45.
  *
  * Output in --out (default out/column_collapse): collapse.pvd + VTU frames
  * (with the point domains for GIMP and CPDI), collapse.csv (time, kinetic
@@ -85,6 +90,20 @@ static const double POISSON_RATIO = 0.3;              /* - */
 static const double STOP_FRACTION = 0.98;             /* of the final run-out */
 enum { ROW_COUNT = 200, ROWS_PER_FRAME = 10, SNAPSHOT_COUNT = 5 };
 
+/* The constants of --material perzyna that the other materials lack (its
+ * friction angle, E, nu and rho are the scene's). To add one: a field
+ * here, its default in perzyna_defaults, a row in main's extras (after
+ * --reference-stress) and a line in add_perzyna. */
+typedef struct perzyna_options {
+  double fluidity;         /* gamma of 001 eq 18, 1/s */
+  double reference_stress; /* sigma_n = max(m p, this), Pa */
+} perzyna_options;
+
+/* docs/convergence.md sec. 20's material constants (chosen at a = 1.3). */
+static perzyna_options perzyna_defaults(void) {
+  return (perzyna_options){.fluidity = 300.0, .reference_stress = 1795.0};
+}
+
 /* The scene, from the options (lengths in m, times in s). */
 typedef struct collapse_scene {
   double length;   /* L0 */
@@ -94,20 +113,21 @@ typedef struct collapse_scene {
   double spacing;  /* initial point spacing, cell / ppc */
   double extent_x; /* grid box */
   double extent_y;
-  const char *material;  /* mohr_coulomb | drucker_prager | mu_i */
-  double friction_deg;   /* phi of the material and of the floor, degrees */
-  double youngs_modulus; /* E, Pa */
-  double dilation_deg;   /* psi of Mohr-Coulomb, degrees */
-  double floor_friction; /* mu of the floor; < 0: tan(phi) */
-  const char *floor;     /* wall | face | rigid */
-  const char *transfer;  /* flip | apic */
-  double pic_fraction;   /* FLIP-PIC blend, 0 = FLIP */
-  double grain_diameter; /* mu(I): d, m */
-  double regularise;     /* mu(I): nonzero = Barker & Gray's low-I branch */
-  const char *scheme;    /* usl | musl | usf */
-  double cfl;            /* Courant number, 0 = the library's default */
-  const char *geometry;  /* plane | axisym */
-  int axisymmetric;      /* nonzero: x is the radius, length is R0 */
+  const char *material;    /* mohr_coulomb | drucker_prager | mu_i | perzyna */
+  double friction_deg;     /* phi of the material and of the floor, degrees */
+  double youngs_modulus;   /* E, Pa */
+  double dilation_deg;     /* psi of Mohr-Coulomb, degrees */
+  double floor_friction;   /* mu of the floor; < 0: tan(phi) */
+  const char *floor;       /* wall | face | rigid */
+  const char *transfer;    /* flip | apic */
+  double pic_fraction;     /* FLIP-PIC blend, 0 = FLIP */
+  double grain_diameter;   /* mu(I): d, m */
+  double regularise;       /* mu(I): nonzero = Barker & Gray's low-I branch */
+  const char *scheme;      /* usl | musl | usf */
+  double cfl;              /* Courant number, 0 = the library's default */
+  const char *geometry;    /* plane | axisym */
+  int axisymmetric;        /* nonzero: x is the radius, length is R0 */
+  perzyna_options perzyna; /* --material perzyna's own constants */
 } collapse_scene;
 
 /* Thickness thresholds of the front measures, in L0 (front_thick). */
@@ -207,6 +227,36 @@ static double seconds_now(void) {
   return (double)now.tv_sec + 1e-9 * (double)now.tv_nsec;
 }
 
+/* The friction angle (rad) of the Drucker-Prager cone with psi = 0 that
+ * flows in plane strain at the friction of Mohr-Coulomb phi with psi = 0:
+ * once the elastic strain rate vanishes, g = q makes s_zz = 0, so the cone
+ * q = m p reads R = (m / sqrt 3) p on Mohr's circle, and Mohr-Coulomb flows
+ * at R = sin(phi) p (docs/convergence.md sec. 10). So m = sqrt(3) sin(phi),
+ * and with m = 18 s / (9 - s^2) (granmpm/perzyna.h), s = sin(phi_dp) is the
+ * positive root of m s^2 + 18 s - 9 m = 0. phi = 37 deg: m = 1.0424.
+ * In axisymmetry the same cone is kept (one material for both geometries;
+ * there it is not matched to Mohr-Coulomb's flow). */
+static double matched_cone_friction(double phi) {
+  double slope = sqrt(3.0) * sin(phi);
+  return asin((-18.0 + sqrt(324.0 + 36.0 * slope * slope)) / (2.0 * slope));
+}
+
+/* --material perzyna: the Perzyna Drucker-Prager material of 001 sec 5.1.1
+ * (gm_perzyna), psi = 0, N = 1, its cone matched to --friction as above;
+ * docs/convergence.md sec. 20. gm_domain_add_perzyna checks the values. */
+static gm_status add_perzyna(gm_domain *domain, const collapse_scene *scene,
+                             int *material) {
+  gm_perzyna_def def = gm_perzyna_def_default();
+  def.youngs_modulus = scene->youngs_modulus;
+  def.poisson_ratio = POISSON_RATIO;
+  def.density = DENSITY;
+  def.friction_angle = matched_cone_friction(scene->friction_deg * PI / 180.0);
+  def.exponent = 1.0;
+  def.fluidity = scene->perzyna.fluidity;
+  def.reference_stress = scene->perzyna.reference_stress;
+  return gm_domain_add_perzyna(domain, &def, material);
+}
+
 /* Registers the granular material; returns its id or -1. */
 static int add_material(gm_domain *domain, const collapse_scene *scene) {
   int material = -1;
@@ -247,9 +297,12 @@ static int add_material(gm_domain *domain, const collapse_scene *scene) {
      * (Jop's glass beads: --friction 22.46, mu_s = tan 20.9 deg). */
     def.regularise = scene->regularise != 0.0;
     status = gm_domain_add_mu_i(domain, &def, &material);
+  } else if (strcmp(scene->material, "perzyna") == 0) {
+    status = add_perzyna(domain, scene, &material);
   } else {
     fprintf(stderr,
-            "--material: '%s' is not mohr_coulomb, drucker_prager or mu_i\n",
+            "--material: '%s' is not mohr_coulomb, drucker_prager, mu_i or "
+            "perzyna\n",
             scene->material);
     return -1;
   }
@@ -790,10 +843,14 @@ int main(int argc, char **argv) {
   scene.grain_diameter = 0.5e-3;
   scene.scheme = "usl";
   scene.geometry = "plane";
+  scene.perzyna = perzyna_defaults();
   const example_extra extras[] = {
       {"aspect", "aspect ratio a = H0/L0", &scene.aspect, NULL},
       {"length", "column width L0, m", &scene.length, NULL},
-      {"material", "mohr_coulomb|drucker_prager|mu_i", NULL, &scene.material},
+      {"material",
+       "mohr_coulomb|drucker_prager|mu_i|perzyna (perzyna: Drucker-Prager "
+       "cone matched to --friction in plane strain, psi = 0, N = 1)",
+       NULL, &scene.material},
       {"friction", "friction angle of material and floor, deg",
        &scene.friction_deg, NULL},
       {"youngs", "Young's modulus E, Pa", &scene.youngs_modulus, NULL},
@@ -811,6 +868,11 @@ int main(int argc, char **argv) {
       {"grain", "mu_i grain diameter d, m", &scene.grain_diameter, NULL},
       {"regularise", "mu_i: 1 = Barker & Gray's well-posed low-I branch",
        &scene.regularise, NULL},
+      {"fluidity", "perzyna: fluidity gamma, 1/s", &scene.perzyna.fluidity,
+       NULL},
+      {"reference-stress",
+       "perzyna: sigma_n = max(m p, this) normalises the overstress, Pa",
+       &scene.perzyna.reference_stress, NULL},
       {"scheme", "update scheme usl|musl|usf", NULL, &scene.scheme},
       {"cfl", "Courant number (0: the library's 0.5)", &scene.cfl, NULL},
       {"geometry",
@@ -823,7 +885,7 @@ int main(int argc, char **argv) {
       "Granular column collapse, planar against Lube et al. (2005) or\n"
       "axisymmetric (--geometry axisym) against Lube et al. (2004).\n"
       "--t-end 0 (the default) runs 6 tau_c, tau_c = sqrt(H0/g).",
-      &options, extras, 15);
+      &options, extras, (int)(sizeof extras / sizeof extras[0]));
   if (parsed != 0)
     return parsed == 1 ? 0 : parsed;
   collapse_run run = {0};
