@@ -711,7 +711,8 @@ typedef struct gm_points_def {
                                 edge lengths (used by GIMP/CPDI and the
                                 granular method); NULL = the volume in
                                 1D, its square root in plane strain,
-                                sqrt(V / (2 pi r)) in axisymmetry */
+                                sqrt(V / (2 pi r)) in axisymmetry, its
+                                cube root in 3D */
   const double *stress;      /* Pa, count*6 (Voigt, GM_XX..); NULL = 0 */
 } gm_points_def;
 
