@@ -90,6 +90,8 @@ typedef struct silo {
   double hopper_angle; /* rad, hopper wall from the vertical; 0 = flat */
   double sample;       /* s, sampling interval of the discharge */
   double mass;         /* kg (per m, or full ring), the fill's mass */
+  double fluidity;     /* 1/s, > 0: the Perzyna rate term; 0: rate-free */
+  double reference;    /* Pa, sigma_ref of the Perzyna normaliser */
 } silo;
 
 /* Time-averaged loads of one sampling interval (step hook). */
@@ -136,13 +138,27 @@ static gm_status create_domain(const silo *s, double damping,
 }
 
 /* The granular material and, for the granular family, its critical density
- * (the poured density: denser points are quasi-static). */
-static gm_status add_material(gm_domain *domain, int *material) {
+ * (the poured density: denser points are quasi-static). With --fluidity the
+ * same cone with the Perzyna rate term of docs/convergence.md sec. 20
+ * (sigma_n = max(m p, --reference-stress), N = 1, psi = 0): the
+ * rate-independent Drucker-Prager is its limit gamma -> infinity. */
+static gm_status add_material(gm_domain *domain, const silo *s, int *material) {
   gm_drucker_prager_def dp = gm_drucker_prager_def_default();
   dp.density = DENSITY;
   dp.poisson_ratio = POISSON_RATIO;
   dp.friction_angle = FRICTION_ANGLE * PI / 180.0;
-  gm_status status = gm_domain_add_drucker_prager(domain, &dp, material);
+  gm_status status;
+  if (s->fluidity > 0.0) {
+    gm_perzyna_def viscoplastic = gm_perzyna_def_default();
+    viscoplastic.youngs_modulus = dp.youngs_modulus;
+    viscoplastic.poisson_ratio = dp.poisson_ratio;
+    viscoplastic.density = dp.density;
+    viscoplastic.friction_angle = dp.friction_angle;
+    viscoplastic.fluidity = s->fluidity;
+    viscoplastic.reference_stress = s->reference;
+    status = gm_domain_add_perzyna(domain, &viscoplastic, material);
+  } else
+    status = gm_domain_add_drucker_prager(domain, &dp, material);
   if (status != GM_OK)
     return status;
   gm_granular_def granular = gm_granular_def_default();
@@ -626,18 +642,25 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
 /* Parses --geometry, --hopper, --orifice and sizes the silo. */
 static int configure(silo *s, int argc, char **argv) {
   const char *geometry = "plane", *hopper = "flat";
-  double orifice = 0.3, sample = 0.01; /* m, s */
+  double orifice = 0.3, sample = 0.01;    /* m, s */
+  double fluidity = 0.0, reference = 0.0; /* 1/s, Pa */
   example_extra extras[] = {
       {"orifice", "orifice width (slot) or diameter D, m", &orifice, NULL},
       {"geometry", "plane|axisym", NULL, &geometry},
       {"hopper", "flat or the hopper wall angle from the vertical, deg", NULL,
        &hopper},
       {"sample", "sampling interval of the discharged mass, s", &sample, NULL},
+      {"fluidity",
+       "> 0: Perzyna rate term, gamma in 1/s (0: rate-free Drucker-Prager)",
+       &fluidity, NULL},
+      {"reference-stress",
+       "Perzyna normaliser sigma_n = max(m p, this), Pa (with --fluidity)",
+       &reference, NULL},
   };
   int parsed = example_parse(argc, argv,
                              "Silo discharge through a bottom orifice "
                              "against Beverloo (002 sec 5, 001 sec 5.1.1).",
-                             &s->options, extras, 4);
+                             &s->options, extras, 6);
   if (parsed != 0)
     return parsed;
   s->geometry = strcmp(geometry, "axisym") == 0 ? GM_GEOMETRY_AXISYMMETRIC
@@ -669,6 +692,12 @@ static int configure(silo *s, int argc, char **argv) {
   s->half_width = cell * ceil(1.5 * s->orifice / cell - 1e-9);
   s->fill_height = 4.0 * s->half_width; /* two full widths */
   s->sample = sample;
+  if (!(fluidity >= 0.0) || !(reference >= 0.0)) {
+    fprintf(stderr, "--fluidity and --reference-stress must be >= 0\n");
+    return 2;
+  }
+  s->fluidity = fluidity;
+  s->reference = reference;
   return 0;
 }
 
@@ -697,7 +726,7 @@ int main(int argc, char **argv) {
   int material = -1, flow_material = -1;
   wall_loads rest_loads = {0}, loads = {0};
   EXAMPLE_CHECK(NULL, create_domain(&s, SETTLE_DAMPING, &rest));
-  EXAMPLE_CHECK(rest, add_material(rest, &material));
+  EXAMPLE_CHECK(rest, add_material(rest, &s, &material));
   EXAMPLE_CHECK(rest, add_walls(rest, &s, &rest_loads));
   EXAMPLE_CHECK(rest,
                 add_floor(rest, &s, 0.0, s.half_width + 2 * s.options.cell));
@@ -709,7 +738,7 @@ int main(int argc, char **argv) {
       s.options.cell * lround(0.5 * s.fill_height / s.options.cell); /* m */
 
   EXAMPLE_CHECK(NULL, create_domain(&s, 0.0, &flow));
-  EXAMPLE_CHECK(flow, add_material(flow, &flow_material));
+  EXAMPLE_CHECK(flow, add_material(flow, &s, &flow_material));
   EXAMPLE_CHECK(flow, add_walls(flow, &s, &loads));
   if (s.hopper_angle <= 0.0)
     EXAMPLE_CHECK(flow, add_floor(flow, &s, 0.5 * s.orifice,
