@@ -1,7 +1,7 @@
 /*
  * slide_probe.c - an elastic block (E, nu, 2000 kg/m^3) on a frictional
- * planar wall, 2D plane strain or 3D, for docs/convergence.md section 21
- * (issue 16 item 3): the slide against the rigid block's
+ * planar wall, 2D plane strain or 3D, for docs/3d.md ("The sliding block
+ * under refinement", issue 16 item 3): the slide against the rigid block's
  * 1/2 g (sin th - mu cos th) t^2 (plus v0 t), the wall's friction impulse
  * along the slide and across it over the normal impulse, and the spread
  * of the block's velocities about its mean over time windows. The scene

@@ -219,11 +219,11 @@ static run_result run(gm_update_scheme scheme, double theta, double mu,
  * 0.092 m, normal force within 0.01 %. Not a converged number: the same
  * slide at 30 deg (USL, 0.3 cells off) is +0.94 % with 0.0375 m cells,
  * +1.90 % with 0.025 m and +2.71 % with 0.0167 m, and the 2D plane-strain
- * block drifts the same way (docs/convergence.md sec. 21: a vibration of
- * the block that the sliding friction feeds, faster on finer grids; where
- * the base's velocity spread nears the slide speed the wall's friction
- * along the slide falls below mu N). test_slide_refinement checks a slope
- * where it does not grow. */
+ * block drifts the same way (docs/3d.md, "The sliding block under
+ * refinement": a vibration of the block that the sliding friction feeds,
+ * faster on finer grids; where the base's velocity spread nears the slide
+ * speed the wall's friction along the slide falls below mu N).
+ * test_slide_refinement checks a slope where it does not grow. */
 static const double SLIDE_TOLERANCE = 0.02;
 static const double NORMAL_TOLERANCE = 0.02;
 
@@ -274,10 +274,11 @@ END_TEST
  * blocks 0.003, 0.004, 0.010 % of the frictionless slide. Asserted: each
  * within the 2 % of the other tests, and the slip's move between
  * successive cells below 0.5 points of the closed form: at 30 deg on 0.4
- * (docs/convergence.md sec. 21) it moves +0.49 and +0.96 points over the
- * same cells, so this check tells a slope where the block's friction-fed
- * vibration grows from one where it does not. Nothing in the library
- * changed with this test: it passes on the code before it. */
+ * (docs/3d.md, "The sliding block under refinement") it moves +0.49 and
+ * +0.96 points over the same cells, so this check tells a slope where the
+ * block's friction-fed vibration grows from one where it does not.
+ * Nothing in the library changed with this test: it passes on the code
+ * before it. */
 enum { REFINEMENTS = 3 };
 static const double REFINED_CELLS[REFINEMENTS] = {0.05, 0.0375, 0.025};
 static const double REFINED_MOVE = 0.005; /* of the closed form */
