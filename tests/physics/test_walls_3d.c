@@ -91,16 +91,16 @@ static frame slope_frame(void) {
   return f;
 }
 
-/* A 3D box of cell CELL with a wall through `point` (normal f->n) and a
+/* A 3D box of cell `cell` (m) with a wall through `point` (normal f->n) and a
  * block on it, gravity at theta to the normal. */
 static gm_domain *slope_scene(gm_update_scheme scheme, int workers,
                               const frame *f, double theta, double mu,
-                              double offset_cells, int *wall_id) {
+                              double offset_cells, double cell, int *wall_id) {
   gm_domain_def def = gm_domain_def_default();
   def.geometry = GM_GEOMETRY_3D;
   def.scheme = scheme;
   def.worker_count = workers;
-  def.cell_size = CELL;
+  def.cell_size = cell;
   for (int k = 0; k < 3; k++) {
     def.extent[k] = EXTENT;
     def.gravity[k] = GRAVITY * (-cos(theta) * f->n[k] + sin(theta) * f->d[k]);
@@ -108,8 +108,8 @@ static gm_domain *slope_scene(gm_update_scheme scheme, int workers,
   gm_domain *domain = test_create_domain(&def);
   /* Through the node nearest (0.4, 0.4, 0.3) m, (8, 8, 6) with 0.05 m
    * cells, raised by offset cells along z. */
-  double point[3] = {round(0.4 / CELL) * CELL, round(0.4 / CELL) * CELL,
-                     (round(0.3 / CELL) + offset_cells) * CELL};
+  double point[3] = {round(0.4 / cell) * cell, round(0.4 / cell) * cell,
+                     (round(0.3 / cell) + offset_cells) * cell};
   gm_wall_def wall = gm_wall_def_default();
   for (int k = 0; k < 3; k++) {
     wall.point[k] = point[k];
@@ -121,10 +121,10 @@ static gm_domain *slope_scene(gm_update_scheme scheme, int workers,
   /* The block: 2 points per cell along each of d, e, n, from
    * point - 0.25 W d - W/2 e upwards. */
   enum { PER_AXIS = 2 };
-  int along = (int)lround(BLOCK_W / CELL) * PER_AXIS;
-  int up = (int)lround(BLOCK_H / CELL) * PER_AXIS;
+  int along = (int)lround(BLOCK_W / cell) * PER_AXIS;
+  int up = (int)lround(BLOCK_H / cell) * PER_AXIS;
   size_t count = (size_t)(along * along * up);
-  double spacing = CELL / PER_AXIS; /* m */
+  double spacing = cell / PER_AXIS; /* m */
   double *position = malloc(count * 3 * sizeof(double));
   double *volume = malloc(count * sizeof(double));
   double *stress = calloc(count * 6, sizeof(double));
@@ -180,11 +180,11 @@ typedef struct run_result {
 } run_result;
 
 static run_result run(gm_update_scheme scheme, double theta, double mu,
-                      double offset_cells) {
+                      double offset_cells, double cell) {
   frame f = slope_frame();
   int wall_id = -1;
   gm_domain *domain =
-      slope_scene(scheme, 1, &f, theta, mu, offset_cells, &wall_id);
+      slope_scene(scheme, 1, &f, theta, mu, offset_cells, cell, &wall_id);
   run_result result;
   double start = centre_along(domain, f.d, &result.mass);
   double time = 0.0, weighted = 0.0, weight = 0.0; /* s, N s, s */
@@ -217,9 +217,13 @@ static run_result run(gm_update_scheme scheme, double theta, double mu,
 /* 2 %: the issue's tolerance (item 3), as in 2D (test_wall_offsets.c).
  * Measured here: slides +0.45 / +0.46 % (30 deg), stuck blocks 2e-6 m of
  * 0.092 m, normal force within 0.01 %. Not a converged number: the same
- * slide at 30 deg (USL, 0.3 cells off) is +1.90 % with 0.025 m cells and
- * +2.71 % with 0.0167 m (docs/3d.md: the block's lateral Poisson motion at
- * the contact turns the patches' friction away from the slide). */
+ * slide at 30 deg (USL, 0.3 cells off) is +0.94 % with 0.0375 m cells,
+ * +1.90 % with 0.025 m and +2.71 % with 0.0167 m, and the 2D plane-strain
+ * block drifts the same way (docs/3d.md, "The sliding block under
+ * refinement": a vibration of the block that the sliding friction feeds,
+ * faster on finer grids; where the base's velocity spread nears the slide
+ * speed the wall's friction along the slide falls below mu N).
+ * test_slide_refinement checks a slope where it does not grow. */
 static const double SLIDE_TOLERANCE = 0.02;
 static const double NORMAL_TOLERANCE = 0.02;
 
@@ -229,7 +233,7 @@ START_TEST(test_block_on_oblique_plane) {
   const slope_case *slope = &SLOPES[_i / 3 % SLOPE_COUNT];
   double offset = OFFSETS[_i / (3 * SLOPE_COUNT)];
   double theta = slope->degrees * PI / 180.0, mu = slope->friction;
-  run_result r = run(scheme, theta, mu, offset);
+  run_result r = run(scheme, theta, mu, offset, CELL);
   double t = DURATION;
   double frictionless = 0.5 * GRAVITY * sin(theta) * t * t; /* m */
   double acceleration = GRAVITY * (sin(theta) - mu * cos(theta));
@@ -257,6 +261,64 @@ START_TEST(test_block_on_oblique_plane) {
          "(frictionless %.6f), normal %.4f of m g cos th\n",
          test_scheme_name(scheme), slope->degrees, mu, offset, r.slide,
          expected, frictionless, r.mean_normal / weight_normal);
+}
+END_TEST
+
+/* The refinement of issue 16 item 3 where steady sliding holds: 20 deg on
+ * mu = 0.2 (slides: tan 20 deg = 0.364; a friction coefficient 1 % short
+ * slides it 1.2 % too far) and 12 deg on mu = 0.3 (sticks), the plane 0.3
+ * cells off a node, USL, 2 x 2 x 2 points per cell, cells of 0.05, 0.0375
+ * and 0.025 m (6, 8 and 12 cells along the block, 3, 4 and 6 through it).
+ * Measured: slides +0.16, +0.21, +0.36 % (and +0.50 % with 0.0167 m cells,
+ * 61 s on the shared 2-core machine: too slow for make check), stuck
+ * blocks 0.003, 0.004, 0.010 % of the frictionless slide. Asserted: each
+ * within the 2 % of the other tests, and the slip's move between
+ * successive cells below 0.5 points of the closed form: at 30 deg on 0.4
+ * (docs/3d.md, "The sliding block under refinement") it moves +0.49 and
+ * +0.96 points over the same cells, so this check tells a slope where the
+ * block's friction-fed vibration grows from one where it does not.
+ * Nothing in the library changed with this test: it passes on the code
+ * before it. */
+enum { REFINEMENTS = 3 };
+static const double REFINED_CELLS[REFINEMENTS] = {0.05, 0.0375, 0.025};
+static const double REFINED_MOVE = 0.005; /* of the closed form */
+
+/* _i: 0 the slip (20 deg on 0.2), 1 the stick (12 deg on 0.3). */
+START_TEST(test_slide_refinement) {
+  bool slip = _i == 0;
+  double theta = (slip ? 20.0 : 12.0) * PI / 180.0, mu = slip ? 0.2 : 0.3;
+  double t = DURATION;
+  double frictionless = 0.5 * GRAVITY * sin(theta) * t * t; /* m */
+  double expected = slip
+                        ? 0.5 * GRAVITY * (sin(theta) - mu * cos(theta)) * t * t
+                        : 0.0; /* m */
+  double error[REFINEMENTS];   /* of the closed form (slip) */
+  for (int c = 0; c < REFINEMENTS; c++) {
+    double cell = REFINED_CELLS[c];
+    run_result r = run(GM_SCHEME_USL, theta, mu, 0.3, cell);
+    if (slip) {
+      error[c] = (r.slide - expected) / expected;
+      ck_assert_msg(fabs(error[c]) < SLIDE_TOLERANCE,
+                    "20 deg on mu 0.2, cell %.4f m: slid %.5f m, expected "
+                    "%.5f m (%+.2f %%)",
+                    cell, r.slide, expected, 100.0 * error[c]);
+    } else
+      ck_assert_msg(fabs(r.slide) < 0.02 * frictionless,
+                    "12 deg on mu 0.3, cell %.4f m: slid %.6f m = %.3f %% of "
+                    "the frictionless %.5f m; should stick",
+                    cell, r.slide, 100.0 * r.slide / frictionless,
+                    frictionless);
+    printf("refinement %s, cell %.4f m: slide %.6f m, expected %.6f m "
+           "(frictionless %.6f m)\n",
+           slip ? "slip 20 deg mu 0.2" : "stick 12 deg mu 0.3", cell, r.slide,
+           expected, frictionless);
+    if (slip && c > 0)
+      ck_assert_msg(fabs(error[c] - error[c - 1]) < REFINED_MOVE,
+                    "20 deg on mu 0.2: the slide moved %+.2f points of the "
+                    "closed form from cell %.4f m to %.4f m",
+                    100.0 * (error[c] - error[c - 1]), REFINED_CELLS[c - 1],
+                    cell);
+  }
 }
 END_TEST
 
@@ -291,7 +353,7 @@ START_TEST(test_workers_and_momentum) {
   for (int run = 0; run < 2; run++) {
     int wall_id = -1;
     gm_domain *domain =
-        slope_scene(scheme, 1 + run, &f, theta, 0.4, 0.7, &wall_id);
+        slope_scene(scheme, 1 + run, &f, theta, 0.4, 0.7, CELL, &wall_id);
     gm_summary before = gm_summary_default();
     TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &before));
     double dt = 0.0, time = 0.0; /* s */
@@ -343,6 +405,7 @@ int main(void) {
   tcase_add_loop_test(tcase, test_block_on_oblique_plane, 0,
                       3 * SLOPE_COUNT * OFFSET_COUNT);
   tcase_add_loop_test(tcase, test_workers_and_momentum, 0, 3);
+  tcase_add_loop_test(tcase, test_slide_refinement, 0, 2);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) ? 1 : 0;
 }
