@@ -252,6 +252,52 @@ void example_write_states(FILE *csv, const gm_domain *domain) {
           granular.component_count);
 }
 
+/* One SCENE line per material id below MAX_MATERIALS that has points. */
+void example_print_scene(const gm_domain *domain) {
+  enum { MAX_MATERIALS = 16 };
+  size_t count = gm_domain_point_count(domain), dim = 0;
+  if (gm_domain_field_components(domain, GM_FIELD_POSITION, &dim) != GM_OK ||
+      dim < 1 || dim > 3)
+    return;
+  double *fields = malloc((count ? count : 1) * (2 + 2 * dim) * sizeof *fields);
+  double *material = fields, *mass = fields + count; /* id, kg */
+  double *position = fields + 2 * count, *size = position + dim * count; /* m */
+  if (!fields ||
+      gm_domain_get_field(domain, GM_FIELD_MATERIAL, material, count) !=
+          GM_OK ||
+      gm_domain_get_field(domain, GM_FIELD_MASS, mass, count) != GM_OK ||
+      gm_domain_get_field(domain, GM_FIELD_POSITION, position, dim * count) !=
+          GM_OK ||
+      gm_domain_get_field(domain, GM_FIELD_DOMAIN_SIZE, size, dim * count) !=
+          GM_OK) {
+    free(fields);
+    return;
+  }
+  for (int m = 0; m < MAX_MATERIALS; m++) {
+    size_t points = 0;
+    double total = 0.0, low[3], high[3]; /* kg, m */
+    for (size_t p = 0; p < count; p++) {
+      if ((int)material[p] != m)
+        continue;
+      for (size_t k = 0; k < dim; k++) {
+        double lo = position[dim * p + k] - 0.5 * size[dim * p + k];
+        double hi = position[dim * p + k] + 0.5 * size[dim * p + k];
+        low[k] = points ? fmin(low[k], lo) : lo;
+        high[k] = points ? fmax(high[k], hi) : hi;
+      }
+      total += mass[p];
+      points++;
+    }
+    if (!points)
+      continue;
+    printf("SCENE material=%d points=%zu mass=%.9g", m, points, total);
+    for (size_t k = 0; k < dim; k++)
+      printf(" %c=%.9g..%.9g", "xyz"[k], low[k], high[k]);
+    printf("\n");
+  }
+  free(fields);
+}
+
 int example_progress(const gm_domain *domain, double time, double end_time,
                      void *user) {
   (void)domain;

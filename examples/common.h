@@ -76,6 +76,16 @@ void example_write_states(FILE *csv, const gm_domain *domain);
 gm_status example_open_series(const example_options *options, const char *name,
                               const gm_domain *domain, gm_series **series);
 
+/* Prints the scene as the domain holds it, one line per material:
+ * SCENE material=k points=N mass=M x=lo..hi y=lo..hi
+ * (mass in kg per metre, or kg for 1D and the whole ring in axisymmetry;
+ * the box the point domains cover, centre -+ half the initial domain
+ * size, m). Every driver that takes --cell prints it when its scene is
+ * placed, so that two cells can be compared: a refinement study changes
+ * the points, not the scene (examples/README.md, "Refinement: one flag";
+ * tests/scripts/example_scenes.sh). */
+void example_print_scene(const gm_domain *domain);
+
 /* gm_progress_fn printing a progress line to stderr at most every 2 % of
  * the run; user: the example_options (quiet silences it). */
 int example_progress(const gm_domain *domain, double time, double end_time,

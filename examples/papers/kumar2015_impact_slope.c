@@ -201,6 +201,7 @@ int main(int argc, char **argv) {
   floor_wall.friction_static = floor_wall.friction_kinetic = FLOOR_FRICTION;
   int wall = -1;
   EXAMPLE_CHECK(domain, gm_domain_add_wall(domain, &floor_wall, &wall));
+  example_print_scene(domain);
   FILE *csv = example_open_csv(&options, "impact_slope.csv",
                                "time_s,kinetic_energy_x_J,kinetic_energy_y_J,"
                                "front_x_m,centre_x_m,floor_normal_N,"

@@ -279,6 +279,7 @@ int main(int argc, char **argv) {
   if (add_planes(domain) != 0)
     return example_fail(domain, "add_planes", GM_ERR_INVALID_ARGUMENT);
   EXAMPLE_CHECK(domain, add_block(domain, material, options.ppc, options.cell));
+  example_print_scene(domain);
   FILE *csv = example_open_csv(
       &options, "avalanche.csv",
       "time_s,kinetic_energy_J,quasi_static,moderate,disconnected,"

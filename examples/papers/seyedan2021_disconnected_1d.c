@@ -204,6 +204,8 @@ int main(int argc, char **argv) {
     gm_domain *domain = create_scene(&options, families[f], speed, shift, &id);
     if (!domain)
       return 2;
+    if (f == 0)
+      example_print_scene(domain);
     int granular = families[f] == GM_FAMILY_GRANULAR;
     times[f] = run(domain, id, speed, options.t_end, granular ? csv : NULL,
                    granular ? series : NULL);

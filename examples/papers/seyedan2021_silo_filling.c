@@ -14,9 +14,22 @@
  *  - 0.3 m grid; fill points of 0.15 m (2 x 2 per cell), released at rest
  *    in the middle of the 3 middle cells of the silo's top cell row;
  *  - silo walls: linear elastic points (E = 1 GPa, nu = 0.3, rho = 2250
- *    kg/m^3), one cell (0.3 m) thick on both sides and under the floor,
- *    2 x 2 points per cell; "fixed at the sides": the box faces behind
- *    them are no-slip;
+ *    kg/m^3), 0.3 m thick (one cell of the default grid) on both sides and
+ *    under the floor, 2 x 2 points per cell; "fixed at the sides": the box
+ *    faces behind them are no-slip;
+ *  - the scene is in metres, so --cell refines it (examples/README.md,
+ *    "Refinement: one flag"): on a finer grid each released 0.15 m grain
+ *    is n x n points of 0.15/n m, n = the grain over the point spacing
+ *    cell / --ppc, rounded (1 on the default grid: the paper's single
+ *    points), so every release carries the same 152 kg/m; the walls stay
+ *    0.3 m thick and the releases 0.3 m apart, 0.15 m below the top of
+ *    the walls. On a cell whose point spacing does not divide 0.3 m the
+ *    wall faces round to the lattice, and the right wall reaches the box
+ *    face, which the grid rounds up to whole cells. (Until 2026-11-27 the
+ *    walls were one cell thick and the releases 3 points of half a cell:
+ *    at 0.15 m each release carried a quarter of the mass, another
+ *    scene.) --ppc sets the points per cell of fill and walls (it was
+ *    ignored: always 2);
  *  - fill: Mohr-Coulomb with the Bagnold term, Table 4 (= Table 3);
  *  - dt: the stable step (the paper's 5e-5 s is four times smaller; --dt
  *    5e-5 runs it) and MUSL (--scheme usl for the paper's USL);
@@ -46,6 +59,9 @@ static const double TOLERANCE = 1e-6;      /* kg/m^3, TOL */
 static const double SILO_WIDTH = 2.7;      /* m, inside */
 static const double SILO_HEIGHT = 7.5;     /* m, inside */
 static const double HEADROOM = 0.6;        /* m of grid above the silo */
+static const double WALL_THICKNESS = 0.3;  /* m, sides and floor */
+static const double GRAIN = 0.15;          /* m, edge of a released grain */
+static const double RELEASE_PITCH = 0.3;   /* m, the paper's grid cells */
 static const double RELEASE_PERIOD = 0.17; /* s, Table 4 / sec 4.3 */
 static const int RELEASE_COUNT = 3;        /* points per release */
 static const int TOTAL_RELEASES = 168;     /* 504 points */
@@ -55,7 +71,6 @@ static const double FRAME_PERIOD = 0.17;   /* s between VTU frames */
 typedef struct silo_record {
   int fill_material;
   double max_volume_ratio; /* largest V/V0 of a fill point so far */
-  double cell;             /* m */
   FILE *csv;               /* NULL: no CSV */
 } silo_record;
 
@@ -94,8 +109,11 @@ static void track_step(const gm_domain *domain, const example_run_state *state,
            largest_volume_ratio(domain, record->fill_material));
 }
 
-/* Wall thickness = one cell: the walls fill the grid's outer cells. */
-static gm_status add_silo_walls(gm_domain *domain, double cell, double youngs) {
+/* The walls, WALL_THICKNESS thick, n x n points per cell. The right wall
+ * reaches the grid's right face, which the library rounds up to whole
+ * cells (gm_domain_def.extent), so it is held at its back on every grid. */
+static gm_status add_silo_walls(gm_domain *domain, double cell, int ppc,
+                                double youngs) {
   gm_elastic_def steel = gm_elastic_def_default(); /* Table 4 "Silo" */
   steel.name = "silo";
   steel.youngs_modulus = youngs;
@@ -103,24 +121,31 @@ static gm_status add_silo_walls(gm_domain *domain, double cell, double youngs) {
   steel.density = DENSITY;
   int material = -1;
   gm_status status = gm_domain_add_elastic(domain, &steel, &material);
-  double top = cell + SILO_HEIGHT; /* m, top of the side walls */
-  const double boxes[3][4] = {
-      {0.0, 0.0, cell, top},                                /* left wall */
-      {cell + SILO_WIDTH, 0.0, 2 * cell + SILO_WIDTH, top}, /* right */
-      {cell, 0.0, cell + SILO_WIDTH, cell}};                /* floor */
+  double wall = WALL_THICKNESS;    /* m */
+  double top = wall + SILO_HEIGHT; /* m, top of the side walls */
+  double right = cell * ceil((SILO_WIDTH + 2 * wall) / cell - 1e-9); /* m */
+  const double boxes[3][4] = {{0.0, 0.0, wall, top}, /* left wall */
+                              {wall + SILO_WIDTH, 0.0, right, top},  /* right */
+                              {wall, 0.0, wall + SILO_WIDTH, wall}}; /* floor */
   for (int b = 0; b < 3 && status == GM_OK; b++) {
     gm_fill_def fill = gm_fill_def_default();
     fill.material = material;
     fill.lower[0] = boxes[b][0], fill.lower[1] = boxes[b][1];
     fill.upper[0] = boxes[b][2], fill.upper[1] = boxes[b][3];
-    fill.points_per_cell_axis = 2;
+    fill.points_per_cell_axis = ppc;
     status = gm_domain_fill_box(domain, &fill, NULL, NULL);
   }
   return status;
 }
 
-static gm_status add_fill(gm_domain *domain, double cell, double youngs,
-                          int *material) {
+/* Points per grain edge: the grain over the point spacing, rounded. */
+static int grain_points(double cell, int ppc) {
+  long n = lround(GRAIN / (cell / ppc));
+  return n < 1 ? 1 : (int)n;
+}
+
+static gm_status add_fill(gm_domain *domain, double cell, int ppc,
+                          double youngs, int *material) {
   gm_mohr_coulomb_def soil = gm_mohr_coulomb_def_default(); /* Table 4 */
   soil.name = "fill";
   soil.youngs_modulus = youngs;
@@ -134,27 +159,40 @@ static gm_status add_fill(gm_domain *domain, double cell, double youngs,
   status = gm_domain_set_granular(domain, *material, &granular);
   if (status != GM_OK)
     return status;
-  /* The middles of the 3 middle cells of the silo's top cell row. */
-  int middle = (int)lround(SILO_WIDTH / cell) / 2; /* cell index */
-  double position[2 * 3];                          /* m */
-  for (int k = 0; k < RELEASE_COUNT; k++) {
-    position[2 * k] = cell + (middle - 1 + k + 0.5) * cell;
-    position[2 * k + 1] = cell + SILO_HEIGHT - 0.5 * cell;
+  /* Grains centred in the middles of the 3 middle 0.3 m cells of the
+   * paper's top cell row, each n x n points of edge GRAIN / n. */
+  int middle = (int)lround(SILO_WIDTH / RELEASE_PITCH) / 2; /* cell index */
+  int n = grain_points(cell, ppc);
+  double size = GRAIN / n; /* m, point edge */
+  size_t count = (size_t)(RELEASE_COUNT * n * n);
+  double *position = malloc(2 * count * sizeof *position); /* m */
+  if (!position)
+    return GM_ERR_NO_MEMORY;
+  for (size_t p = 0; p < count; p++) {
+    int k = (int)(p / (size_t)(n * n)), i = (int)(p % (size_t)n);
+    int j = (int)(p / (size_t)n % (size_t)n);
+    position[2 * p] = WALL_THICKNESS + (middle - 1 + k + 0.5) * RELEASE_PITCH +
+                      ((i + 0.5) * size - 0.5 * GRAIN);
+    position[2 * p + 1] = WALL_THICKNESS + SILO_HEIGHT - 0.5 * RELEASE_PITCH +
+                          ((j + 0.5) * size - 0.5 * GRAIN);
   }
   gm_source_def source = gm_source_def_default();
   source.material = *material;
-  source.count = RELEASE_COUNT;
+  source.count = count;
   source.position = position;
-  source.point_size = 0.5 * cell; /* m: 0.15 m points on the 0.3 m grid */
+  source.point_size = size; /* m: 0.15 m points on the 0.3 m grid */
   source.period = RELEASE_PERIOD;
   source.max_injections = TOTAL_RELEASES;
   int source_id = -1;
-  return gm_domain_add_source(domain, &source, &source_id);
+  status = gm_domain_add_source(domain, &source, &source_id);
+  free(position);
+  return status;
 }
 
 /* Average density of the fill (kg/m^3) and the height of its deposit (m
  * above the floor): the highest fill point slower than 0.5 m/s, leaving
- * out the top 0.6 m of the silo where the points start at rest. */
+ * out the top 0.9 m of the silo (y >= 6.9 m, 6.6 m above the floor) where
+ * the points start at rest. */
 static void measure_fill(const gm_domain *domain, int material, double *average,
                          double *deposit, size_t *count) {
   const double *mass = NULL, *volume = NULL, *y = NULL;
@@ -188,7 +226,6 @@ static gm_status write_row(const gm_domain *domain,
   const silo_record *record = user;
   FILE *csv = record->csv;
   int material = record->fill_material;
-  double cell = record->cell; /* m */
   if (!csv)
     return GM_OK;
   double time = 0.0, average = 0.0, deposit = 0.0;
@@ -204,15 +241,15 @@ static gm_status write_row(const gm_domain *domain,
           granular.state_count[1], granular.state_count[2],
           granular.component_count, count, average,
           largest_volume_ratio(domain, material),
-          count ? fmax(deposit - cell, 0.0) : 0.0);
+          count ? fmax(deposit - WALL_THICKNESS, 0.0) : 0.0);
   return GM_OK;
 }
 
 static gm_domain *create_domain(const example_options *options,
                                 const char *scheme) {
   gm_domain_def def = example_domain_def(options);
-  def.extent[0] = SILO_WIDTH + 2 * options->cell;
-  def.extent[1] = SILO_HEIGHT + options->cell + HEADROOM;
+  def.extent[0] = SILO_WIDTH + 2 * WALL_THICKNESS;
+  def.extent[1] = SILO_HEIGHT + WALL_THICKNESS + HEADROOM;
   def.gravity[1] = -GRAVITY;
   for (int face = GM_FACE_XMIN; face <= GM_FACE_YMAX; face++)
     def.walls[face] = GM_WALL_FIXED;
@@ -260,10 +297,11 @@ int main(int argc, char **argv) {
   gm_domain *domain = create_domain(&options, scheme);
   if (!domain)
     return 2;
-  silo_record record = {-1, 1.0, options.cell, NULL};
+  silo_record record = {-1, 1.0, NULL};
+  EXAMPLE_CHECK(domain, add_fill(domain, options.cell, options.ppc, youngs,
+                                 &record.fill_material));
   EXAMPLE_CHECK(domain,
-                add_fill(domain, options.cell, youngs, &record.fill_material));
-  EXAMPLE_CHECK(domain, add_silo_walls(domain, options.cell, youngs));
+                add_silo_walls(domain, options.cell, options.ppc, youngs));
   FILE *csv = example_open_csv(
       &options, "silo_filling.csv",
       "time_s,kinetic_energy_J,quasi_static,moderate,disconnected,"
@@ -287,15 +325,20 @@ int main(int argc, char **argv) {
   long releases = lround(floor(options.t_end / RELEASE_PERIOD + 1e-9)) + 1;
   if (releases > TOTAL_RELEASES)
     releases = TOTAL_RELEASES;
-  printf("silo_filling: %s %s, t = %.3f s\n", example_shape_name(options.shape),
-         example_family_name(options.family), time);
+  int n = grain_points(options.cell, options.ppc);
+  printf("silo_filling: %s %s, t = %.3f s; each release 3 grains of %g m, "
+         "%d x %d points\n",
+         example_shape_name(options.shape), example_family_name(options.family),
+         time, GRAIN, n, n);
+  example_print_scene(domain);
   if (status != GM_OK)
     printf("FAILED at t = %.4f s: %s (%s)\n", time, gm_strerror(status),
            gm_domain_last_error(domain));
-  printf("fill points placed %zu of %ld released by t_end (504 at 28.56 s); "
+  printf("fill points placed %zu of %ld released by t_end (%d at 28.56 s); "
          "fill density %.1f kg/m^3; deposit height %.2f m\n",
-         placed, releases * RELEASE_COUNT, average,
-         fmax(deposit - options.cell, 0.0));
+         placed, releases * RELEASE_COUNT * n * n,
+         TOTAL_RELEASES * RELEASE_COUNT * n * n, average,
+         fmax(deposit - WALL_THICKNESS, 0.0));
   example_result("max_volume_ratio", record.max_volume_ratio,
                  DENSITY / (CRITICAL - TOLERANCE));
   if (csv)

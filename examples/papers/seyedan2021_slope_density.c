@@ -132,6 +132,7 @@ int main(int argc, char **argv) {
   gm_domain *domain = create_slope(&options);
   if (!domain)
     return 2;
+  example_print_scene(domain);
   FILE *csv = example_open_csv(&options, "slope_density.csv",
                                "time_s,kinetic_energy_J,quasi_static,"
                                "moderate,disconnected,components,"

@@ -29,9 +29,13 @@
  *    with 4 points per cell, pure FLIP keeps ~190 J/m of point velocity
  *    noise the grid cannot see for ever, and the fill never comes to rest
  *    (the local damping of 0.05 acts on nodal forces only);
- *  - the portions are dropped just above the free surface (001 gives no
+ *  - the portions are dropped just above the free surface, their bottom
+ *    DROP_GAP = 12.5 mm above the top of the highest point (001 gives no
  *    height; from the top of the silo, the first block met the floor at
- *    6.5 m/s and eq 24's stiffening inverted it).
+ *    6.5 m/s and eq 24's stiffening inverted it). Like the portion's
+ *    edge, the gap is in metres, so --cell and --ppc refine one scene
+ *    (examples/README.md, "Refinement: one flag"); it was half a point
+ *    spacing until 2026-11-27, the same at the default 2.5 cm spacing.
  *
  * Against Janssen (K = 0.5, Jaky's 1 - sin(phi), fixed before the run; mu_w =
  * tan 20 deg; A/U = B; the bulk density is the settled fill's own, its
@@ -72,6 +76,10 @@ static const double DAMPING = 0.05;       /* -, local damping */
 static const double MAX_PRESSURE = 1e6;   /* Pa, bounds the wave speed */
 static const double BAND = 0.25;          /* m, wall pressure bands */
 static const double PORTION_EDGE = 0.3;   /* m, 001's 12 x 12 at 2.5 cm */
+/* m, from the free surface (or the floor) to the bottom of a portion:
+ * half the default 2.5 cm spacing, in metres on every grid (it was half a
+ * spacing, 6 mm at 0.025 m cells: a lower drop, another scene). */
+static const double DROP_GAP = 0.0125;
 
 enum { MAX_ROWS = 1024, MAX_TRACTIONS = 4096 };
 
@@ -102,19 +110,19 @@ static int add_wall(gm_domain *domain, double x, double normal_x,
 }
 
 /* Height of the settled free surface (m): the highest point plus half a
- * spacing. */
+ * spacing (0 without points: the floor). */
 static double free_surface(const gm_domain *domain, double spacing);
 
 /* The next portion: a square lattice of points of edge `spacing` filling
  * PORTION_EDGE x PORTION_EDGE against the axis (block x block points, the
- * edge rounded to whole spacings), released now just above the current
- * free surface (a source injecting once). Dropping it from the top of the
- * silo made the filling model's exponential stiffening meet a 6.5 m/s
+ * edge rounded to whole spacings), released now DROP_GAP above the
+ * current free surface (a source injecting once). Dropping it from the top of
+ * the silo made the filling model's exponential stiffening meet a 6.5 m/s
  * impact, which inverted or threw out points; 001 does not give the drop
  * height. */
 static gm_status add_portion(gm_domain *domain, filling *f, double time) {
-  double spacing = f->options.cell / f->options.ppc;             /* m */
-  double bottom = free_surface(domain, spacing) + 0.5 * spacing; /* m */
+  double spacing = f->options.cell / f->options.ppc;        /* m */
+  double bottom = free_surface(domain, spacing) + DROP_GAP; /* m */
   long block = lround(PORTION_EDGE / spacing);
   if (block < 1)
     block = 1;
@@ -228,6 +236,8 @@ static gm_status write_row(const gm_domain *domain,
 /* Runs the filling and settling, writing CSV and VTU on the way. */
 static int run(gm_domain *domain, filling *f) {
   double end = f->portions * PERIOD + SETTLE_TIME; /* s */
+  if (f->options.t_end > 0.0 && f->options.t_end < end)
+    end = f->options.t_end; /* a quick look: the fill is not at rest */
   f->end = end;
   gm_series *series = NULL;
   if (f->options.out[0]) {
@@ -381,7 +391,9 @@ int main(int argc, char **argv) {
        &f.pic_fraction, NULL}};
   int parsed = example_parse(argc, argv,
                              "Silo filling with the pressure-volume model "
-                             "(001 sec 5.1.2); wall pressure against Janssen.",
+                             "(001 sec 5.1.2); wall pressure against Janssen. "
+                             "--t-end T stops the run at T s for a quick look "
+                             "(default 0: the whole filling and settling).",
                              &f.options, extras, 2);
   if (parsed != 0)
     return parsed == 1 ? 0 : parsed;
@@ -442,6 +454,7 @@ int main(int argc, char **argv) {
   int failed = run(domain, &f);
   if (failed)
     return failed;
+  example_print_scene(domain);
   double reference = 0.0, wall_force = report(domain, &f, &reference);
   gm_domain_destroy(domain);
   example_result("wall_normal_force_N_per_m", wall_force, reference);
