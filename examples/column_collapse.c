@@ -237,6 +237,8 @@ static double seconds_now(void) {
  * In axisymmetry the same cone is kept (one material for both geometries;
  * there it is not matched to Mohr-Coulomb's flow). */
 static double matched_cone_friction(double phi) {
+  if (!(phi > 0.0))
+    return phi; /* gm_domain_add_perzyna names the bad angle */
   double slope = sqrt(3.0) * sin(phi);
   return asin((-18.0 + sqrt(324.0 + 36.0 * slope * slope)) / (2.0 * slope));
 }
