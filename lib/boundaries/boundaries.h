@@ -120,10 +120,11 @@ void gm_walls_measure_gaps_3d(gm_domain *domain);
 void gm_rigid_mark_nodes(gm_domain *domain);
 /* Grid update of one node touched by a rigid material: its velocity
  * becomes the prescribed one; in FULL mode the acceleration follows and
- * the node's impulse on the rigid body is stored for gm_rigid_add_impulse. */
+ * the node's impulse on the rigid body is stored for gm_rigid_add_impulse.
+ * old_velocity: the node's velocity before the update (m/s, dim
+ * components: 3 in 3D, grid_update_3d.c). */
 void gm_rigid_constrain_node(gm_domain *domain, size_t node,
-                             const double old_velocity[2], double dt,
-                             bool full);
+                             const double *old_velocity, double dt, bool full);
 /* Adds the committed sub-step's impulses on each rigid material. */
 void gm_rigid_add_impulse(gm_domain *domain);
 /* Rigid points of the new (spare) buffer get their prescribed velocity. */

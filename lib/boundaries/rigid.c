@@ -9,6 +9,12 @@
  * divided by dt, is the reported force. The rigid points themselves move
  * with the prescribed velocity (their nodes all carry it, so the usual
  * G2P moves them exactly) and keep zero stress.
+ *
+ * In 3D the same rule holds with three components: the nodes a rigid
+ * point reaches are those of its trilinear cell (linear MPM) or of its
+ * GIMP box (support_3d.h) with a nonzero weight, the grid update
+ * (grid_update_3d.c) gives them the prescribed 3-vector, and the impulse
+ * and force have a z component.
  */
 #include "boundaries/boundaries.h"
 
@@ -24,8 +30,6 @@ gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
   if (status != GM_OK)
     return status;
   def = &full;
-  if ((status = gm_refuse_in_3d(domain, "gm_domain_add_rigid")) != GM_OK)
-    return status;
   /* Rigid points mark the nodes they touch, images beyond a periodic face
    * included, and their force sums nodal impulses: the seam's nodes would
    * count twice. */
@@ -53,7 +57,7 @@ gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
   gm_material *material = &domain->materials[*material_id];
   material->rigid = true;
   material->rigid_report = (gm_force_report){0};
-  for (int k = 0; k < 2; k++)
+  for (int k = 0; k < 3; k++)
     material->rigid_velocity[k] = k < domain->dim ? def->velocity[k] : 0.0;
   domain->rigid_count++;
   return GM_OK;
@@ -107,9 +111,8 @@ gm_status gm_domain_get_rigid_force(const gm_domain *domain, int material_id,
       rigid_material(mutable_domain, material_id, "gm_domain_get_rigid_force");
   if (!material)
     return GM_ERR_UNKNOWN_MATERIAL;
-  force[0] = material->rigid_report.force[0];
-  force[1] = material->rigid_report.force[1];
-  force[2] = 0.0;
+  for (int k = 0; k < 3; k++) /* z: 0 outside 3D */
+    force[k] = material->rigid_report.force[k];
   return GM_OK;
 }
 
@@ -126,7 +129,7 @@ gm_status gm_domain_get_rigid_load(const gm_domain *domain, int material_id,
     return GM_ERR_UNKNOWN_MATERIAL;
   const gm_force_report *report = &material->rigid_report;
   gm_rigid_load result = gm_rigid_load_default();
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < 3; k++) { /* z: 0 outside 3D */
     result.force[k] = report->force[k];
     result.impulse[k] = report->impulse[k];
     result.total_impulse[k] = report->total_impulse[k];
@@ -144,22 +147,27 @@ gm_status gm_rigid_reserve(gm_domain *domain) {
   size_t nodes = grid->block_capacity * GM_BLOCK_NODES;
   if (domain->rigid_count == 0 || nodes <= grid->rigid_capacity)
     return GM_OK;
+  int components = domain->dim == 3 ? 3 : 2; /* z: 3D only */
   int32_t *marks = gm_calloc(nodes, sizeof(int32_t));
-  double *impulse_x = gm_calloc(nodes, sizeof(double));
-  double *impulse_y = gm_calloc(nodes, sizeof(double));
-  if (!marks || !impulse_x || !impulse_y) {
+  double *impulse[3] = {NULL, NULL, NULL}; /* N s */
+  bool failed = !marks;
+  for (int k = 0; k < components; k++) {
+    impulse[k] = gm_calloc(nodes, sizeof(double));
+    failed = failed || !impulse[k];
+  }
+  if (failed) {
     gm_free(marks);
-    gm_free(impulse_x);
-    gm_free(impulse_y);
+    for (int k = 0; k < 3; k++)
+      gm_free(impulse[k]);
     return gm_set_error(domain, GM_ERR_NO_MEMORY,
                         "rigid points: out of memory for %zu nodes", nodes);
   }
   gm_free(grid->rigid_material);
-  gm_free(grid->rigid_impulse[0]);
-  gm_free(grid->rigid_impulse[1]);
   grid->rigid_material = marks;
-  grid->rigid_impulse[0] = impulse_x;
-  grid->rigid_impulse[1] = impulse_y;
+  for (int k = 0; k < 3; k++) {
+    gm_free(grid->rigid_impulse[k]);
+    grid->rigid_impulse[k] = impulse[k];
+  }
   grid->rigid_capacity = nodes;
   return GM_OK;
 }
@@ -190,25 +198,81 @@ static void mark_point(gm_domain *domain, size_t p, int32_t mark) {
   }
 }
 
+/* mark_point in 3D: the nodes of the point's support with a nonzero
+ * weight, reached through the 8 neighbour links of its block as the 3D
+ * scatter reaches them (p2g_3d.c): a linear point's trilinear cell, a
+ * GIMP point's box (support_3d.h; its block is that of the support's
+ * lowest node). */
+static void mark_point_3d(gm_domain *domain, size_t p, int32_t mark) {
+  gm_grid *grid = &domain->grid;
+  const gm_points *points = &domain->points;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  double x[3] = {current->position[0][p], current->position[1][p],
+                 current->position[2][p]}; /* m */
+  double half[3] = {0.0, 0.0, 0.0};        /* m, 0: the linear tent */
+  gm_box_support_3d support;
+  int64_t local[3];
+  uint32_t block = points->point_block[p];
+  const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  if (domain->shape_grid.shape == GM_SHAPE_LINEAR) {
+    for (int axis = 0; axis < 3; axis++) {
+      local[axis] =
+          gm_shape_linear_axis(x[axis], domain->shape_grid.origin[axis],
+                               domain->inv_cell, support.weight[axis],
+                               support.gradient[axis]) &
+          (GM_BLOCK_EDGE_3D - 1);
+      support.span[axis] = 2;
+    }
+  } else {
+    gm_box_half_edges_3d(domain->shape_grid.shape,
+                         (const double *const *)points->domain_size,
+                         (const double *const *)current->deformation, p, half);
+    if (!gm_box_support_compute_3d(&domain->shape_grid, x, half, &support))
+      return; /* cannot happen: the binning placed the point by it */
+    int64_t base[3];
+    gm_block_coordinates_3d(grid, grid->block_key[block], base);
+    for (int axis = 0; axis < 3; axis++) {
+      local[axis] = support.lowest[axis] - (base[axis] << GM_BLOCK_SHIFT_3D);
+      if (local[axis] < 0 ||
+          local[axis] + support.span[axis] > 2 * GM_BLOCK_EDGE_3D)
+        return; /* cannot happen either (the scatter fails the step) */
+    }
+  }
+  for (int c = 0; c < support.span[2]; c++)
+    for (int b = 0; b < support.span[1]; b++)
+      for (int a = 0; a < support.span[0]; a++) {
+        if (support.weight[0][a] * support.weight[1][b] *
+                support.weight[2][c] ==
+            0.0)
+          continue; /* the point does not reach this node */
+        size_t node =
+            gm_block_node_3d(links, local[0] + a, local[1] + b, local[2] + c);
+        grid->rigid_material[node] = mark;
+      }
+}
+
 void gm_rigid_mark_nodes(gm_domain *domain) {
   gm_grid *grid = &domain->grid;
   size_t nodes = grid->block_count * GM_BLOCK_NODES;
   memset(grid->rigid_material, 0, nodes * sizeof(int32_t));
-  memset(grid->rigid_impulse[0], 0, nodes * sizeof(double));
-  memset(grid->rigid_impulse[1], 0, nodes * sizeof(double));
+  for (int k = 0; k < (domain->dim == 3 ? 3 : 2); k++)
+    memset(grid->rigid_impulse[k], 0, nodes * sizeof(double));
   const gm_points *points = &domain->points;
   /* Serial, in point order: where two rigid bodies share a node, the
    * later point wins, the same way for any worker count. */
   for (size_t p = 0; p < points->count; p++) {
     int32_t material = points->material[p];
-    if (domain->materials[material].rigid)
+    if (!domain->materials[material].rigid)
+      continue;
+    if (domain->dim == 3)
+      mark_point_3d(domain, p, material + 1);
+    else
       mark_point(domain, p, material + 1);
   }
 }
 
 void gm_rigid_constrain_node(gm_domain *domain, size_t node,
-                             const double old_velocity[2], double dt,
-                             bool full) {
+                             const double *old_velocity, double dt, bool full) {
   gm_grid *grid = &domain->grid;
   const gm_material *material =
       &domain->materials[grid->rigid_material[node] - 1];

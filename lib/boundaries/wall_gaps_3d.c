@@ -113,8 +113,11 @@ static void measure_blocks_3d(void *context, size_t begin, size_t end,
     if (!block_may_reach_3d(domain, base))
       continue;
     for (uint32_t k = grid->point_start[block];
-         k < grid->point_start[block + 1]; k++)
-      measure_point_3d(domain, block, points->order[k]);
+         k < grid->point_start[block + 1]; k++) {
+      size_t p = points->order[k];
+      if (!domain->materials[points->material[p]].rigid) /* as in 2D */
+        measure_point_3d(domain, block, p);
+    }
   }
 }
 

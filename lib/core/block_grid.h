@@ -62,9 +62,9 @@ typedef struct gm_grid {
   double *wall_force;
   /* Rigid materials (only when the domain has one): per node, the rigid
    * material + 1 touching it (0 = none) and the node's impulse (N s) on
-   * it this step. Sized like the node fields. */
+   * it this step (z: 3D only). Sized like the node fields. */
   int32_t *rigid_material;
-  double *rigid_impulse[2];
+  double *rigid_impulse[3];
   size_t rigid_capacity;      /* nodes allocated */
   size_t wall_force_capacity; /* doubles allocated */
   int wall_stride;

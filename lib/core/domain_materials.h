@@ -30,8 +30,8 @@ typedef struct gm_material {
    * deformable material exerted on it (impulse of the call in progress,
    * force of the last successful call). */
   bool rigid;
-  double rigid_velocity[2]; /* m/s */
-  double rigid_impulse[2];  /* N s, of the call in progress */
+  double rigid_velocity[3]; /* m/s (z: 3D, else 0) */
+  double rigid_impulse[3];  /* N s, of the call in progress (z: 3D) */
   gm_force_report rigid_report;
   /* Granular material (gm_domain_set_granular). */
   bool granular;

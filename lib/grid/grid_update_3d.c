@@ -19,6 +19,13 @@
  * Planar walls of any normal act after the faces, on the nodes near them
  * (walls_3d.c: the contact and Coulomb friction of walls.c, with the
  * friction pooled over patches of the plane after the nodal update).
+ *
+ * Rigid points act last, as in 2D (rigid.c): a node a rigid point reaches
+ * takes the rigid material's prescribed velocity, all three components,
+ * in every pass (a re-map included, so the re-mapped velocities move the
+ * rigid points as prescribed), and in the full update its momentum change
+ * against the prescribed velocity is the impulse on the rigid body. A
+ * rigid body overrides faces and walls where they meet.
  */
 #include "grid/grid.h"
 
@@ -128,7 +135,8 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
           old_velocity[k] = gm_node_accelerate(motion, &grid->force[k][node],
                                                inverse_mass, damping, dt);
       }
-      if (!on_face && !near_walls)
+      bool rigid = domain->rigid_count > 0 && grid->rigid_material[node] != 0;
+      if (!on_face && !near_walls && !rigid)
         continue;
       int64_t index[3] = {base[0] + (int64_t)(local & (size_t)mask),
                           base[1] + (int64_t)((local >> 2) & (size_t)mask),
@@ -144,6 +152,12 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
       }
       if (near_walls && mass > 0.0)
         apply_walls_3d(ctx, node, index, old_velocity, block_force);
+      if (rigid) { /* last: a rigid body overrides faces and walls */
+        gm_rigid_constrain_node(domain, node, old_velocity, dt,
+                                ctx->mode == GM_GRID_FULL);
+        if (domain->wall_count > 0)
+          grid->pool_wall[node] = 0; /* no share in the patches' friction */
+      }
     }
   }
 }

@@ -11,7 +11,8 @@
  * worker count. A block's points write straight into the grid through its
  * 8 neighbour links (slot ox + 2 oy + 4 oz): a linear point is binned by
  * its cell, a GIMP point by its support's lowest node (g2p_3d.c), so both
- * reach only the block and its upper neighbours.
+ * reach only the block and its upper neighbours. Rigid points take no
+ * part (rigid.c: their nodes take the prescribed velocity instead).
  */
 #include "grid/grid.h"
 
@@ -22,8 +23,10 @@ typedef struct p2g_3d_context {
   const gm_p2g_pass *pass;
   const uint32_t *blocks; /* blocks of the colour being scattered */
   const double *velocity[3];
-  const double *stress[6]; /* Pa, Voigt xx yy zz xy yz zx */
-  const double *volume;    /* m^3, of the stress buffer */
+  const double *stress[6];      /* Pa, Voigt xx yy zz xy yz zx */
+  const double *volume;         /* m^3, of the stress buffer */
+  bool skip_rigid;              /* the domain has rigid materials */
+  bool rigid[GM_MAX_MATERIALS]; /* per material, when skip_rigid */
 } p2g_3d_context;
 
 /* Names the first point of a block whose host inputs (velocity, external
@@ -138,6 +141,8 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
   for (uint32_t k = grid->point_start[block]; k < grid->point_start[block + 1];
        k++) {
     size_t p = points->order[k];
+    if (ctx->skip_rigid && ctx->rigid[points->material[p]])
+      continue;                /* rigid points take no part (rigid.c) */
     gm_box_support_3d support; /* weights and gradients (1/m) per axis */
     int64_t local[3];
     if (!point_support_3d(domain, position, deformation, p, base, wide,
@@ -269,6 +274,9 @@ void gm_p2g_3d(gm_domain *domain, const gm_p2g_pass *pass) {
   for (int k = 0; k < 6; k++)
     ctx.stress[k] = stressed->stress[k];
   ctx.volume = stressed->volume;
+  ctx.skip_rigid = domain->rigid_count > 0;
+  for (int m = 0; ctx.skip_rigid && m < domain->material_count; m++)
+    ctx.rigid[m] = domain->materials[m].rigid;
   gm_parallel_for(&domain->pool, grid->block_count, clear_blocks_3d, &ctx);
   for (int colour = 0; colour < GM_BLOCK_COLOURS; colour++) {
     size_t first = grid->color_start[colour];

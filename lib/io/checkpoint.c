@@ -12,7 +12,8 @@
  *      (APIC's affine matrices included), the single-buffered ones, the id
  *      map;
  *   4. totals: sources' clocks and counts, sinks', rigid velocities, the
- *      rigid and wall force reports (last call, totals, smoothed force)
+ *      rigid and wall force reports (last call, totals, smoothed force;
+ *      their z components for walls and rigid materials of 3D domains)
  *      and the smoothing time, the granular summary.
  * Not stored, because each step rebuilds it from the above: the grid, the
  * block keys, the spare point buffer, the granular spanning forest (it
@@ -315,9 +316,13 @@ static void write_totals(const gm_domain *domain, gm_byte_writer *out) {
     gm_writer_u64(out, domain->sinks[s].removed_points);
   }
   for (int m = 0; m < domain->material_count; m++) {
-    for (int k = 0; k < 2; k++)
-      gm_writer_f64(out, domain->materials[m].rigid_velocity[k]); /* m/s */
-    write_force_report(&domain->materials[m].rigid_report, false, out);
+    const gm_material *material = &domain->materials[m];
+    /* z of a rigid material in 3D only: 2D files, and 3D files without
+     * rigid materials, are byte for byte those of earlier versions. */
+    bool solid = domain->dim == 3 && material->rigid;
+    for (int k = 0; k < (solid ? 3 : 2); k++)
+      gm_writer_f64(out, material->rigid_velocity[k]); /* m/s */
+    write_force_report(&material->rigid_report, solid, out);
   }
   for (int w = 0; w < domain->wall_count; w++)
     write_force_report(&domain->wall_report[w], domain->dim == 3, out);

@@ -30,7 +30,7 @@ typedef struct loaded_state {
   const unsigned char *index_of_id;
   gm_source sources[GM_MAX_SOURCES];          /* clocks and totals only */
   gm_sink sinks[GM_MAX_SOURCES];              /* totals only */
-  double rigid_velocity[GM_MAX_MATERIALS][2]; /* m/s */
+  double rigid_velocity[GM_MAX_MATERIALS][3]; /* m/s (z: 3D) */
   gm_force_report rigid_report[GM_MAX_MATERIALS];
   gm_force_report wall_report[GM_MAX_WALLS];
   double force_smoothing_time; /* s */
@@ -75,7 +75,8 @@ static void read_points(gm_byte_reader *in, const gm_domain *domain,
       gm_reader_array(in, (size_t)state->next_id * sizeof(uint32_t));
 }
 
-/* As checkpoint.c writes it: z last, for the walls of a 3D domain. */
+/* As checkpoint.c writes it: z last, for the walls and rigid materials of
+ * a 3D domain. */
 static void read_force_report(gm_byte_reader *in, bool solid,
                               gm_force_report *report) {
   *report = (gm_force_report){0};
@@ -112,9 +113,13 @@ static void read_totals(gm_byte_reader *in, const gm_domain *domain,
     state->sinks[s].removed_points = gm_reader_u64(in);
   }
   for (int m = 0; m < domain->material_count; m++) {
-    for (int k = 0; k < 2; k++)
+    /* As checkpoint.c writes it: z for a rigid material in 3D (its rigid
+     * flag is part of the material record the setup compared). */
+    bool solid = domain->dim == 3 && domain->materials[m].rigid;
+    state->rigid_velocity[m][2] = 0.0;
+    for (int k = 0; k < (solid ? 3 : 2); k++)
       state->rigid_velocity[m][k] = gm_reader_f64(in);
-    read_force_report(in, false, &state->rigid_report[m]);
+    read_force_report(in, solid, &state->rigid_report[m]);
   }
   for (int w = 0; w < domain->wall_count; w++)
     read_force_report(in, domain->dim == 3, &state->wall_report[w]);
@@ -401,7 +406,7 @@ static void apply_totals(gm_domain *domain, const loaded_state *state) {
     domain->sinks[s].removed_points = state->sinks[s].removed_points;
   }
   for (int m = 0; m < domain->material_count; m++) {
-    for (int k = 0; k < 2; k++)
+    for (int k = 0; k < 3; k++)
       domain->materials[m].rigid_velocity[k] = state->rigid_velocity[m][k];
     domain->materials[m].rigid_report = state->rigid_report[m];
   }

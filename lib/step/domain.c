@@ -23,7 +23,7 @@ static const char *face_name(int face) {
 /* What GM_GEOMETRY_3D runs in this version (docs/3d.md): linear, uGIMP
  * and cpGIMP shapes, the plain family, FLIP/PIC transfers, open, slip and fixed
  * box faces; every scheme, gravity, damping, host forces. The rest is refused
- * by name here (or by the call that would add it: walls, rigid materials,
+ * by name here (or by the call that would add it: walls,
  * sources, sinks, checkpoints, VTU). */
 static gm_status validate_3d(const gm_domain_def *def) {
   static const char *shapes[] = {"GM_SHAPE_LINEAR",   "GM_SHAPE_UGIMP",
@@ -297,6 +297,7 @@ static void free_grid(gm_grid *grid) {
   gm_free(grid->rigid_material);
   gm_free(grid->rigid_impulse[0]);
   gm_free(grid->rigid_impulse[1]);
+  gm_free(grid->rigid_impulse[2]);
   for (int k = 0; k < 3; k++) {
     gm_free(grid->momentum[k]);
     gm_free(grid->force[k]);

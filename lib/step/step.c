@@ -601,8 +601,8 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
   }
   memset(domain->wall_impulse, 0, sizeof domain->wall_impulse);
   for (int m = 0; m < domain->material_count; m++)
-    domain->materials[m].rigid_impulse[0] =
-        domain->materials[m].rigid_impulse[1] = 0.0;
+    for (int k = 0; k < 3; k++)
+      domain->materials[m].rigid_impulse[k] = 0.0;
   /* Sources inject now; the injection is undone if the step fails. */
   gm_injection_undo undo;
   gm_status status = gm_sources_inject(domain, &undo);
@@ -627,7 +627,8 @@ gm_status gm_domain_step(gm_domain *domain, double dt) {
   for (int m = 0; m < domain->material_count; m++)
     if (domain->materials[m].rigid)
       gm_force_report_commit(&domain->materials[m].rigid_report,
-                             domain->materials[m].rigid_impulse, 2, dt, tau);
+                             domain->materials[m].rigid_impulse,
+                             domain->dim == 3 ? 3 : 2, dt, tau);
   gm_sinks_remove(domain);
   run_hook(domain, GM_HOOK_AFTER_STEP);
   domain->busy = false;

@@ -1316,10 +1316,13 @@ START_TEST(test_3d_refuses_what_it_lacks) {
                      ONLY(GM_ERR_UNSUPPORTED), "GM_SHAPE_LINEAR only",
                      "3D wall with uGIMP");
   gm_domain_destroy(gimp);
+  /* Rigid materials work in 3D (tests/physics/test_rigid.c); a
+   * non-finite z velocity is refused by name. */
   gm_rigid_def rigid = gm_rigid_def_default();
+  rigid.velocity[2] = NAN;
   check_domain_error(domain, gm_domain_add_rigid(domain, &rigid, &id),
-                     ONLY(GM_ERR_UNSUPPORTED), "gm_domain_add_rigid",
-                     "3D rigid");
+                     ONLY(GM_ERR_NOT_FINITE), "gm_rigid_def.velocity[2]",
+                     "3D rigid with a NaN z velocity");
   /* Sources and sinks work in 3D (test_sources.c). */
   /* gm_domain_save and gm_domain_load work in 3D (test_checkpoint.c). */
   /* Checkpoints, VTU output, series and the domain corners work in 3D
