@@ -242,6 +242,21 @@ static scene build_3d(gm_domain_def def, int points_per_cell_axis) {
     TEST_ASSERT_OK(s.domain, gm_domain_add_wall(s.domain, &wall, &s.wall));
   }
   if (points_per_cell_axis > 1) {
+    /* A rigid plate against the block's -y side (its top node plane is
+     * the block's bottom one, so they touch from the first step), moving
+     * with a z component: its velocity and its report, z included,
+     * travel with the file (gm_rigid(3)). */
+    gm_rigid_def plate = gm_rigid_def_default();
+    plate.velocity[0] = 0.1;   /* m/s */
+    plate.velocity[1] = -0.05; /* m/s */
+    plate.velocity[2] = 0.2;   /* m/s */
+    TEST_ASSERT_OK(s.domain, gm_domain_add_rigid(s.domain, &plate, &s.rigid));
+    const double plate_lower[3] = {0.3, 0.1, 0.2}; /* m */
+    const double plate_upper[3] = {0.5, 0.2, 0.4};
+    test_fill_box(s.domain, s.rigid, plate_lower, plate_upper,
+                  points_per_cell_axis, NULL);
+  }
+  if (points_per_cell_axis > 1) {
     /* A source of two points every 10 ms, one inside a sink box (removed
      * at the end of the step that injects it), one beside it that falls
      * freely: the sources' clocks and totals and the sink's, with their z
@@ -335,7 +350,8 @@ static size_t run_steps(const scene *s, int steps) {
 static void edit_before_save(const scene *s) {
   if (s->rigid < 0 && !s->three_d)
     return;
-  const double plate_velocity[3] = {-0.05, 0.0, 0.0}; /* m/s */
+  /* z: the 3D plate's (test_restart_3d). */
+  const double plate_velocity[3] = {-0.05, 0.0, s->three_d ? 0.1 : 0.0};
   if (s->rigid >= 0)
     REQUIRE_OK(s->domain, gm_domain_set_rigid_velocity(s->domain, s->rigid,
                                                        plate_velocity));
@@ -360,9 +376,10 @@ typedef struct observed {
   int64_t *ids;
   double *field[FIELD_COUNT];
   size_t length[FIELD_COUNT];
-  double totals[19]; /* source kg, points; sink kg, points; wall N x2, rigid
+  double totals[22]; /* source kg, points; sink kg, points; wall N x2, rigid
                         N x2; wall and rigid impulse totals (N s x2) and
-                        smoothed forces (N x2); the wall's z: N, N s, N */
+                        smoothed forces (N x2); the wall's z: N, N s, N;
+                        the rigid material's z: N, N s, N */
   gm_granular_summary granular;
 } observed;
 
@@ -395,7 +412,7 @@ static observed observe(const scene *s) {
     REQUIRE_OK(d, gm_domain_get_rigid_force(d, s->rigid, rigid));
     REQUIRE_OK(d, gm_domain_get_rigid_load(d, s->rigid, &load));
   }
-  const double totals[19] = {in.mass,
+  const double totals[22] = {in.mass,
                              (double)in.points,
                              out.mass,
                              (double)out.points,
@@ -413,7 +430,10 @@ static observed observe(const scene *s) {
                              load.smoothed_force[1],
                              wall.force[2],
                              wall.total_impulse[2],
-                             wall.smoothed_force[2]};
+                             wall.smoothed_force[2],
+                             rigid[2],
+                             load.total_impulse[2],
+                             load.smoothed_force[2]};
   memcpy(o.totals, totals, sizeof totals);
   o.granular = gm_granular_summary_default();
   REQUIRE_OK(d, gm_domain_get_granular_summary(d, &o.granular));
@@ -452,8 +472,8 @@ static void assert_same(const observed *a, const observed *b,
       ck_abort_msg("%s: field %d value %zu: %.17g vs %.17g", what, f, i,
                    a->field[f][i], b->field[f][i]);
   }
-  size_t k = first_difference(a->totals, b->totals, 19);
-  if (k < 19)
+  size_t k = first_difference(a->totals, b->totals, 22);
+  if (k < 22)
     ck_abort_msg("%s: total %zu: %.17g vs %.17g", what, k, a->totals[k],
                  b->totals[k]);
   const gm_granular_summary *x = &a->granular, *y = &b->granular;
@@ -559,6 +579,13 @@ static void check_scene_coverage(scene_kind kind, const observed *at_save,
                   "3D source and sink: %g points injected, %g removed by the "
                   "save, %g by the end",
                   at_end->totals[1], at_save->totals[3], at_end->totals[3]);
+  if (kind == SOLID_3D) /* the plate pushed back in every component */
+    ck_assert_msg(at_save->totals[12] != 0.0 && at_save->totals[13] != 0.0 &&
+                      at_save->totals[20] != 0.0 && at_save->totals[19] != 0.0,
+                  "the 3D rigid plate: total impulse (%g, %g, %g) N s, "
+                  "force z %g N by the save",
+                  at_save->totals[12], at_save->totals[13], at_save->totals[20],
+                  at_save->totals[19]);
   if (kind == SOLID_3D) { /* every stress and F component moved by the save */
     if (scene_shape_3d == GM_SHAPE_LINEAR) /* the GIMP scenes: no wall */
       ck_assert_msg(at_save->totals[8] != 0.0 && at_save->totals[17] != 0.0,
