@@ -435,14 +435,16 @@ GM_API gm_status gm_domain_get_wall_force(const gm_domain *domain, int wall_id,
  * tool. Points of a rigid material move with its prescribed velocity and
  * carry no stress; the grid nodes they touch take that velocity (no-slip)
  * for the deformable material, and the library reports the force the
- * material exerts on them (the impact force of 000 sec 4.4). See
- * gm_rigid(3). */
+ * material exerts on them (the impact force of 000 sec 4.4). In
+ * GM_GEOMETRY_3D (linear, uGIMP and cpGIMP shapes) the nodes of a point's
+ * cell or box take all three components and the force has a z component.
+ * See gm_rigid(3). */
 typedef struct gm_rigid_def {
   size_t struct_size;
   const char *name;   /* copied */
   double density;     /* kg/m^3, > 0: gives the points a mass (reported) */
-  double velocity[3]; /* m/s, prescribed; change with
-                         gm_domain_set_rigid_velocity() */
+  double velocity[3]; /* m/s, prescribed, dim components used (z: 3D);
+                         change with gm_domain_set_rigid_velocity() */
 } gm_rigid_def;
 
 /** Defaults: name "rigid", density 1000 kg/m^3, at rest. gm_*_init convention
@@ -471,7 +473,8 @@ GM_API gm_status gm_domain_set_rigid_velocity(gm_domain *domain,
  * exerted on the rigid material's points during the last successful
  * gm_domain_step() call, averaged over its dt: impulse / dt, which spikes
  * after a very short step; gm_domain_get_rigid_load() also reports the
- * impulse and a smoothed force. */
+ * impulse and a smoothed force. force[2] is the z component in
+ * GM_GEOMETRY_3D and 0 otherwise (as in gm_rigid_load). */
 GM_API gm_status gm_domain_get_rigid_force(const gm_domain *domain,
                                            int material_id, double force[3]);
 

@@ -7,8 +7,9 @@
  * workers and with each update scheme, for linear MPM and for the
  * granular family with CPDI and a planar wall, for a layer sliding
  * across periodic x faces (GM_WALL_PERIODIC), and for a 3D block
- * (GM_GEOMETRY_3D) resting on a fixed floor, with linear, uGIMP and
- * cpGIMP shapes, the linear block beside an oblique planar wall. Also
+ * (GM_GEOMETRY_3D) resting on a fixed floor against a rigid plate, with
+ * linear, uGIMP and cpGIMP shapes, the linear block beside an oblique
+ * planar wall. Also
  * checks that every
  * allocation is freed by gm_domain_destroy (the counts balance), and that
  * running out of memory in the middle of a step or of a material registration
@@ -60,7 +61,8 @@ static void install_counting_allocator(void) {
  * periodic: a layer filling the width between periodic x faces, moving at
  * 3 m/s along x, so its points cross the seam in the measured steps. */
 /* The 3D block: 0.4 m cube on the fixed zmin face, gravity along -z,
- * spanning blocks of several colours (4 x 4 x 4 nodes each). */
+ * spanning blocks of several colours (4 x 4 x 4 nodes each), against a
+ * rigid plate. */
 static gm_domain *resting_block_3d(gm_update_scheme scheme, int workers,
                                    gm_shape shape) {
   gm_domain_def def = gm_domain_def_default();
@@ -77,6 +79,14 @@ static gm_domain *resting_block_3d(gm_update_scheme scheme, int workers,
   const double lower[3] = {0.3, 0.3, 0.0};
   const double upper[3] = {0.7, 0.7, 0.4};
   test_fill_box(domain, material, lower, upper, 2, NULL);
+  /* A rigid plate at rest against the block's +x side (their node planes
+   * meet at x = 0.7 m): the rigid nodes' marks, constraint and impulses. */
+  gm_rigid_def plate = gm_rigid_def_default();
+  int plate_id = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_rigid(domain, &plate, &plate_id));
+  const double plate_lower[3] = {0.7, 0.35, 0.05};
+  const double plate_upper[3] = {0.75, 0.65, 0.35};
+  test_fill_box(domain, plate_id, plate_lower, plate_upper, 2, NULL);
   if (shape != GM_SHAPE_LINEAR) /* 3D walls take linear shapes only */
     return domain;
   /* A frictional wall of oblique normal against the block's x side, 0.01
