@@ -671,11 +671,24 @@ END_TEST
 
 /* APIC: the affine matrices are part of the state (GM_FIELD_AFFINE is
  * compared with the other fields); the granular uGIMP scene keeps B_p,
- * the elastic one (linear MPM) C_p. */
+ * the elastic one (linear MPM) C_p. In 3D the nine components: the
+ * sheared block of linear MPM (C_p) with its oblique wall, source and
+ * sink in USL, and with uGIMP and cpGIMP boxes (B_p) in USF and MUSL, a
+ * 1-worker file restarted on 2. */
 START_TEST(test_restart_apic) {
   scene_transfer = GM_TRANSFER_APIC;
   check_restart(GRANULAR_GIMP, 1, 2);
   check_restart(ELASTIC, 1, 1);
+  check_restart(SOLID_3D, 1, 2);
+  const gm_shape shapes[2] = {GM_SHAPE_UGIMP, GM_SHAPE_CPGIMP};
+  const gm_update_scheme schemes[2] = {GM_SCHEME_USF, GM_SCHEME_MUSL};
+  for (int k = 0; k < 2; k++) {
+    scene_shape_3d = shapes[k];
+    scene_scheme = schemes[k];
+    check_restart(SOLID_3D, 1, 2);
+  }
+  scene_shape_3d = GM_SHAPE_LINEAR;
+  scene_scheme = GM_SCHEME_USL;
   scene_transfer = GM_TRANSFER_FLIP;
 }
 END_TEST
