@@ -229,7 +229,8 @@ static void flip_chunk_3d(gm_domain *domain, size_t first, size_t count,
     }
 }
 
-/* x_p += dt sum N v_i; a point leaving the grid fails the step. Keys of
+/* x_p += dt sum N v_i; a point leaving the grid fails the step, or across
+ * periodic x faces comes back through the other one (periodic.c). Keys of
  * the moved points for the next step's binning (linear MPM; a GIMP box
  * is keyed by keys_chunk_3d once F is final). */
 static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
@@ -239,12 +240,15 @@ static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
   const gm_point_buffers *from = &points->buffer[points->cur];
   gm_point_buffers *to = &points->buffer[points->cur ^ 1];
   const double *origin = domain->shape_grid.origin;
+  bool periodic = gm_periodic_x(domain);
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
     bool inside = true;
     double moved[3];
     for (int k = 0; k < 3; k++) {
       moved[k] = from->position[k][p] + dt * g->velocity[k][j];
+      if (k == 0 && periodic)
+        moved[0] = gm_periodic_wrap_x(domain, moved[0]);
       to->position[k][p] = moved[k];
       /* The same arithmetic as gm_block_key_of. */
       double scaled = (moved[k] - origin[k]) * domain->inv_cell;
