@@ -3,7 +3,8 @@
  *
  *  - A rigid plate moves exactly as prescribed (x = x0 + v t to round-off;
  *    velocity v, zero stress), also when the velocity is changed between
- *    steps: in the plane, and in 3D with linear, uGIMP and cpGIMP shapes.
+ *    steps: in the plane, and in 3D with linear, uGIMP and cpGIMP shapes
+ *    (FLIP) and linear and uGIMP (APIC).
  *  - Impact: an elastic block flies at v0 into a resting rigid plate (no
  *    gravity). The reported force on the plate is the exact counterpart of
  *    the block's momentum change: sum(J) = -(p_end - p_start) to
@@ -71,16 +72,29 @@ static int add_plate(gm_domain *domain, const double velocity[3]) {
 }
 
 /* Loop index of test_prescribed_motion: the plane, then 3D with each
- * shape it runs. */
-static const gm_shape MOTION_SHAPES[4] = {GM_SHAPE_LINEAR, GM_SHAPE_LINEAR,
-                                          GM_SHAPE_UGIMP, GM_SHAPE_CPGIMP};
+ * shape it runs, then 3D linear and uGIMP with GM_TRANSFER_APIC. */
+static const gm_shape MOTION_SHAPES[6] = {GM_SHAPE_LINEAR, GM_SHAPE_LINEAR,
+                                          GM_SHAPE_UGIMP,  GM_SHAPE_CPGIMP,
+                                          GM_SHAPE_LINEAR, GM_SHAPE_UGIMP};
 
 START_TEST(test_prescribed_motion) {
   bool three_d = _i > 0;
   int dim = three_d ? 3 : 2;
-  gm_domain *domain = three_d
-                          ? make_domain_3d(GM_SCHEME_MUSL, MOTION_SHAPES[_i])
-                          : make_domain(GM_SCHEME_MUSL);
+  gm_domain *domain = NULL;
+  if (_i >= 4) { /* APIC: a translation carries no affine part */
+    gm_domain_def def = gm_domain_def_default();
+    def.geometry = GM_GEOMETRY_3D;
+    def.scheme = GM_SCHEME_MUSL;
+    def.shape = MOTION_SHAPES[_i];
+    def.transfer = GM_TRANSFER_APIC;
+    def.cell_size = CELL;
+    def.extent[0] = 2.0;
+    def.extent[1] = def.extent[2] = 1.0;
+    domain = test_create_domain(&def);
+  } else {
+    domain = three_d ? make_domain_3d(GM_SCHEME_MUSL, MOTION_SHAPES[_i])
+                     : make_domain(GM_SCHEME_MUSL);
+  }
   const double velocity[3] = {0.5, -0.25, three_d ? 0.3 : 0.0}; /* m/s */
   int plate = add_plate(domain, velocity);
   const double lower[3] = {0.4, 0.4, 0.4}, upper[3] = {0.6, 0.6, 0.6};
@@ -578,7 +592,7 @@ int main(void) {
   Suite *suite = suite_create("rigid");
   TCase *tcase = tcase_create("rigid_points");
   tcase_set_timeout(tcase, 60);
-  tcase_add_loop_test(tcase, test_prescribed_motion, 0, 4);
+  tcase_add_loop_test(tcase, test_prescribed_motion, 0, 6);
   tcase_add_loop_test(tcase, test_impact_force_balances_momentum, 0, 3);
   tcase_add_loop_test(tcase, test_impact_force_balances_momentum_3d, 0, 3);
   tcase_add_loop_test(tcase, test_driven_plate_3d, 0, 2);
