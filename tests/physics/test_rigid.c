@@ -24,7 +24,8 @@
  *    block's elastic vibration (bounded by the 1D wave solution). 1 and 2
  *    workers give the same bits. The same block on a fixed box face in
  *    place of the floor moves the same to round-off.
- *  - Misuse: non-finite velocity components (z in 3D), non-rigid ids.
+ *  - Misuse: non-finite velocity components (z in 3D), non-rigid ids,
+ *    periodic x faces.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -584,6 +585,16 @@ START_TEST(test_rigid_arguments) {
   }
   ck_assert_int_eq(gm_domain_set_rigid_velocity(domain, id, NULL), GM_ERR_NULL);
   ck_assert_int_eq(gm_domain_get_rigid_force(domain, id, NULL), GM_ERR_NULL);
+  gm_domain_destroy(domain);
+  /* Periodic x faces (which 3D has too): refused by name, in both. */
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = three_d ? GM_GEOMETRY_3D : GM_GEOMETRY_PLANE_STRAIN;
+  def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] = GM_WALL_PERIODIC;
+  domain = test_create_domain(&def);
+  rigid = gm_rigid_def_default();
+  ck_assert_int_eq(gm_domain_add_rigid(domain, &rigid, &id),
+                   GM_ERR_UNSUPPORTED);
+  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "periodic"));
   gm_domain_destroy(domain);
 }
 END_TEST
