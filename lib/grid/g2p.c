@@ -507,6 +507,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
   gm_worker_scratch *scratch = &domain->scratch[worker];
   size_t point_count = domain->points.count;
   double dt = ctx->pass->dt;
+  double move_dt = ctx->pass->move_dt > 0.0 ? ctx->pass->move_dt : dt; /* s */
   chunk_gather *g = scratch->gather;
   for (size_t chunk = begin; chunk < end; chunk++) {
     size_t first = chunk * GM_BATCH_SIZE;
@@ -526,7 +527,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
       if (flip)
         flip_chunk(v, first, count, g, dt);
       if (move)
-        move_chunk(domain, v, scratch, first, count, g, dt);
+        move_chunk(domain, v, scratch, first, count, g, move_dt);
     }
     /* A chunk with an inverted point skips its material call: the step
      * fails anyway, and materials never see a non-positive density. */

@@ -403,7 +403,8 @@ static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
     if (pass->flip_velocity)
       flip_chunk_3d(domain, first, count, g, pass->dt);
     if (pass->move_points)
-      move_chunk_3d(domain, scratch, first, count, g, pass->dt);
+      move_chunk_3d(domain, scratch, first, count, g,
+                    pass->move_dt > 0.0 ? pass->move_dt : pass->dt);
     /* A chunk with an inverted point skips its material call: the step
      * fails anyway. */
     bool deformed = true;

@@ -67,9 +67,12 @@ typedef struct gm_g2p_pass {
                          supports (they need the final F) and the
                          signal-speed bound of the new state */
   double dt;
-  bool in_place; /* deform from the next buffer's F, D and stress (the
-                    second half of USF's split update, step.c) rather
-                    than from the committed ones */
+  bool in_place;  /* deform from the next buffer's F, D and stress (the
+                     second half of USF's split update, step.c) rather
+                     than from the committed ones */
+  double move_dt; /* s, the move's interval where it is not dt (MUSL's
+                     move over the step with the second half of the
+                     stress update, step.c); 0: dt */
 } gm_g2p_pass;
 void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);
 size_t gm_chunk_gather_size(void); /* bytes of a worker's G2P chunk buffer */

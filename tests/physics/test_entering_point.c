@@ -22,9 +22,12 @@
  * and top row of points lie e = 1e-3 cells past a node line, with a uniform
  * stress of pressure p and shear tau, released from rest: its free edges
  * unload, and every edge point's outer nodes are light in the first step.
- * Two materials: the collapse's cohesionless Mohr-Coulomb (tau inside the
- * cone) and an elastic one with the same moduli. 200 stable steps (about
- * 12 wave transits of the block) in USL, MUSL and USF.
+ * The points are half a cell apart, so every other column and row inside
+ * the block lies 1e-3 cells past a node line too, and the block's
+ * oscillation carries those points back and forth across it. Two
+ * materials: the collapse's cohesionless Mohr-Coulomb (tau inside the
+ * cone) and an elastic one with the same moduli. 600 stable steps (about
+ * 36 wave transits of the block) in USL, MUSL and USF.
  *
  * Asserted:
  *  - every step succeeds and every point stays in the box;
@@ -44,7 +47,10 @@
  * kept as the collapse material's check of the same property. On that
  * code (bc373e1) USF, then the textbook one, fails too: energy 1.17
  * (Mohr-Coulomb) and 6.3 (elastic) times its start (fixed by USF's split
- * stress update, 9e3ded9).
+ * stress update, 9e3ded9). The elastic MUSL case fails on the code before
+ * MUSL split its stress update the same way (step.c): energy 4.58 times
+ * its start within the 600 steps (1.65 within the first 200), and a point
+ * at 4.83 p/(rho c_p).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -65,26 +71,28 @@ static const double FRICTION = 35.0;  /* degrees, phi */
 static const double PRESSURE = 500.0; /* Pa, p: p / M = 7.4e-4 */
 static const double SHEAR = 150.0;    /* Pa, tau_xy = 0.3 p < p tan(phi) */
 static const double ENTERED = 1e-3;   /* cells, e / h */
-enum { COLUMNS = 16, ROWS = 8, STEPS = 200 };
-/* Largest point speed measured: 2.88-3.74 p / (rho c_p) (elastic MUSL the
- * highest; the same block placed with no light node, e = 0.25 cells: 2.9-
- * 3.1). 4.5 leaves 20 %. */
+enum { COLUMNS = 16, ROWS = 8, STEPS = 600 };
+/* Largest point speed measured over the 600 steps: 2.88-3.42 p / (rho
+ * c_p) (elastic MUSL the highest; the same block placed with no light
+ * node, e = 0.25 cells: 3.0-3.38). 4.5 leaves 30 %. */
 static const double SPEED_FACTOR = 4.5;
 /* Energy slack, relative to the start, by material and scheme. Measured
- * largest energy over the start: Mohr-Coulomb USL 1.000, MUSL 1.000, USF
- * 1.019 (the same with no light node: 1.000, 1.000, 1.018); elastic USL
- * 1.110, MUSL 1.650, USF 1.026 (no light node: 1.125, 1.125, 1.026). The
- * elastic block gains 12 % in USL and MUSL whether or not a node is light
- * (FLIP release of a free elastic block; not this test's subject). MUSL
- * with the light nodes is open: it gains 65 % in these 200 steps and keeps
- * gaining (1.19, 1.65, 2.12, 3.14, 3.95, 4.51 times the start after 100,
- * ..., 600 steps), while USL (0.71-0.96) and USF (1.004-1.011) stay
- * bounded over 600 steps, and so does MUSL with no light node (0.95-1.07).
- * Its slack pins the 200-step value so that a change shows; it is not a
- * bound MUSL is known to keep. (The Mohr-Coulomb block comes apart into
- * free-flying points, energy 0.81 of its start, from about step 100.) */
+ * largest energy over the start in the 600 steps: Mohr-Coulomb USL 1.000,
+ * MUSL 1.019, USF 1.019 (the same block with no light node and no point
+ * near a node line, e = 0.25 cells: 1.000, 1.018, 1.018); elastic USL
+ * 1.110, MUSL 1.026, USF 1.026 (e = 0.25: 1.132, 1.027, 1.027). The
+ * elastic block gains 11-13 % in USL whether or not a node is light (FLIP
+ * release of a free elastic block, the stress updated last; not this
+ * test's subject): 0.2 leaves it 6 %.
+ * MUSL and USF update the stress in two halves (step.c) and stay within 3 %
+ * of the start; 0.05 leaves them 2.4 % and fails MUSL with its stress
+ * updated last (4.58 within these steps: the points on node lines pump
+ * energy into the block's oscillation at each crossing, step.c; the light
+ * nodes are not the cause). The Mohr-Coulomb block comes apart into
+ * free-flying points, energy 0.81 of its start, from about step 100: 0.03
+ * leaves 1 % above the measured 1.019. */
 static const double ENERGY_SLACK[2][3] = {{0.03, 0.03, 0.03},
-                                          {0.2, 0.75, 0.05}};
+                                          {0.2, 0.05, 0.05}};
 
 static gm_domain *make_block(gm_update_scheme scheme, int elastic) {
   gm_domain_def def = gm_domain_def_default();
