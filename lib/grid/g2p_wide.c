@@ -56,6 +56,37 @@ static GM_ALWAYS_INLINE void gather_product(const gather_view *v,
   }
 }
 
+/* A short uGIMP or cpGIMP support in 2D (support_short.h), node by node in
+ * the entry order b, a of gather_product, so the sums are bitwise
+ * gather_product's. x0, y0: the lowest node from the block's base; where
+ * the support lies inside the block (most points: x0, y0 + reach < 8), its
+ * nodes sit at fixed offsets from the block's first, without the links. */
+static GM_ALWAYS_INLINE void
+gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
+                int64_t y0, const gm_short_axis axis[2], point_gather *sum) {
+  const int64_t edge = GM_BLOCK_EDGE_2D;
+  double inv_cell = v->shape_grid->inv_cell;  /* 1/m */
+  double gradient_x[3], weight_x_per_cell[3]; /* 1/m, gm_product_support's */
+  for (int a = 0; a < 3; a++) {
+    gradient_x[a] = inv_cell * axis[0].gradient[a];
+    weight_x_per_cell[a] = inv_cell * axis[0].weight[a];
+  }
+  bool inside = x0 + axis[0].reach < edge && y0 + axis[1].reach < edge;
+  size_t first = (size_t)links[0] * GM_BLOCK_NODES + (size_t)(x0 + edge * y0);
+  for (int64_t y = 0; y <= axis[1].reach; y++) {
+    double weight_y = axis[1].weight[y], gradient_y = axis[1].gradient[y];
+    for (int64_t x = 0; x <= axis[0].reach; x++) {
+      int a = (int)x;
+      size_t node =
+          inside ? first + (size_t)(x + edge * y)
+                 : gm_block_node(links, GM_BLOCK_SHIFT_2D, x0 + x, y0 + y);
+      gather_node(v, node, axis[0].weight[a] * weight_y,
+                  gradient_x[a] * weight_y, weight_x_per_cell[a] * gradient_y,
+                  sum, 2);
+    }
+  }
+}
+
 /* CPDI corner by corner (support.c): each corner interpolates the nodes
  * of its cell bilinearly, v_c = sum N_i(x_c) v_i, and the point takes
  * v_p = share sum_c v_c and L = sum_c v_c (x) g_c: the entry sums with
@@ -125,6 +156,32 @@ static void gather_entries_affine(const gather_view *v, const uint32_t *links,
   }
 }
 
+/* Point p's sums into slot j of the chunk's output, with the massless
+ * nodes' correction. */
+static GM_ALWAYS_INLINE void
+store_point_gather(const gather_view *v, size_t p, size_t j, point_gather *sum,
+                   double affine[2][2], chunk_gather *out, const int dim) {
+  /* Massless nodes: the point's own velocity (see gather_chunk_2d). */
+  for (int a = 0; a < dim; a++)
+    for (int b = 0; b < dim; b++)
+      sum->gradient[a][b] += sum->velocity[a] * sum->empty[b];
+  for (int a = 0; a < 2; a++) {
+    out->acceleration[a][j] = a < dim ? sum->acceleration[a] : 0.0;
+    out->velocity[a][j] = a < dim ? sum->velocity[a] : 0.0;
+  }
+  out->gradient[0][j] = sum->gradient[0][0];
+  out->gradient[1][j] = sum->gradient[0][1];
+  out->gradient[2][j] = sum->gradient[1][0];
+  out->gradient[3][j] = sum->gradient[1][1];
+  /* Hoop strain rate v_r / r (002 sec 3). */
+  out->gradient[4][j] =
+      v->axisymmetric ? sum->velocity[0] / v->position[0][p] : 0.0;
+  out->affine[0][j] = affine[0][0];
+  out->affine[1][j] = affine[0][1];
+  out->affine[2][j] = affine[1][0];
+  out->affine[3][j] = affine[1][1];
+}
+
 static GM_ALWAYS_INLINE void
 gather_chunk_kind(const gather_view *v, size_t first, size_t count,
                   chunk_gather *out, const gm_domain *domain,
@@ -133,22 +190,43 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
   bool cpdi = v->shape_grid->shape == GM_SHAPE_CPDI;
   /* Two blocks per axis: the block and its neighbour links. */
   int64_t edge = dim == 1 ? 2 * GM_BLOCK_NODES : 2 << v->shift;
+  /* uGIMP and cpGIMP in 2D try the short support first (support_short.h);
+   * a longer domain, or one the checks refuse, takes the general one. */
+  gm_shape shape = v->shape_grid->shape;
+  bool rectangle = shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP;
+  bool try_short = dim == 2 && rectangle && !v->affine;
   wide_support support;
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
-    int64_t lowest[2], reach[2];
-    bool found =
-        gm_wide_point_support(v->shape_grid, dim, v->position, deformation,
-                              v->domain_size, p, &support, lowest, reach);
     uint32_t block = v->point_block[p];
     const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
     int64_t base[2];
     gm_block_base(v->grid, v->grid->block_key[block], base);
-    int64_t x0 = lowest[0] - base[0];
-    int64_t y0 = dim > 1 ? lowest[1] - base[1] : 0;
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
     double affine[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* m^2/s, APIC's B_p */
+    gm_short_axis axis[2];
+    double half[2]; /* m */
+    int64_t lowest[2], reach[2];
+    if (try_short) {
+      gm_rectangle_half_edges(shape, 2, v->domain_size, deformation, p, half);
+      if (gm_short_support_2d(v->shape_grid, v->position[0][p],
+                              v->position[1][p], half[0], half[1], axis)) {
+        int64_t sx = axis[0].lowest - base[0], sy = axis[1].lowest - base[1];
+        reach[0] = axis[0].reach;
+        reach[1] = axis[1].reach;
+        if (gm_wide_support_fits(2, sx, sy, reach, edge)) {
+          gather_short_2d(v, links, sx, sy, axis, &sum);
+          store_point_gather(v, p, j, &sum, affine, out, 2);
+          continue;
+        }
+      }
+    }
+    bool found =
+        gm_wide_point_support(v->shape_grid, dim, v->position, deformation,
+                              v->domain_size, p, &support, lowest, reach);
+    int64_t x0 = lowest[0] - base[0];
+    int64_t y0 = dim > 1 ? lowest[1] - base[1] : 0;
     if (!found || !gm_wide_support_fits(dim, x0, y0, reach, edge)) {
       gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
                       "step: the support of point id %lld cannot be "
@@ -169,25 +247,7 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
     } else {
       gather_product(v, links, x0, y0, &support.product, &sum, dim);
     }
-    /* Massless nodes: the point's own velocity (see gather_chunk_2d). */
-    for (int a = 0; a < dim; a++)
-      for (int b = 0; b < dim; b++)
-        sum.gradient[a][b] += sum.velocity[a] * sum.empty[b];
-    for (int a = 0; a < 2; a++) {
-      out->acceleration[a][j] = a < dim ? sum.acceleration[a] : 0.0;
-      out->velocity[a][j] = a < dim ? sum.velocity[a] : 0.0;
-    }
-    out->gradient[0][j] = sum.gradient[0][0];
-    out->gradient[1][j] = sum.gradient[0][1];
-    out->gradient[2][j] = sum.gradient[1][0];
-    out->gradient[3][j] = sum.gradient[1][1];
-    /* Hoop strain rate v_r / r (002 sec 3). */
-    out->gradient[4][j] =
-        v->axisymmetric ? sum.velocity[0] / v->position[0][p] : 0.0;
-    out->affine[0][j] = affine[0][0];
-    out->affine[1][j] = affine[0][1];
-    out->affine[2][j] = affine[1][0];
-    out->affine[3][j] = affine[1][1];
+    store_point_gather(v, p, j, &sum, affine, out, dim);
   }
 }
 

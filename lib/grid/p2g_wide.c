@@ -133,6 +133,28 @@ scatter_product(wide_tile *tile, int64_t tile_edge, int64_t x0, int64_t y0,
   }
 }
 
+/* A short uGIMP or cpGIMP support in 2D (support_short.h), node by node in
+ * scatter_product's order (the same bits). */
+static GM_ALWAYS_INLINE void
+scatter_short_2d(wide_tile *tile, int64_t tile_edge, int64_t x0, int64_t y0,
+                 const gm_short_axis axis[2], double inv_cell,
+                 const point_load *load, const bool do_mass,
+                 const bool do_momentum, const bool do_forces) {
+  double gradient_x[3], weight_x_per_cell[3]; /* 1/m, gm_product_support's */
+  for (int a = 0; a < 3; a++) {
+    gradient_x[a] = inv_cell * axis[0].gradient[a];
+    weight_x_per_cell[a] = inv_cell * axis[0].weight[a];
+  }
+  for (int b = 0; b <= axis[1].reach; b++) {
+    double weight_y = axis[1].weight[b], gradient_y = axis[1].gradient[b];
+    size_t row = (size_t)(x0 + tile_edge * (y0 + b));
+    for (int a = 0; a <= axis[0].reach; a++)
+      add_to_node(tile, row + (size_t)a, axis[0].weight[a] * weight_y,
+                  gradient_x[a] * weight_y, weight_x_per_cell[a] * gradient_y,
+                  load, do_mass, do_momentum, do_forces);
+  }
+}
+
 /* CPDI, corner by corner (support.c): corner c hands each node i of its
  * cell the bilinear value N_i(x_c) times the corner's part of the point's
  * mass, momentum and force, the force's being share * body - sigma V g_c:
@@ -216,6 +238,26 @@ static void scatter_entries_affine(wide_tile *tile, int64_t tile_edge,
   }
 }
 
+/* Point p's mass, momentum, body force and stress times volume. */
+static GM_ALWAYS_INLINE void load_point(const scatter_view *v, size_t p,
+                                        const int dim, point_load *load) {
+  double m = v->mass[p];
+  load->mass = m;
+  load->momentum[0] = m * v->velocity[0][p];
+  load->momentum[1] = dim > 1 ? m * v->velocity[1][p] : 0.0;
+  load->body[0] = m * v->gravity[0];
+  load->body[1] = dim > 1 ? m * v->gravity[1] : 0.0;
+  for (int c = 0; c < dim; c++)
+    if (v->external_force[c])
+      load->body[c] += v->external_force[c][p];
+  double volume = v->volume[p]; /* stress times volume: N m */
+  load->txx = v->stress[0][p] * volume;
+  load->tyy = dim > 1 ? v->stress[1][p] * volume : 0.0;
+  load->txy = dim > 1 ? v->stress[3][p] * volume : 0.0;
+  if (v->axisymmetric) /* hoop row of B (002 sec 3) */
+    load->body[0] -= v->stress[2][p] * volume / v->position[0][p];
+}
+
 /* One block; do_* are compile-time constants in each specialisation
  * below, so each pass kind gets its own loop (as p2g.c), and the APIC
  * momentum goes through the entry table. */
@@ -230,11 +272,39 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
   int64_t base[2];
   gm_block_base(v->grid, v->grid->block_key[block], base);
   int64_t columns = 0, rows = 1; /* extent of the touched tile nodes */
+  /* uGIMP and cpGIMP in 2D try the short support first (support_short.h);
+   * a longer domain, or one the checks refuse, takes the general one. */
+  gm_shape shape = v->shape_grid->shape;
+  bool try_short = dim == 2 && !affine &&
+                   (shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP);
+  double inv_cell = v->shape_grid->inv_cell; /* 1/m */
   wide_support support;
   for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
     size_t p = v->order[k];
     if (v->skip_rigid && v->rigid[v->material[p]])
       continue; /* rigid points take no part (rigid.c) */
+    gm_short_axis axis[2];
+    double half[2]; /* m */
+    if (try_short) {
+      gm_rectangle_half_edges(shape, 2, v->domain_size, v->deformation, p,
+                              half);
+      if (gm_short_support_2d(v->shape_grid, v->position[0][p],
+                              v->position[1][p], half[0], half[1], axis)) {
+        int64_t sx = axis[0].lowest - base[0], sy = axis[1].lowest - base[1];
+        int64_t short_reach[2] = {axis[0].reach, axis[1].reach};
+        if (gm_wide_support_fits(2, sx, sy, short_reach, tile_edge)) {
+          columns = sx + short_reach[0] + 1 > columns ? sx + short_reach[0] + 1
+                                                      : columns;
+          rows =
+              sy + short_reach[1] + 1 > rows ? sy + short_reach[1] + 1 : rows;
+          point_load load;
+          load_point(v, p, 2, &load);
+          scatter_short_2d(tile, tile_edge, sx, sy, axis, inv_cell, &load,
+                           do_mass, do_momentum, do_forces);
+          continue;
+        }
+      }
+    }
     /* The support's lowest node and its reach (nodes past it) per axis. */
     int64_t lowest[2], reach[2];
     bool found =
@@ -254,21 +324,7 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
     columns = x0 + reach[0] + 1 > columns ? x0 + reach[0] + 1 : columns;
     rows = y0 + reach[1] + 1 > rows ? y0 + reach[1] + 1 : rows;
     point_load load;
-    double m = v->mass[p];
-    load.mass = m;
-    load.momentum[0] = m * v->velocity[0][p];
-    load.momentum[1] = dim > 1 ? m * v->velocity[1][p] : 0.0;
-    load.body[0] = m * v->gravity[0];
-    load.body[1] = dim > 1 ? m * v->gravity[1] : 0.0;
-    for (int c = 0; c < dim; c++)
-      if (v->external_force[c])
-        load.body[c] += v->external_force[c][p];
-    double volume = v->volume[p]; /* stress times volume: N m */
-    load.txx = v->stress[0][p] * volume;
-    load.tyy = dim > 1 ? v->stress[1][p] * volume : 0.0;
-    load.txy = dim > 1 ? v->stress[3][p] * volume : 0.0;
-    if (v->axisymmetric) /* hoop row of B (002 sec 3) */
-      load.body[0] -= v->stress[2][p] * volume / v->position[0][p];
+    load_point(v, p, dim, &load);
     if (affine) {
       gm_support entries;
       if (cpdi)
