@@ -538,7 +538,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
         report_outside_moves(domain, scratch, first, count, dt);
     } else {
       if (wide)
-        gm_gather_chunk_wide(v, first, count, g, domain, scratch);
+        gm_gather_chunk_wide(v, first, count, g, domain, scratch, flip, deform);
       else if (v->dim == 1)
         gather_chunk_1d(v, first, count, g);
       else

@@ -20,21 +20,37 @@ typedef struct point_gather {
   double empty[2];        /* 1/m */
 } point_gather;
 
+/* One node's terms. The acceleration (read by the FLIP update) and the
+ * gradient with its empty-node sum (read by the deformation) are left out
+ * where the pass does not read them (gather_short_2d's passes); each sum
+ * is taken alone, so the ones kept have the same bits. */
+static GM_ALWAYS_INLINE void
+gather_node_kind(const gather_view *v, size_t node, double weight,
+                 double grad_x, double grad_y, point_gather *sum, const int dim,
+                 const bool acceleration, const bool gradient) {
+  double grad[2] = {grad_x, grad_y};
+  if (gradient) {
+    double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
+    for (int b = 0; b < dim; b++)
+      sum->empty[b] += is_empty * grad[b];
+  }
+  for (int a = 0; a < dim; a++) {
+    double nodal = v->grid_velocity[a][node];
+    if (acceleration)
+      sum->acceleration[a] += weight * v->grid_acceleration[a][node];
+    sum->velocity[a] += weight * nodal;
+    if (gradient)
+      for (int b = 0; b < dim; b++)
+        sum->gradient[a][b] += nodal * grad[b];
+  }
+}
+
+/* Every sum (the general and CPDI paths). */
 static GM_ALWAYS_INLINE void gather_node(const gather_view *v, size_t node,
                                          double weight, double grad_x,
                                          double grad_y, point_gather *sum,
                                          const int dim) {
-  double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
-  double grad[2] = {grad_x, grad_y};
-  for (int b = 0; b < dim; b++)
-    sum->empty[b] += is_empty * grad[b];
-  for (int a = 0; a < dim; a++) {
-    double nodal = v->grid_velocity[a][node];
-    sum->acceleration[a] += weight * v->grid_acceleration[a][node];
-    sum->velocity[a] += weight * nodal;
-    for (int b = 0; b < dim; b++)
-      sum->gradient[a][b] += nodal * grad[b];
-  }
+  gather_node_kind(v, node, weight, grad_x, grad_y, sum, dim, true, true);
 }
 
 /* A tensor-product support node by node, in the entry order b, a of
@@ -63,7 +79,8 @@ static GM_ALWAYS_INLINE void gather_product(const gather_view *v,
  * nodes sit at fixed offsets from the block's first, without the links. */
 static GM_ALWAYS_INLINE void
 gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
-                int64_t y0, const gm_short_axis axis[2], point_gather *sum) {
+                int64_t y0, const gm_short_axis axis[2], point_gather *sum,
+                const bool acceleration, const bool gradient) {
   const int64_t edge = GM_BLOCK_EDGE_2D;
   double inv_cell = v->shape_grid->inv_cell;  /* 1/m */
   double gradient_x[3], weight_x_per_cell[3]; /* 1/m, gm_product_support's */
@@ -80,9 +97,9 @@ gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
       size_t node =
           inside ? first + (size_t)(x + edge * y)
                  : gm_block_node(links, GM_BLOCK_SHIFT_2D, x0 + x, y0 + y);
-      gather_node(v, node, axis[0].weight[a] * weight_y,
-                  gradient_x[a] * weight_y, weight_x_per_cell[a] * gradient_y,
-                  sum, 2);
+      gather_node_kind(
+          v, node, axis[0].weight[a] * weight_y, gradient_x[a] * weight_y,
+          weight_x_per_cell[a] * gradient_y, sum, 2, acceleration, gradient);
     }
   }
 }
@@ -185,7 +202,8 @@ store_point_gather(const gather_view *v, size_t p, size_t j, point_gather *sum,
 static GM_ALWAYS_INLINE void
 gather_chunk_kind(const gather_view *v, size_t first, size_t count,
                   chunk_gather *out, const gm_domain *domain,
-                  gm_worker_scratch *scratch, const int dim) {
+                  gm_worker_scratch *scratch, const int dim,
+                  const bool acceleration, const bool gradient) {
   const double *const *deformation = v->support_tensor;
   bool cpdi = v->shape_grid->shape == GM_SHAPE_CPDI;
   /* Two blocks per axis: the block and its neighbour links. */
@@ -216,7 +234,7 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
         reach[0] = axis[0].reach;
         reach[1] = axis[1].reach;
         if (gm_wide_support_fits(2, sx, sy, reach, edge)) {
-          gather_short_2d(v, links, sx, sy, axis, &sum);
+          gather_short_2d(v, links, sx, sy, axis, &sum, acceleration, gradient);
           store_point_gather(v, p, j, &sum, affine, out, 2);
           continue;
         }
@@ -253,11 +271,15 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
 
 void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
                           chunk_gather *out, const gm_domain *domain,
-                          gm_worker_scratch *scratch) {
-  if (v->dim > 1)
-    gather_chunk_kind(v, first, count, out, domain, scratch, 2);
+                          gm_worker_scratch *scratch, bool flip, bool deform) {
+  if (v->dim == 1)
+    gather_chunk_kind(v, first, count, out, domain, scratch, 1, true, true);
+  else if (flip && !deform) /* USL's first pass, USF's second, MUSL's first */
+    gather_chunk_kind(v, first, count, out, domain, scratch, 2, true, false);
+  else if (!flip && deform) /* USL's second, USF's first, MUSL's second */
+    gather_chunk_kind(v, first, count, out, domain, scratch, 2, false, true);
   else
-    gather_chunk_kind(v, first, count, out, domain, scratch, 1);
+    gather_chunk_kind(v, first, count, out, domain, scratch, 2, true, true);
 }
 
 void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
