@@ -356,7 +356,10 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
     inside = inside && axis_inside;
   }
   bool wide = v->shape_grid->shape != GM_SHAPE_LINEAR; /* keys: later */
-  if (inside && !wide) { /* keys of the moved points, for the next step */
+  if (inside && wide)
+    return;     /* every point inside: nothing to report (was: each point
+                   tested again through gm_report_moved_point) */
+  if (inside) { /* keys of the moved points, for the next step */
     const double *x = v->next_position[0] + first;
     const double *y = v->next_position[v->dim > 1 ? 1 : 0] + first;
     int64_t *restrict key = v->block_key + first;

@@ -288,8 +288,20 @@ void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
   int dim = v->dim;
   const double *const position[2] = {v->next_position[0], v->next_position[1]};
   const double *const *deformation = v->next_support_tensor;
+  gm_shape shape = v->shape_grid->shape;
+  bool try_short =
+      dim == 2 && (shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP);
   for (size_t p = first; p < first + count; p++) {
     int64_t lowest[2], highest[2];
+    if (try_short) {  /* support_short.h; else the general bounds */
+      double half[2]; /* m */
+      gm_rectangle_half_edges(shape, 2, v->domain_size, deformation, p, half);
+      if (gm_short_lowest_2d(v->shape_grid, position[0][p], position[1][p],
+                             half[0], half[1], lowest)) {
+        v->block_key[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);
+        continue;
+      }
+    }
     if (gm_wide_support_bounds(v->shape_grid, dim, position, deformation,
                                v->domain_size, p, lowest, highest)) {
       v->block_key[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);

@@ -36,25 +36,33 @@ typedef struct gm_short_axis {
   double gradient[3]; /* per cell, dS/ds; 0 past the reach */
 } gm_short_axis;
 
-/* The axis of a domain of centre s and half edge l (cells from node 0) on
- * an axis whose highest node is last_node. False when the domain is not
- * short (l outside (GM_GIMP_MIN_HALF_LENGTH, 1/2], or NaN) or its support
- * leaves the grid's nodes: the caller then takes the general support
+/* The lowest node and the reach of a domain of centre s and half edge l (cells
+ * from node 0) on an axis whose highest node is last_node. False when the
+ * domain is not short (l outside (GM_GIMP_MIN_HALF_LENGTH, 1/2], or NaN) or its
+ * support leaves the grid's nodes: the caller then takes the general support
  * (gm_product_support_rectangle), which gives the same answer or the same
  * failure. The tests are gm_product_support_rectangle's. */
-static inline bool gm_short_axis_compute(double s, double l, int64_t last_node,
-                                         gm_short_axis *out) {
+static inline bool gm_short_axis_bounds(double s, double l, int64_t last_node,
+                                        int64_t *lowest, int64_t *reach) {
   if (!(l >= GM_GIMP_MIN_HALF_LENGTH && l <= 0.5))
     return false;
   if (!(s - l >= -1.0 && s + l < (double)last_node + 1.0))
     return false; /* also catches NaN; keeps the casts in range */
-  int64_t lowest = gm_floor_index(s - l);
-  int64_t reach = gm_floor_index(s + l) + 1 - lowest; /* span - 1 */
-  if (lowest < 0 || lowest + reach > last_node || reach > 2)
-    return false; /* reach 3: 2 l = 1 with s - l rounded down, s + l up */
+  *lowest = gm_floor_index(s - l);
+  *reach = gm_floor_index(s + l) + 1 - *lowest; /* span - 1 */
+  /* reach 3: 2 l = 1 with s - l rounded down and s + l up */
+  return *lowest >= 0 && *lowest + *reach <= last_node && *reach <= 2;
+}
+
+/* The whole axis, under the same conditions. */
+static inline bool gm_short_axis_compute(double s, double l, int64_t last_node,
+                                         gm_short_axis *out) {
+  int64_t lowest, reach;
+  if (!gm_short_axis_bounds(s, l, last_node, &lowest, &reach))
+    return false;
   /* gm_gimp_axis_short, term by term. */
   double inverse_length = 0.5 / l;    /* 1 / (2 l) */
-  double centre = s - (double)lowest; /* m, in cells */
+  double centre = s - (double)lowest; /* cells, m of gm_gimp_axis_short */
   double past = centre + l - 1.0;     /* e */
   past = past > 0.0 ? past : 0.0;
   double far = 0.5 * inverse_length * past * past; /* S_2 */
@@ -84,6 +92,21 @@ static inline bool gm_short_support_2d(const gm_shape_grid *grid, double x,
                                &axis[0]) &&
          gm_short_axis_compute(s_y, half_y * inv_cell, grid->last_node[1],
                                &axis[1]);
+}
+
+/* The lowest node of a 2D rectangle's short support (the block key's
+ * node), as gm_short_support_2d; false as there. */
+static inline bool gm_short_lowest_2d(const gm_shape_grid *grid, double x,
+                                      double y, double half_x, double half_y,
+                                      int64_t lowest[2]) {
+  double inv_cell = grid->inv_cell; /* 1/m */
+  double s_x = (x - grid->origin[0]) * inv_cell;
+  double s_y = (y - grid->origin[1]) * inv_cell;
+  int64_t reach[2];
+  return gm_short_axis_bounds(s_x, half_x * inv_cell, grid->last_node[0],
+                              &lowest[0], &reach[0]) &&
+         gm_short_axis_bounds(s_y, half_y * inv_cell, grid->last_node[1],
+                              &lowest[1], &reach[1]);
 }
 
 #endif
