@@ -77,31 +77,49 @@ static GM_ALWAYS_INLINE void gather_product(const gather_view *v,
  * gather_product's. x0, y0: the lowest node from the block's base; where
  * the support lies inside the block (most points: x0, y0 + reach < 8), its
  * nodes sit at fixed offsets from the block's first, without the links. */
+static GM_ALWAYS_INLINE void gather_short_nodes(
+    const gather_view *v, const uint32_t *links, int64_t x0, int64_t y0,
+    const gm_short_axis axis[2], const double gradient_x[3],
+    const double weight_x_per_cell[3], point_gather *sum,
+    const bool acceleration, const bool gradient, const bool inside) {
+  const int64_t edge = GM_BLOCK_EDGE_2D;
+  size_t first = (size_t)links[0] * GM_BLOCK_NODES + (size_t)(x0 + edge * y0);
+  /* Loops of 3 with an exit past the reach: unrolled by the compiler, one
+   * test for the third row and column instead of a counted loop. */
+  for (int b = 0; b < 3; b++) {
+    if (b > axis[1].reach)
+      break;
+    double weight_y = axis[1].weight[b], gradient_y = axis[1].gradient[b];
+    for (int a = 0; a < 3; a++) {
+      if (a > axis[0].reach)
+        break;
+      size_t node =
+          inside ? first + (size_t)(a + edge * b)
+                 : gm_block_node(links, GM_BLOCK_SHIFT_2D, x0 + a, y0 + b);
+      gather_node_kind(
+          v, node, axis[0].weight[a] * weight_y, gradient_x[a] * weight_y,
+          weight_x_per_cell[a] * gradient_y, sum, 2, acceleration, gradient);
+    }
+  }
+}
+
 static GM_ALWAYS_INLINE void
 gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
                 int64_t y0, const gm_short_axis axis[2], point_gather *sum,
                 const bool acceleration, const bool gradient) {
-  const int64_t edge = GM_BLOCK_EDGE_2D;
   double inv_cell = v->shape_grid->inv_cell;  /* 1/m */
   double gradient_x[3], weight_x_per_cell[3]; /* 1/m, gm_product_support's */
   for (int a = 0; a < 3; a++) {
     gradient_x[a] = inv_cell * axis[0].gradient[a];
     weight_x_per_cell[a] = inv_cell * axis[0].weight[a];
   }
-  bool inside = x0 + axis[0].reach < edge && y0 + axis[1].reach < edge;
-  size_t first = (size_t)links[0] * GM_BLOCK_NODES + (size_t)(x0 + edge * y0);
-  for (int64_t y = 0; y <= axis[1].reach; y++) {
-    double weight_y = axis[1].weight[y], gradient_y = axis[1].gradient[y];
-    for (int64_t x = 0; x <= axis[0].reach; x++) {
-      int a = (int)x;
-      size_t node =
-          inside ? first + (size_t)(x + edge * y)
-                 : gm_block_node(links, GM_BLOCK_SHIFT_2D, x0 + x, y0 + y);
-      gather_node_kind(
-          v, node, axis[0].weight[a] * weight_y, gradient_x[a] * weight_y,
-          weight_x_per_cell[a] * gradient_y, sum, 2, acceleration, gradient);
-    }
-  }
+  const int64_t edge = GM_BLOCK_EDGE_2D;
+  if (x0 + axis[0].reach < edge && y0 + axis[1].reach < edge)
+    gather_short_nodes(v, links, x0, y0, axis, gradient_x, weight_x_per_cell,
+                       sum, acceleration, gradient, true);
+  else
+    gather_short_nodes(v, links, x0, y0, axis, gradient_x, weight_x_per_cell,
+                       sum, acceleration, gradient, false);
 }
 
 /* CPDI corner by corner (support.c): each corner interpolates the nodes

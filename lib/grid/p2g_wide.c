@@ -145,13 +145,19 @@ scatter_short_2d(wide_tile *tile, int64_t tile_edge, int64_t x0, int64_t y0,
     gradient_x[a] = inv_cell * axis[0].gradient[a];
     weight_x_per_cell[a] = inv_cell * axis[0].weight[a];
   }
-  for (int b = 0; b <= axis[1].reach; b++) {
+  /* Loops of 3 with an exit past the reach (see gather_short_nodes). */
+  for (int b = 0; b < 3; b++) {
+    if (b > axis[1].reach)
+      break;
     double weight_y = axis[1].weight[b], gradient_y = axis[1].gradient[b];
     size_t row = (size_t)(x0 + tile_edge * (y0 + b));
-    for (int a = 0; a <= axis[0].reach; a++)
+    for (int a = 0; a < 3; a++) {
+      if (a > axis[0].reach)
+        break;
       add_to_node(tile, row + (size_t)a, axis[0].weight[a] * weight_y,
                   gradient_x[a] * weight_y, weight_x_per_cell[a] * gradient_y,
                   load, do_mass, do_momentum, do_forces);
+    }
   }
 }
 
