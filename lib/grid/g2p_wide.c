@@ -122,12 +122,18 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
   bool rectangle = shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP;
   bool try_short = dim == 2 && rectangle && !v->affine;
   wide_support support;
+  uint32_t base_block = GM_NO_BLOCK;
+  int64_t base[2] = {0, 0}; /* node of base_block's lower corner */
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
     uint32_t block = v->point_block[p];
     const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
-    int64_t base[2];
-    gm_block_base(v->grid, v->grid->block_key[block], base);
+    if (block != base_block) { /* two integer divisions: once per block,
+                                  not per point (a chunk's points are
+                                  mostly in one block) */
+      gm_block_base(v->grid, v->grid->block_key[block], base);
+      base_block = block;
+    }
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
     double affine[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* m^2/s, APIC's B_p */
