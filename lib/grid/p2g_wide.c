@@ -18,10 +18,16 @@
 /* Nodes of the tile: 16 x 16 in 2D, 128 in 1D (two blocks either way). */
 #define WIDE_TILE_NODES (4 * GM_BLOCK_NODES)
 
+/* A node's fields side by side (as p2g.c's tile): a point's update of a
+ * node touches one 40-byte record, not five arrays. */
+typedef struct wide_tile_node {
+  double mass;        /* kg */
+  double momentum[2]; /* kg m/s */
+  double force[2];    /* N */
+} wide_tile_node;
+
 typedef struct wide_tile {
-  double mass[WIDE_TILE_NODES];        /* kg */
-  double momentum[2][WIDE_TILE_NODES]; /* kg m/s */
-  double force[2][WIDE_TILE_NODES];    /* N */
+  wide_tile_node node[WIDE_TILE_NODES];
 } wide_tile;
 
 /* Adds the tile's first `rows` x `columns` nodes to the grid. */
@@ -37,12 +43,12 @@ static void flush_wide_tile(const scatter_view *v, const gm_p2g_pass *pass,
       size_t node = gm_block_node(links, v->shift, x, y);
       size_t t = (size_t)(x + tile_edge * y);
       if (pass->mass)
-        v->grid_mass[node] += tile->mass[t];
+        v->grid_mass[node] += tile->node[t].mass;
       for (int k = 0; k < dim; k++) {
         if (pass->momentum)
-          v->grid_momentum[k][node] += tile->momentum[k][t];
+          v->grid_momentum[k][node] += tile->node[t].momentum[k];
         if (pass->forces)
-          v->grid_force[k][node] += tile->force[k][t];
+          v->grid_force[k][node] += tile->node[t].force[k];
       }
     }
   }
@@ -99,15 +105,15 @@ add_to_node(wide_tile *tile, size_t t, double weight, double grad_x,
             double grad_y, const point_load *load, const bool do_mass,
             const bool do_momentum, const bool do_forces) {
   if (do_mass)
-    tile->mass[t] += weight * load->mass;
+    tile->node[t].mass += weight * load->mass;
   if (do_momentum) {
-    tile->momentum[0][t] += weight * load->momentum[0];
-    tile->momentum[1][t] += weight * load->momentum[1];
+    tile->node[t].momentum[0] += weight * load->momentum[0];
+    tile->node[t].momentum[1] += weight * load->momentum[1];
   }
   if (do_forces) {
-    tile->force[0][t] +=
+    tile->node[t].force[0] +=
         weight * load->body[0] - (load->txx * grad_x + load->txy * grad_y);
-    tile->force[1][t] +=
+    tile->node[t].force[1] +=
         weight * load->body[1] - (load->txy * grad_x + load->tyy * grad_y);
   }
 }
@@ -191,14 +197,14 @@ scatter_cpdi(wide_tile *tile, int64_t tile_edge, int dim, const int64_t base[2],
         size_t t = row + (size_t)a;
         double value = support->axis[c][0][a] * support->axis[c][1][b];
         if (do_mass)
-          tile->mass[t] += value * mass;
+          tile->node[t].mass += value * mass;
         if (do_momentum) {
-          tile->momentum[0][t] += value * momentum[0];
-          tile->momentum[1][t] += value * momentum[1];
+          tile->node[t].momentum[0] += value * momentum[0];
+          tile->node[t].momentum[1] += value * momentum[1];
         }
         if (do_forces) {
-          tile->force[0][t] += value * force[0];
-          tile->force[1][t] += value * force[1];
+          tile->node[t].force[0] += value * force[0];
+          tile->node[t].force[1] += value * force[1];
         }
       }
     }
@@ -237,10 +243,12 @@ static void scatter_entries_affine(wide_tile *tile, int64_t tile_edge,
     add_to_node(tile, t, weight, support->gradient[0][e],
                 support->gradient[1][e], load, pass->mass, false, pass->forces);
     double wm = weight * m; /* kg; m_p N_ip (v_p + C (x_i - x_p)) */
-    tile->momentum[0][t] += weight * load->momentum[0] +
-                            wm * (c[0] * offset[0][e] + c[1] * offset[1][e]);
-    tile->momentum[1][t] += weight * load->momentum[1] +
-                            wm * (c[2] * offset[0][e] + c[3] * offset[1][e]);
+    tile->node[t].momentum[0] +=
+        weight * load->momentum[0] +
+        wm * (c[0] * offset[0][e] + c[1] * offset[1][e]);
+    tile->node[t].momentum[1] +=
+        weight * load->momentum[1] +
+        wm * (c[2] * offset[0][e] + c[3] * offset[1][e]);
   }
 }
 
