@@ -79,6 +79,35 @@ static GM_ALWAYS_INLINE void gather_product(const gather_view *v,
  * gather_product's. x0, y0: the lowest node from the block's base; where
  * the support lies inside the block (most points: x0, y0 + reach < 8), its
  * nodes sit at fixed offsets from the block's first, without the links. */
+#if defined(__GNUC__)
+/* gather_node_kind on pairs: acceleration and velocity (a_x, a_y), (v_x,
+ * v_y), the gradient's columns (L_xx, L_yx), (L_xy, L_yy) and the empty
+ * sums (e_x, e_y). */
+static GM_ALWAYS_INLINE void
+gather_node_pair(const gather_view *v, size_t node, double weight,
+                 double grad_x, double grad_y, gm_pair *acc, gm_pair *vel,
+                 gm_pair *column_x, gm_pair *column_y, gm_pair *empty,
+                 const bool acceleration, const bool gradient) {
+  gm_pair w = {weight, weight};
+  gm_pair nodal = {v->grid_velocity[0][node], v->grid_velocity[1][node]};
+  if (gradient) {
+    double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
+    gm_pair e = {is_empty, is_empty}, g = {grad_x, grad_y};
+    *empty += e * g;
+  }
+  if (acceleration) {
+    gm_pair a = {v->grid_acceleration[0][node], v->grid_acceleration[1][node]};
+    *acc += w * a;
+  }
+  *vel += w * nodal;
+  if (gradient) {
+    gm_pair gx = {grad_x, grad_x}, gy = {grad_y, grad_y};
+    *column_x += nodal * gx;
+    *column_y += nodal * gy;
+  }
+}
+#endif
+
 static GM_ALWAYS_INLINE void gather_short_nodes(
     const gather_view *v, const uint32_t *links, int64_t x0, int64_t y0,
     const gm_short_axis axis[2], const double gradient_x[3],
@@ -86,6 +115,11 @@ static GM_ALWAYS_INLINE void gather_short_nodes(
     const bool acceleration, const bool gradient, const bool inside) {
   const int64_t edge = GM_BLOCK_EDGE_2D;
   size_t first = (size_t)links[0] * GM_BLOCK_NODES + (size_t)(x0 + edge * y0);
+#if defined(__GNUC__)
+  gm_pair zero = {0.0, 0.0};
+  gm_pair acc = zero, vel = zero, column_x = zero, column_y = zero,
+          empty = zero;
+#endif
   /* Loops of 3 with an exit past the reach: unrolled by the compiler, one
    * test for the third row and column instead of a counted loop. */
   for (int b = 0; b < 3; b++) {
@@ -98,11 +132,27 @@ static GM_ALWAYS_INLINE void gather_short_nodes(
       size_t node =
           inside ? first + (size_t)(a + edge * b)
                  : gm_block_node(links, GM_BLOCK_SHIFT_2D, x0 + a, y0 + b);
+#if defined(__GNUC__)
+      gather_node_pair(v, node, axis[0].weight[a] * weight_y,
+                       gradient_x[a] * weight_y,
+                       weight_x_per_cell[a] * gradient_y, &acc, &vel, &column_x,
+                       &column_y, &empty, acceleration, gradient);
+#else
       gather_node_kind(
           v, node, axis[0].weight[a] * weight_y, gradient_x[a] * weight_y,
           weight_x_per_cell[a] * gradient_y, sum, 2, acceleration, gradient);
+#endif
     }
   }
+#if defined(__GNUC__) /* the sums start at 0, as sum's: the same bits */
+  for (int k = 0; k < 2; k++) {
+    sum->acceleration[k] = acc[k];
+    sum->velocity[k] = vel[k];
+    sum->gradient[k][0] = column_x[k];
+    sum->gradient[k][1] = column_y[k];
+    sum->empty[k] = empty[k];
+  }
+#endif
 }
 
 static GM_ALWAYS_INLINE void

@@ -10,6 +10,16 @@
 
 #include "grid/grid.h"
 
+#if defined(__GNUC__)
+/* Two doubles, the x and y components of one sum, in one vector register
+ * (GCC and Clang vector extension; SSE2 on x86-64), for the wide kernels
+ * (gather_wide.h, p2g_wide.c): each lane does the scalar code's operation
+ * on its component, so every sum keeps its bits (the library is built
+ * with -std=c11, which keeps a * b + c two roundings). Other compilers
+ * take the scalar code. */
+typedef double gm_pair __attribute__((vector_size(2 * sizeof(double))));
+#endif
+
 /* The arrays of a P2G pass. */
 typedef struct scatter_view {
   const double *position[2];       /* m */
