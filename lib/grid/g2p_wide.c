@@ -121,6 +121,9 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
   gm_shape shape = v->shape_grid->shape;
   bool rectangle = shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP;
   bool try_short = dim == 2 && rectangle && !v->affine;
+  /* A local copy: the stores of the sums (doubles) would otherwise reload
+   * the grid's origin and spacing at every point. */
+  const gm_shape_grid shape_grid = *v->shape_grid;
   wide_support support;
   uint32_t base_block = GM_NO_BLOCK;
   int64_t base[2] = {0, 0}; /* node of base_block's lower corner */
@@ -142,8 +145,8 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
     int64_t lowest[2], reach[2];
     if (try_short) {
       gm_rectangle_half_edges(shape, 2, v->domain_size, deformation, p, half);
-      if (gm_short_support_2d(v->shape_grid, v->position[0][p],
-                              v->position[1][p], half[0], half[1], axis)) {
+      if (gm_short_support_2d(&shape_grid, v->position[0][p], v->position[1][p],
+                              half[0], half[1], axis)) {
         int64_t sx = axis[0].lowest - base[0], sy = axis[1].lowest - base[1];
         reach[0] = axis[0].reach;
         reach[1] = axis[1].reach;

@@ -85,14 +85,15 @@ static void flush_tile(double *const sum[2], const uint32_t *links,
  * the separate passes record it) if it cannot be computed or does not fit
  * the block's neighbours. */
 static GM_ALWAYS_INLINE bool
-point_support(const gm_domain *domain, const gather_view *v, size_t p,
-              const int64_t base[2], gm_short_axis axis[2],
-              gm_product_support *product, bool *is_short, int64_t *x0,
-              int64_t *y0, int64_t reach[2], gm_worker_scratch *scratch) {
+point_support(const gm_domain *domain, const gather_view *v,
+              const gm_shape_grid *shape_grid, size_t p, const int64_t base[2],
+              gm_short_axis axis[2], gm_product_support *product,
+              bool *is_short, int64_t *x0, int64_t *y0, int64_t reach[2],
+              gm_worker_scratch *scratch) {
   double half[2]; /* m */
   gm_rectangle_half_edges(v->shape_grid->shape, 2, v->domain_size,
                           v->support_tensor, p, half);
-  if (gm_short_support_2d(v->shape_grid, v->position[0][p], v->position[1][p],
+  if (gm_short_support_2d(shape_grid, v->position[0][p], v->position[1][p],
                           half[0], half[1], axis)) {
     *x0 = axis[0].lowest - base[0];
     *y0 = axis[1].lowest - base[1];
@@ -147,6 +148,8 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
       domain->grid.neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
   const gather_view *v = &c->view;
   const linear_move_2d local_move = c->move, *m = &local_move;
+  /* A local copy: the tile's stores would otherwise reload it per point. */
+  const gm_shape_grid shape_grid = *v->shape_grid;
   double dt = m->dt;
   int64_t base[2];
   gm_block_base(&domain->grid, domain->grid.block_key[block], base);
@@ -161,8 +164,8 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     gm_product_support product;
     bool is_short;
     int64_t x0, y0, reach[2];
-    bool found = point_support(domain, v, p, base, axis, &product, &is_short,
-                               &x0, &y0, reach, scratch);
+    bool found = point_support(domain, v, &shape_grid, p, base, axis, &product,
+                               &is_short, &x0, &y0, reach, scratch);
     /* A point without a support gathers nothing and is moved by zero, as
      * in the separate passes; the step fails anyway. */
     point_gather sum = {

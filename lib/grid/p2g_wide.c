@@ -292,6 +292,9 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
   bool try_short = dim == 2 && !affine &&
                    (shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP);
   double inv_cell = v->shape_grid->inv_cell; /* 1/m */
+  /* A local copy: the tile's stores (doubles) would otherwise reload the
+   * grid's origin and spacing at every point. */
+  const gm_shape_grid shape_grid = *v->shape_grid;
   wide_support support;
   for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
     size_t p = v->order[k];
@@ -302,8 +305,8 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
     if (try_short) {
       gm_rectangle_half_edges(shape, 2, v->domain_size, v->deformation, p,
                               half);
-      if (gm_short_support_2d(v->shape_grid, v->position[0][p],
-                              v->position[1][p], half[0], half[1], axis)) {
+      if (gm_short_support_2d(&shape_grid, v->position[0][p], v->position[1][p],
+                              half[0], half[1], axis)) {
         int64_t sx = axis[0].lowest - base[0], sy = axis[1].lowest - base[1];
         int64_t short_reach[2] = {axis[0].reach, axis[1].reach};
         if (gm_wide_support_fits(2, sx, sy, short_reach, tile_edge)) {
