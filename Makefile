@@ -63,6 +63,7 @@ distclean:
 # plots into docs/.
 validate: all
 	sh validate/collapse.sh
+	sh validate/collapse_size.sh
 
 # Fuzzing: a private static build with clang, libFuzzer, ASan and UBSan.
 FUZZ_BUILD ?= build-fuzz

@@ -72,12 +72,13 @@ cpdi|CPDI|--method cpdi --family granular
 bspline2|B-spline2|--method bspline2 --family granular
 apic|uGIMP + APIC|--method ugimp --family granular --transfer apic
 mu_i|uGIMP + mu(I)|--method ugimp --family granular --material mu_i
-recommended|recommended: B-spline2, phi 37, no-slip floor|--method bspline2 --family granular --friction 37 --floor face
-recommended_mu_i|the same with mu(I) (mu_s = sin 37)|--method bspline2 --family granular --friction 37 --floor face --material mu_i
+recommended|recommended (README): B-spline2, plain, Perzyna phi 37, floor mu 0.45|--method bspline2 --family plain --friction 37 --floor-mu 0.45 --material perzyna --fluidity 300 --reference-stress 1795
+recommended_mu_i|the same with mu(I) (mu_s = sin 37)|--method bspline2 --family plain --friction 37 --floor-mu 0.45 --material mu_i
 EOF
   # 10, 15 and 20 cells across the column, 1x1 to 3x3 points per cell;
-  # the recommended setting also on 40 cells across (2x2 and 3x3), where
-  # docs/convergence.md sec 11 found it converged in the cell.
+  # the recommended setting (README, docs/convergence.md sec. 20) also on
+  # 40 cells across (2x2 and 3x3), so its converged answer rests on a
+  # halving from 20 to 40 cells.
   for key in $(cut -d'|' -f1 "$work/settings"); do
     for cell in 0.015 0.01 0.0075; do
       for ppc in 1 2 3; do echo "$key $cell $ppc"; done

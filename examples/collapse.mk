@@ -2,14 +2,15 @@
 
 # Planar granular column collapse against Lube et al. (2005).
 noinst_PROGRAMS += examples/column_collapse
-examples_column_collapse_SOURCES = examples/column_collapse.c $(EXAMPLE_COMMON)
+examples_column_collapse_SOURCES = examples/column_collapse.c \
+	examples/collapse_laws.h $(EXAMPLE_COMMON)
 examples_column_collapse_LDADD = lib/libgranmpm.la -lm
 examples_column_collapse_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
 
 # Validation against Lube et al. (2005): two aspect ratios, +-15 %.
 check_PROGRAMS += tests/physics/test_column_collapse
 tests_physics_test_column_collapse_SOURCES = tests/physics/test_column_collapse.c
-tests_physics_test_column_collapse_CFLAGS = $(TEST_CFLAGS)
+tests_physics_test_column_collapse_CFLAGS = $(TEST_CFLAGS) -I$(top_srcdir)/examples
 tests_physics_test_column_collapse_LDADD = $(TEST_LDADD)
 
 # The setting of docs/convergence.md sec. 20 under refinement (issue 13 item
@@ -19,7 +20,8 @@ tests_physics_test_collapse_refinement_SOURCES = \
 	tests/physics/test_collapse_refinement.c bench/convergence/collapse_scene.c \
 	bench/convergence/collapse_scene.h
 tests_physics_test_collapse_refinement_CFLAGS = $(TEST_CFLAGS) \
-	-I$(top_srcdir)/bench/convergence -I$(top_srcdir)/include
+	-I$(top_srcdir)/bench/convergence -I$(top_srcdir)/include \
+	-I$(top_srcdir)/examples
 tests_physics_test_collapse_refinement_LDADD = $(TEST_LDADD)
 
 # The demo: a tall column (a = 3, L0 = 10 cm, 5 mm cells, 4800 points,

@@ -12,7 +12,7 @@
  * is a cylinder of radius R0 = --length and height H0 = a R0 standing on
  * the axis x = r = 0, which replaces the back wall (no wall force there),
  * against Lube, Huppert, Sparks & Hallworth (2004, JFM 508:175; see
- * lube2004_runout for what was verified):
+ * examples/collapse_laws.h for what was verified):
  *   run-out       (r_inf - R0)/R0 ~ 1.24 a         for a <~ 1.7,
  *                                 ~ 1.6 a^(1/2)    above,
  *   final height  H_inf/R0 ~ a, then ~ 0.88 a^(1/6) (recalled),
@@ -74,6 +74,7 @@
 
 #include <granmpm.h>
 
+#include "collapse_laws.h"
 #include "common.h"
 
 #include <math.h>
@@ -171,54 +172,15 @@ typedef struct collapse_run {
   double row_time[ROW_COUNT + 1], row_front[ROW_COUNT + 1]; /* s, m */
 } collapse_run;
 
-/* Lube et al. 2005 normalised run-out (L_inf - L0)/L0. Between the two
- * regimes (1.8 < a < 2.8) the paper gives no fit: interpolate linearly
- * between the ends, so a value there is indicative only. */
-static double lube_runout(double aspect) {
-  const double low = 1.8, high = 2.8;
-  if (aspect <= low)
-    return 1.2 * aspect;
-  if (aspect >= high)
-    return 1.9 * pow(aspect, 2.0 / 3.0);
-  double at_low = 1.2 * low, at_high = 1.9 * pow(high, 2.0 / 3.0);
-  return at_low + (at_high - at_low) * (aspect - low) / (high - low);
-}
-
-/* Lube et al. 2005 final height H_inf / L0. */
-static double lube_final_height(double aspect) {
-  return aspect <= 1.15 ? aspect : pow(aspect, 0.4);
-}
-
-/* Lube, Huppert, Sparks & Hallworth 2004 (JFM 508:175) normalised run-out
- * of an axisymmetric column, (r_inf - R0)/R0. The form, linear in a for
- * low columns and a^(1/2) for tall ones, is confirmed by a secondary
- * source (Trepanier & Franklin 2010, arXiv:1005.0319, abstract: "for low
- * piles the scaling is linear ... this switches to a square-root
- * scaling", agreeing with experiments on sand); the coefficients 1.24 and
- * 1.6 and the switch at a = 1.7 are recalled, not checked against the
- * paper (docs/references.md). The two branches meet within 1 % at 1.7. */
-static double lube2004_runout(double aspect) {
-  return aspect <= 1.7 ? 1.24 * aspect : 1.6 * sqrt(aspect);
-}
-
-/* Lube et al. 2004 final height H_inf / R0: a while the top of the column
- * is not reached by the collapse, then 0.88 a^(1/6). Both recalled, not
- * checked against the paper (the project's references give only "a for
- * small a, then a weak power"); taken as the lower of the two, which
- * switch at a = 0.86, so a value near there is indicative only. */
-static double lube2004_final_height(double aspect) {
-  return fmin(aspect, 0.88 * pow(aspect, 1.0 / 6.0));
-}
-
 /* The law's run-out and final height for the scene's geometry. */
 static double law_runout(const collapse_scene *scene) {
   return scene->axisymmetric ? lube2004_runout(scene->aspect)
-                             : lube_runout(scene->aspect);
+                             : lube2005_runout(scene->aspect);
 }
 
 static double law_final_height(const collapse_scene *scene) {
   return scene->axisymmetric ? lube2004_final_height(scene->aspect)
-                             : lube_final_height(scene->aspect);
+                             : lube2005_final_height(scene->aspect);
 }
 
 static double seconds_now(void) {

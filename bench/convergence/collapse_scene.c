@@ -6,6 +6,8 @@
  */
 #include "collapse_scene.h"
 
+#include "collapse_laws.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -19,20 +21,11 @@ double collapse_scene_tau(const collapse_scene *scene) {
 }
 
 double collapse_scene_law_runout(double aspect) {
-  /* examples/column_collapse lube_runout: 1.2 a for a <= 1.8, 1.9 a^(2/3)
-   * for a >= 2.8, linear between the two ends (no fit there) */
-  const double low = 1.8, high = 2.8;
-  if (aspect <= low)
-    return 1.2 * aspect;
-  if (aspect >= high)
-    return 1.9 * pow(aspect, 2.0 / 3.0);
-  double at_low = 1.2 * low, at_high = 1.9 * pow(high, 2.0 / 3.0);
-  return at_low + (at_high - at_low) * (aspect - low) / (high - low);
+  return lube2005_runout(aspect);
 }
 
 double collapse_scene_law_height(double aspect) {
-  /* examples/column_collapse lube_final_height */
-  return aspect <= 1.15 ? aspect : pow(aspect, 0.4);
+  return lube2005_final_height(aspect);
 }
 
 gm_domain_def collapse_scene_domain_def(const collapse_scene *scene) {

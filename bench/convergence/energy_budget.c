@@ -63,7 +63,7 @@
  * its cone matched to --friction's flow in plane strain
  * (collapse_scene_dp_friction).
  * Build and run from the worktree after `make`:
- *   gcc -std=c11 -O2 -Iinclude bench/convergence/energy_budget.c \
+ *   gcc -std=c11 -O2 -Iinclude -Iexamples bench/convergence/energy_budget.c \
  *     bench/convergence/collapse_scene.c -Lbuild/lib/.libs -lgranmpm -lm \
  *     -o energy_budget
  *   LD_LIBRARY_PATH=build/lib/.libs ./energy_budget collapse --aspect 1.3 \

@@ -48,9 +48,11 @@ enum {
   F_ZX = 7,
   F_ZY = 8
 };
-/* Stored components of APIC's affine matrix B_p (GM_TRANSFER_APIC): xx,
- * xy, yx, yy (row-major, dim x dim of them: 1 in 1D, 4 in 2D). */
-#define GM_AFFINE_STORED 4
+/* Slots of APIC's affine matrix B_p (GM_TRANSFER_APIC), row-major: xx,
+ * xy, yx, yy in 2D; xx xy xz yx yy yz zx zy zz in 3D. A domain allocates
+ * dim x dim of them (gm_affine_stored: 1 in 1D, 4 in 2D, 9 in 3D); the
+ * others stay NULL, so a 2D point costs no more than before 3D APIC. */
+#define GM_AFFINE_STORED 9
 
 /* --------------------------------------------------------------- memory */
 void *gm_alloc(size_t size);

@@ -302,26 +302,6 @@ static void flip_chunk(const gather_view *v, size_t first, size_t count,
   }
 }
 
-/* A moved x outside the box of periodic x faces, brought back by whole
- * periods into [x0, x0 + L) (scaled: node units from node 0, as
- * gm_block_key_of measures). A point that rounds onto the wrong side of
- * the seam is put on the seam x0 itself, where both sides meet; a
- * non-finite x is left for the caller to report. */
-static double wrap_periodic(const gather_view *v, double x) {
-  double upper = v->cells[0]; /* scaled coordinate of the xmax face */
-  double scaled = (x - v->origin[0]) * v->inv_cell;
-  if ((scaled >= GM_GHOST_LAYERS && scaled < upper) || !isfinite(x))
-    return x;
-  x -= v->period * floor((x - v->box_lower) / v->period);
-  scaled = (x - v->origin[0]) * v->inv_cell;
-  if (scaled >= GM_GHOST_LAYERS && scaled < upper)
-    return x;
-  x = v->box_lower;
-  while ((x - v->origin[0]) * v->inv_cell < GM_GHOST_LAYERS)
-    x = nextafter(x, INFINITY); /* a few ulps at most */
-  return x;
-}
-
 static void report_outside_moves(gm_domain *domain, gm_worker_scratch *scratch,
                                  size_t first, size_t count, double dt);
 
@@ -348,7 +328,7 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
       }
     } else {
       for (size_t j = 0; j < count; j++) {
-        next[j] = wrap_periodic(v, position[j] + dt * velocity[j]);
+        next[j] = gm_periodic_wrap_x(domain, position[j] + dt * velocity[j]);
         double scaled = (next[j] - origin) * inv_cell;
         axis_inside &= scaled >= GM_GHOST_LAYERS && scaled < cells;
       }
@@ -650,8 +630,6 @@ static void make_view(gm_domain *domain, gather_view *view) {
   view->point_block = points->point_block;
   view->grid = grid;
   view->periodic_x = gm_periodic_x(domain);
-  view->box_lower = domain->def.origin[0];
-  view->period = (double)domain->cells[0] * domain->def.cell_size;
   view->block_key = points->block_key;
   view->origin_xy = domain->shape_grid.origin;
   view->shape_grid = &domain->shape_grid;

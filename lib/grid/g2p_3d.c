@@ -13,8 +13,16 @@
  * by its cell when it moves; a GIMP point by its support's lowest node
  * once the step's last pass has its final position and F (cpGIMP's box
  * follows F), as in 2D (g2p_wide.c).
+ *
+ * GM_TRANSFER_APIC (Jiang et al. 2015): the velocity pass sets v_p to the
+ * PIC velocity sum N_ip v_i and the affine matrix to B_p = sum N_ip v_i
+ * (x_i - x_p)^T for the GIMP boxes, or to C_p = L = sum v_i (x) grad
+ * N_ip (the same matrix, B_p D_p^-1, at the positions of the gather) for
+ * linear MPM, which keeps C_p (p2g_3d.c, and p2g.c for why).
  */
 #include "grid/grid.h"
+
+#include "grid/apic_3d.h"
 
 #include <math.h>
 #include <string.h>
@@ -27,6 +35,7 @@ typedef struct chunk_gather_3d {
   double acceleration[3][GM_BATCH_SIZE]; /* m/s^2 */
   double velocity[3][GM_BATCH_SIZE];     /* m/s */
   double gradient[9][GM_BATCH_SIZE];     /* 1/s, L row-major */
+  double affine[9][GM_BATCH_SIZE]; /* m^2/s, APIC's B_p (GIMP), row-major */
 } chunk_gather_3d;
 
 size_t gm_chunk_gather_3d_size(void) {
@@ -40,14 +49,15 @@ typedef struct g2p_3d_context {
 
 /* Interpolates a, v and L at the chunk's committed positions (and, for
  * GIMP, the committed F: the support the scatter used); the acceleration
- * only for a FLIP pass, L only for a deformation pass (constants in each
- * specialisation below, as is wide; each sum is taken alone, so leaving
- * one out changes no bit of the others). */
+ * only for a FLIP pass, L only for a deformation pass or APIC's C_p in
+ * linear MPM, B_p only for APIC's velocity pass with GIMP (constants in
+ * each specialisation below, as is wide; each sum is taken alone, so
+ * leaving one out changes no bit of the others). */
 static GM_ALWAYS_INLINE void
 gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
                      size_t first, size_t count, chunk_gather_3d *out,
                      const bool with_acceleration, const bool with_gradient,
-                     const bool wide) {
+                     const bool with_affine, const bool wide) {
   const gm_points *points = &domain->points;
   const gm_grid *grid = &domain->grid;
   const gm_point_buffers *current = &points->buffer[points->cur];
@@ -85,6 +95,8 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
                       mask;
     }
     double a[3] = {0, 0, 0}, v[3] = {0, 0, 0}, l[9] = {0};
+    double affine[9] = {0};                   /* m^2/s, B_p */
+    double offset[3][GM_SUPPORT_3D_MAX_SPAN]; /* m, x_i - x_p per axis */
     double empty[3] = {0, 0, 0}; /* gradient sum of massless nodes, 1/m */
     if (!found) {                /* gathers nothing: the step fails */
       gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
@@ -99,6 +111,10 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
     int span_x = wide ? support.span[0] : 2,
         span_y = wide ? support.span[1] : 2,
         span_z = wide ? support.span[2] : 2;
+    for (int axis = 0; with_affine && axis < 3; axis++)
+      gm_apic_axis_offsets_3d(origin[axis], domain->def.cell_size,
+                              support.lowest[axis], support.span[axis],
+                              current->position[axis][p], offset[axis]);
     for (int c = 0; c < span_z; c++) {
       for (int b = 0; b < span_y; b++) {
         for (int a_x = 0; a_x < span_x; a_x++) {
@@ -114,6 +130,11 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
             if (with_acceleration)
               a[i] += weight * grid->force[i][node]; /* acceleration */
             v[i] += weight * nodal;
+            if (with_affine) { /* B_p = sum N_ip v_i (x_i - x_p)^T */
+              double o[3] = {offset[0][a_x], offset[1][b], offset[2][c]};
+              for (int k = 0; k < 3; k++)
+                affine[3 * i + k] += weight * nodal * o[k];
+            }
             if (!with_gradient)
               continue;
             for (int k = 0; k < 3; k++)
@@ -133,23 +154,41 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
       out->velocity[i][j] = v[i];
       for (int k = 0; with_gradient && k < 3; k++)
         out->gradient[3 * i + k][j] = l[3 * i + k] + v[i] * empty[k];
+      for (int k = 0; with_affine && k < 3; k++)
+        out->affine[3 * i + k][j] = affine[3 * i + k];
     }
   }
 }
 
+/* What a pass needs (as in 2D, g2p.c): FLIP's velocity pass the
+ * acceleration, a deformation pass L, APIC's velocity pass no
+ * acceleration but C_p = L (linear) or B_p (GIMP). */
 static GM_ALWAYS_INLINE void
 gather_chunk_3d_shape(const gm_domain *domain, gm_worker_scratch *scratch,
                       size_t first, size_t count, chunk_gather_3d *out,
                       bool flip, bool deform, const bool wide) {
-  if (flip && deform)
-    gather_chunk_3d_kind(domain, scratch, first, count, out, true, true, wide);
-  else if (flip)
-    gather_chunk_3d_kind(domain, scratch, first, count, out, true, false, wide);
-  else if (deform)
-    gather_chunk_3d_kind(domain, scratch, first, count, out, false, true, wide);
+  bool apic = domain->def.transfer == GM_TRANSFER_APIC;
+  bool acceleration = flip && !apic;
+  bool gradient = deform || (flip && apic && !wide);
+  bool affine = flip && apic && wide;
+  if (acceleration && gradient)
+    gather_chunk_3d_kind(domain, scratch, first, count, out, true, true, false,
+                         wide);
+  else if (acceleration)
+    gather_chunk_3d_kind(domain, scratch, first, count, out, true, false, false,
+                         wide);
+  else if (gradient && affine) /* not a pass of any scheme */
+    gather_chunk_3d_kind(domain, scratch, first, count, out, false, true, true,
+                         wide);
+  else if (gradient)
+    gather_chunk_3d_kind(domain, scratch, first, count, out, false, true, false,
+                         wide);
+  else if (affine)
+    gather_chunk_3d_kind(domain, scratch, first, count, out, false, false, true,
+                         wide);
   else
     gather_chunk_3d_kind(domain, scratch, first, count, out, false, false,
-                         wide);
+                         false, wide);
 }
 
 static void gather_chunk_3d(const gm_domain *domain, gm_worker_scratch *scratch,
@@ -163,12 +202,23 @@ static void gather_chunk_3d(const gm_domain *domain, gm_worker_scratch *scratch,
                           true);
 }
 
-/* v_p += dt sum N a_i (FLIP), blended with PIC sum N v_i. */
+/* v_p += dt sum N a_i (FLIP), blended with PIC sum N v_i; with APIC the
+ * PIC velocity and the affine matrix (C_p = L for linear MPM, B_p for
+ * GIMP). */
 static void flip_chunk_3d(gm_domain *domain, size_t first, size_t count,
                           const chunk_gather_3d *g, double dt) {
   gm_points *points = &domain->points;
   const gm_point_buffers *from = &points->buffer[points->cur];
   gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  if (domain->def.transfer == GM_TRANSFER_APIC) {
+    bool linear = domain->shape_grid.shape == GM_SHAPE_LINEAR;
+    for (int k = 0; k < 3; k++)
+      memcpy(to->velocity[k] + first, g->velocity[k], count * sizeof(double));
+    for (int k = 0; k < 9; k++) /* L and B: both row-major */
+      memcpy(to->affine[k] + first, linear ? g->gradient[k] : g->affine[k],
+             count * sizeof(double));
+    return;
+  }
   double pic = domain->def.pic_fraction, flip = 1.0 - pic; /* - */
   for (int k = 0; k < 3; k++)
     for (size_t j = 0; j < count; j++) {
@@ -179,7 +229,8 @@ static void flip_chunk_3d(gm_domain *domain, size_t first, size_t count,
     }
 }
 
-/* x_p += dt sum N v_i; a point leaving the grid fails the step. Keys of
+/* x_p += dt sum N v_i; a point leaving the grid fails the step, or across
+ * periodic x faces comes back through the other one (periodic.c). Keys of
  * the moved points for the next step's binning (linear MPM; a GIMP box
  * is keyed by keys_chunk_3d once F is final). */
 static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
@@ -189,12 +240,15 @@ static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
   const gm_point_buffers *from = &points->buffer[points->cur];
   gm_point_buffers *to = &points->buffer[points->cur ^ 1];
   const double *origin = domain->shape_grid.origin;
+  bool periodic = gm_periodic_x(domain);
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
     bool inside = true;
     double moved[3];
     for (int k = 0; k < 3; k++) {
       moved[k] = from->position[k][p] + dt * g->velocity[k][j];
+      if (k == 0 && periodic)
+        moved[0] = gm_periodic_wrap_x(domain, moved[0]);
       to->position[k][p] = moved[k];
       /* The same arithmetic as gm_block_key_of. */
       double scaled = (moved[k] - origin[k]) * domain->inv_cell;

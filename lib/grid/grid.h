@@ -53,6 +53,10 @@ void gm_bspline_mirror_ghosts(gm_domain *domain, int mode);
 void gm_periodic_fold_images(gm_domain *domain, const gm_p2g_pass *pass);
 void gm_periodic_copy_images(gm_domain *domain, int mode);
 void gm_periodic_fold_gaps(gm_domain *domain);
+/* A moved x (m) outside the box of periodic x faces, brought back by whole
+ * periods into [x0, x0 + L) (periodic.c); x inside, or not finite, comes
+ * back as it is. */
+double gm_periodic_wrap_x(const gm_domain *domain, double x);
 
 /* What a G2P pass does (g2p.c). */
 typedef struct gm_g2p_pass {

@@ -12,8 +12,19 @@
  * 8 neighbour links (slot ox + 2 oy + 4 oz): a linear point is binned by
  * its cell, a GIMP point by its support's lowest node (g2p_3d.c), so both
  * reach only the block and its upper neighbours.
+ *
+ * GM_TRANSFER_APIC (Jiang et al. 2015) adds the affine momentum: node i
+ * gets m_p N_ip (v_p + C_p (x_i - x_p)) instead of m_p N_ip v_p, with
+ * C_p = B_p D_p^-1 (apic_3d.h) for the GIMP boxes, whose D_p is bounded
+ * below, and C_p itself, stored, for linear MPM (as in 2D: p2g.c says why
+ * a stored B_p divided by the tent's D_p = diag(f (1 - f) h^2) blows up
+ * near node planes). sum_i N_ip (x_i - x_p) = 0 keeps the total momentum
+ * as FLIP's; sum_i N_ip (x_i - x_p) (x) (x_i - x_p) D_p^-1 = I hands the
+ * grid the point's affine angular momentum m_p eps : (C_p D_p).
  */
 #include "grid/grid.h"
+
+#include "grid/apic_3d.h"
 
 #include <math.h>
 
@@ -24,6 +35,9 @@ typedef struct p2g_3d_context {
   const double *velocity[3];
   const double *stress[6]; /* Pa, Voigt xx yy zz xy yz zx */
   const double *volume;    /* m^3, of the stress buffer */
+  /* GM_TRANSFER_APIC: the affine matrix of the velocity buffer, row-major
+   * (B_p, m^2/s, for GIMP; C_p, 1/s, for linear MPM); NULL otherwise. */
+  const double *affine[9];
 } p2g_3d_context;
 
 /* Names the first point of a block whose host inputs (velocity, external
@@ -40,6 +54,8 @@ static void check_inputs_3d(const p2g_3d_context *ctx,
       if (points->external_force[c])
         screen += points->external_force[c][p] * 0.0;
     }
+    for (int c = 0; ctx->affine[0] && c < 9; c++)
+      screen += ctx->affine[c][p] * 0.0;
   }
   if (screen == 0.0)
     return;
@@ -57,6 +73,13 @@ static void check_inputs_3d(const p2g_3d_context *ctx,
           (long long)points->id[p],
           isfinite(ctx->velocity[c][p]) ? "external force" : "velocity", c);
     }
+    for (int c = 0; ctx->affine[0] && c < 9; c++)
+      if (!isfinite(ctx->affine[c][p]))
+        gm_worker_error(scratch, GM_ERR_NOT_FINITE, p,
+                        "step: point id %lld has a non-finite affine "
+                        "matrix B_p (GM_FIELD_AFFINE component %d); the "
+                        "step was not taken",
+                        (long long)points->id[p], c);
   }
 }
 
@@ -111,7 +134,34 @@ static void report_support_3d(const gm_domain *domain,
                   (long long)domain->points.id[p]);
 }
 
-/* do_mass, do_momentum, do_forces and wide are constants in each
+/* APIC's C_p (1/s) of point p and the offsets x_i - x_p (m) of its
+ * support per axis: the stored C_p for linear MPM, B_p D_p^-1 for a box
+ * (see the top of the file). */
+static GM_ALWAYS_INLINE void
+affine_of_point_3d(const p2g_3d_context *ctx, const double *const position[3],
+                   size_t p, const gm_box_support_3d *support, const bool wide,
+                   double offset[3][GM_SUPPORT_3D_MAX_SPAN], double c[9]) {
+  const gm_domain *domain = ctx->domain;
+  double cell = domain->def.cell_size; /* m */
+  if (!wide) {
+    for (int axis = 0; axis < 3; axis++)
+      gm_linear_offsets(support->weight[axis], cell, offset[axis]);
+    for (int k = 0; k < 9; k++)
+      c[k] = ctx->affine[k][p];
+    return;
+  }
+  double b[9]; /* m^2/s */
+  for (int k = 0; k < 9; k++)
+    b[k] = ctx->affine[k][p];
+  for (int axis = 0; axis < 3; axis++)
+    gm_apic_axis_offsets_3d(domain->shape_grid.origin[axis], cell,
+                            support->lowest[axis], support->span[axis],
+                            position[axis][p], offset[axis]);
+  gm_apic_box_velocity_3d(
+      support, (const double(*)[GM_SUPPORT_3D_MAX_SPAN])offset, b, c);
+}
+
+/* do_mass, do_momentum, do_forces, wide and apic are constants in each
  * specialisation below (scatter_block_3d), so each pass kind and support
  * gets its own loop; each field is summed alone, so leaving the others
  * out changes no bit. */
@@ -119,7 +169,7 @@ static GM_ALWAYS_INLINE void
 scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
                       uint32_t block, const bool do_mass,
                       const bool do_momentum, const bool do_forces,
-                      const bool wide) {
+                      const bool wide, const bool apic) {
   const gm_domain *domain = ctx->domain;
   const gm_points *points = &domain->points;
   const gm_grid *grid = &domain->grid;
@@ -164,6 +214,10 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
       for (int c = 0; c < 6; c++)
         t[c] = ctx->stress[c][p] * V;
     }
+    double offset[3][GM_SUPPORT_3D_MAX_SPAN]; /* m, x_i - x_p per axis */
+    double affine[9];                         /* 1/s, C_p */
+    if (do_momentum && apic)
+      affine_of_point_3d(ctx, position, p, &support, wide, offset, affine);
     for (int c = 0; c < span_z; c++) {
       for (int b = 0; b < span_y; b++) {
         for (int a = 0; a < span_x; a++) {
@@ -172,9 +226,19 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
           double weight = w[0][a] * w[1][b] * w[2][c];
           if (do_mass)
             grid->mass[node] += weight * m;
-          if (do_momentum)
+          if (do_momentum && !apic)
             for (int axis = 0; axis < 3; axis++)
               grid->momentum[axis][node] += weight * m * velocity[axis];
+          if (do_momentum && apic) { /* m_p N (v_p + C_p (x_i - x_p)) */
+            double o[3] = {offset[0][a], offset[1][b], offset[2][c]}; /* m */
+            for (int axis = 0; axis < 3; axis++) {
+              const double *row = affine + 3 * axis; /* 1/s */
+              grid->momentum[axis][node] +=
+                  weight * m *
+                  (velocity[axis] +
+                   (row[0] * o[0] + row[1] * o[1] + row[2] * o[2]));
+            }
+          }
           if (!do_forces)
             continue;
           double gx = d[0][a] * w[1][b] * w[2][c]; /* 1/m */
@@ -196,31 +260,38 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
   }
 }
 
-/* The pass kinds of the three schemes (step.c), for one support. */
-static GM_ALWAYS_INLINE void scatter_block_3d_shape(const p2g_3d_context *ctx,
-                                                    gm_worker_scratch *scratch,
-                                                    uint32_t block,
-                                                    const bool wide) {
+/* The pass kinds of the three schemes (step.c), for one support and
+ * transfer. */
+static GM_ALWAYS_INLINE void
+scatter_block_3d_shape(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
+                       uint32_t block, const bool wide, const bool apic) {
   const gm_p2g_pass *pass = ctx->pass;
   if (pass->mass && pass->momentum && pass->forces)
-    scatter_block_3d_kind(ctx, scratch, block, true, true, true, wide);
+    scatter_block_3d_kind(ctx, scratch, block, true, true, true, wide, apic);
   else if (pass->mass && pass->momentum)
-    scatter_block_3d_kind(ctx, scratch, block, true, true, false, wide);
+    scatter_block_3d_kind(ctx, scratch, block, true, true, false, wide, apic);
   else if (pass->momentum && pass->forces)
-    scatter_block_3d_kind(ctx, scratch, block, false, true, true, wide);
+    scatter_block_3d_kind(ctx, scratch, block, false, true, true, wide, apic);
   else if (pass->momentum)
-    scatter_block_3d_kind(ctx, scratch, block, false, true, false, wide);
-  else
+    scatter_block_3d_kind(ctx, scratch, block, false, true, false, wide, apic);
+  else /* no momentum: the transfer does not matter */
     scatter_block_3d_kind(ctx, scratch, block, pass->mass, false, pass->forces,
-                          wide);
+                          wide, false);
 }
 
 static void scatter_block_3d(const p2g_3d_context *ctx,
                              gm_worker_scratch *scratch, uint32_t block) {
-  if (ctx->domain->shape_grid.shape == GM_SHAPE_LINEAR)
-    scatter_block_3d_shape(ctx, scratch, block, false);
-  else /* uGIMP, cpGIMP (domain.c refuses the others in 3D) */
-    scatter_block_3d_shape(ctx, scratch, block, true);
+  bool wide = ctx->domain->shape_grid.shape != GM_SHAPE_LINEAR;
+  bool apic = ctx->affine[0] != NULL;
+  /* uGIMP, cpGIMP are the wide shapes (domain.c refuses the others in 3D) */
+  if (!wide && !apic)
+    scatter_block_3d_shape(ctx, scratch, block, false, false);
+  else if (!wide)
+    scatter_block_3d_shape(ctx, scratch, block, false, true);
+  else if (!apic)
+    scatter_block_3d_shape(ctx, scratch, block, true, false);
+  else
+    scatter_block_3d_shape(ctx, scratch, block, true, true);
 }
 
 static void scatter_blocks_3d(void *context, size_t begin, size_t end,
@@ -269,6 +340,11 @@ void gm_p2g_3d(gm_domain *domain, const gm_p2g_pass *pass) {
   for (int k = 0; k < 6; k++)
     ctx.stress[k] = stressed->stress[k];
   ctx.volume = stressed->volume;
+  /* B_p travels with the velocity it belongs to (MUSL's second scatter
+   * reads the velocities and affine matrices just gathered). */
+  bool apic = domain->def.transfer == GM_TRANSFER_APIC;
+  for (int k = 0; k < 9; k++)
+    ctx.affine[k] = apic ? moving->affine[k] : NULL;
   gm_parallel_for(&domain->pool, grid->block_count, clear_blocks_3d, &ctx);
   for (int colour = 0; colour < GM_BLOCK_COLOURS; colour++) {
     size_t first = grid->color_start[colour];

@@ -109,8 +109,6 @@ typedef struct gather_view {
   double cell;            /* m, h */
   /* Periodic x faces (periodic.c): moved points wrap into [x0, x0 + L). */
   bool periodic_x;
-  double box_lower; /* m, x0 */
-  double period;    /* m, L = cells[0] h */
 } gather_view;
 
 /* What the grid tells the points of one chunk, SoA: interpolated nodal

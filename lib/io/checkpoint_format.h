@@ -152,9 +152,10 @@ typedef struct gm_array_slot {
   gm_array_form form;
 } gm_array_slot;
 
-/* 30 in 3D (positions 3, velocities 3, stress 6, F 9 and 9 others); at
- * most 31 in 2D (CPDI, granular, APIC, axisymmetry). */
-#define GM_CHECKPOINT_MAX_ARRAYS 32
+/* 30 in 3D (positions 3, velocities 3, stress 6, F 9 and 9 others), 39
+ * with APIC's 9 affine components (41 should the granular family's two
+ * come to 3D); at most 31 in 2D (CPDI, granular, APIC, axisymmetry). */
+#define GM_CHECKPOINT_MAX_ARRAYS 48
 
 /* The per-point arrays of the committed state, in file order, into slots
  * (at most GM_CHECKPOINT_MAX_ARRAYS); returns their number. The list

@@ -79,9 +79,8 @@ static double *stored_component(const gm_domain *domain, gm_field field,
     return buffer->stress[stress_slot[k]];
   case GM_FIELD_DEFORMATION_GRADIENT:
     return buffer->deformation[deformation_slot[k]];
-  case GM_FIELD_AFFINE: /* NULL without APIC: zeros. 3D has 9 components
-                           and no APIC yet: past the 4 slots, zeros too. */
-    return k < GM_AFFINE_STORED ? buffer->affine[k] : NULL;
+  case GM_FIELD_AFFINE: /* NULL without APIC: zeros (dim x dim slots) */
+    return buffer->affine[k];
   default:
     return NULL;
   }

@@ -21,10 +21,10 @@ static const char *face_name(int face) {
 }
 
 /* What GM_GEOMETRY_3D runs in this version (docs/3d.md): linear, uGIMP
- * and cpGIMP shapes, the plain family, FLIP/PIC transfers, open, slip and fixed
- * box faces; every scheme, gravity, damping, host forces. The rest is refused
- * by name here (or by the call that would add it: walls, rigid materials,
- * sources, sinks, checkpoints, VTU). */
+ * and cpGIMP shapes, the plain family, FLIP/PIC/APIC, open, slip, fixed and
+ * periodic x box faces; every scheme, gravity, damping, host forces. The rest
+ * is refused by name here (or by the call that would add it: walls, rigid
+ * materials, sources, sinks, checkpoints, VTU). */
 static gm_status validate_3d(const gm_domain_def *def) {
   static const char *shapes[] = {"GM_SHAPE_LINEAR",   "GM_SHAPE_UGIMP",
                                  "GM_SHAPE_CPGIMP",   "GM_SHAPE_CPDI",
@@ -42,17 +42,6 @@ static gm_status validate_3d(const gm_domain_def *def) {
                 "in this version (only GM_FAMILY_PLAIN)",
                 def->family == GM_FAMILY_GRANULAR ? "GM_FAMILY_GRANULAR"
                                                   : "GM_FAMILY_STRESS_FREE");
-  if (def->transfer != GM_TRANSFER_FLIP)
-    CREATE_FAIL(GM_ERR_UNSUPPORTED,
-                "gm_domain_def.transfer GM_TRANSFER_APIC is not supported in "
-                "GM_GEOMETRY_3D in this version (use GM_TRANSFER_FLIP, "
-                "with pic_fraction for a PIC blend)");
-  for (int face = 0; face < 6; face++)
-    if (def->walls[face] == GM_WALL_PERIODIC)
-      CREATE_FAIL(GM_ERR_UNSUPPORTED,
-                  "gm_domain_def.walls[%d] (%s face) is GM_WALL_PERIODIC, "
-                  "not supported in GM_GEOMETRY_3D in this version",
-                  face, face_name(face));
   return GM_OK;
 }
 

@@ -8,7 +8,9 @@
  * granular family with CPDI and a planar wall, for a layer sliding
  * across periodic x faces (GM_WALL_PERIODIC), and for a 3D block
  * (GM_GEOMETRY_3D) resting on a fixed floor, with linear, uGIMP and
- * cpGIMP shapes, the linear block beside an oblique planar wall. Also
+ * cpGIMP shapes, the linear block beside an oblique planar wall (also
+ * with GM_TRANSFER_APIC), and a 3D layer sliding across periodic x faces.
+ * Also
  * checks that every
  * allocation is freed by gm_domain_destroy (the counts balance), and that
  * running out of memory in the middle of a step or of a material registration
@@ -59,12 +61,41 @@ static void install_counting_allocator(void) {
  * runs) and a planar wall against the block's left side (wall gaps).
  * periodic: a layer filling the width between periodic x faces, moving at
  * 3 m/s along x, so its points cross the seam in the measured steps. */
+/* The 3D periodic layer: uGIMP, filling the period on the fixed zmin
+ * face, moving at 3 m/s along x so its points cross the seam in the
+ * measured steps. */
+static gm_domain *sliding_layer_3d(gm_update_scheme scheme, int workers) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.shape = GM_SHAPE_UGIMP;
+  def.scheme = scheme;
+  def.worker_count = workers;
+  def.cell_size = 0.05;
+  def.extent[0] = 0.6;
+  def.extent[1] = def.extent[2] = 0.4;
+  def.gravity[2] = -9.81;
+  def.walls[GM_FACE_ZMIN] = GM_WALL_FIXED;
+  def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] = GM_WALL_PERIODIC;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+  const double lower[3] = {0.0, 0.1, 0.0};
+  const double upper[3] = {0.6, 0.3, 0.2};
+  size_t count = test_fill_box(domain, material, lower, upper, 2, NULL);
+  double *vx = NULL;
+  TEST_ASSERT_OK(domain,
+                 gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 0, &vx));
+  for (size_t p = 0; p < count; p++)
+    vx[p] = 3.0; /* m/s */
+  return domain;
+}
+
 /* The 3D block: 0.4 m cube on the fixed zmin face, gravity along -z,
  * spanning blocks of several colours (4 x 4 x 4 nodes each). */
 static gm_domain *resting_block_3d(gm_update_scheme scheme, int workers,
-                                   gm_shape shape) {
+                                   gm_shape shape, gm_transfer transfer) {
   gm_domain_def def = gm_domain_def_default();
   def.geometry = GM_GEOMETRY_3D;
+  def.transfer = transfer;
   def.shape = shape;
   def.scheme = scheme;
   def.worker_count = workers;
@@ -145,14 +176,21 @@ START_TEST(test_no_allocation_after_warm_up) {
   int workers = 1 + _i / 3 % 2;
   bool granular = _i >= 6 && _i < 12;
   bool periodic = _i >= 12 && _i < 18;
-  bool solid = _i >= 18; /* GM_GEOMETRY_3D: linear, uGIMP, cpGIMP */
-  static const gm_shape solid_shapes[3] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
-                                           GM_SHAPE_CPGIMP};
-  gm_shape shape = solid ? solid_shapes[(_i - 18) / 6] : GM_SHAPE_LINEAR;
+  /* GM_GEOMETRY_3D: linear, uGIMP, cpGIMP, then linear with APIC */
+  bool solid = _i >= 18 && _i < 42;
+  bool apic = _i >= 36 && _i < 42;
+  bool layer_3d = _i >= 42; /* the 3D periodic layer */
+  static const gm_shape solid_shapes[4] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
+                                           GM_SHAPE_CPGIMP, GM_SHAPE_LINEAR};
+  gm_shape shape = layer_3d ? GM_SHAPE_UGIMP
+                   : solid  ? solid_shapes[(_i - 18) / 6]
+                            : GM_SHAPE_LINEAR;
   install_counting_allocator();
-  gm_domain *domain = solid
-                          ? resting_block_3d(scheme, workers, shape)
-                          : resting_block(scheme, workers, granular, periodic);
+  gm_domain *domain =
+      layer_3d ? sliding_layer_3d(scheme, workers)
+      : solid  ? resting_block_3d(scheme, workers, shape,
+                                 apic ? GM_TRANSFER_APIC : GM_TRANSFER_FLIP)
+               : resting_block(scheme, workers, granular, periodic);
   enum { WARM_UP_STEPS = 5, MEASURED_STEPS = 200 };
   for (int step = 0; step < WARM_UP_STEPS; step++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
@@ -166,6 +204,8 @@ START_TEST(test_no_allocation_after_warm_up) {
                 test_scheme_name(scheme), workers,
                 granular   ? ", granular CPDI with a wall"
                 : periodic ? ", periodic layer"
+                : layer_3d ? ", 3D periodic layer"
+                : apic     ? ", 3D block, APIC"
                 : solid    ? ", 3D block"
                            : "",
                 test_shape_name(shape), during, MEASURED_STEPS);
@@ -393,8 +433,9 @@ int main(void) {
   TCase *tcase = tcase_create("steady_state");
   tcase_set_timeout(tcase, 60);
   /* 0..5: linear MPM; 6..11: granular CPDI with a planar wall; 12..17:
-   * periodic layer; 18..35: 3D block, linear, uGIMP, cpGIMP. */
-  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 36);
+   * periodic layer; 18..35: 3D block, linear, uGIMP, cpGIMP; 36..41: the
+   * linear 3D block with APIC; 42..47: the 3D periodic layer. */
+  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 48);
   tcase_add_test(tcase, test_out_of_memory_while_growing_the_grid);
   tcase_add_test(tcase, test_out_of_memory_while_widening_state);
   /* 0: plain, 1: granular family. */

@@ -70,8 +70,9 @@ typedef enum scene_kind {
   GRANULAR_GIMP,
   FLOW,
   PERIODIC,
-  SOLID_3D, /* GM_GEOMETRY_3D: an elastic block, 2 points per cell axis */
-  SMALL_3D  /* the same, one point per cell, for the byte-by-byte tests */
+  SOLID_3D,   /* GM_GEOMETRY_3D: an elastic block, 2 points per cell axis */
+  SMALL_3D,   /* the same, one point per cell, for the byte-by-byte tests */
+  PERIODIC_3D /* PERIODIC in 3D */
 } scene_kind;
 
 typedef struct scene {
@@ -282,6 +283,42 @@ static scene build_3d(gm_domain_def def, int points_per_cell_axis) {
 
 /* The scene on top of def (the caller's changes to def stay unless the
  * scene sets that field itself). */
+/* PERIODIC in 3D (the shape of the 3D scenes): a layer filling the
+ * periodic width, 0.3 m deep on a fixed zmin floor between slip y faces,
+ * moving at v_x = 2 + 3 z m/s with v_y = 0.5 sin(2 pi x), so that its
+ * points cross the seam before and after the save. */
+static scene build_periodic_3d(gm_domain_def def) {
+  scene s = {NULL, -1, -1, -1, -1, 21, 40, true};
+  def.geometry = GM_GEOMETRY_3D;
+  def.shape = scene_shape_3d;
+  def.extent[1] = 0.4;
+  def.extent[2] = 0.6; /* m */
+  def.gravity[1] = 0.0;
+  def.gravity[2] = -9.81; /* m/s^2 */
+  def.walls[GM_FACE_ZMIN] = GM_WALL_FIXED;
+  def.walls[GM_FACE_YMIN] = def.walls[GM_FACE_YMAX] = GM_WALL_SLIP;
+  def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] = GM_WALL_PERIODIC;
+  s.domain = test_create_domain(&def);
+  int layer = test_add_elastic(s.domain, 1e6, 0.3, 1000.0);
+  const double lower[3] = {0.0, 0.0, 0.0}, upper[3] = {1.0, 0.4, 0.3};
+  test_fill_box(s.domain, layer, lower, upper, 2, NULL);
+  const double *x = NULL, *z = NULL;
+  double *vx = NULL, *vy = NULL;
+  REQUIRE_OK(s.domain,
+             gm_domain_view_field(s.domain, GM_FIELD_POSITION, 0, &x));
+  REQUIRE_OK(s.domain,
+             gm_domain_view_field(s.domain, GM_FIELD_POSITION, 2, &z));
+  REQUIRE_OK(s.domain,
+             gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
+  REQUIRE_OK(s.domain,
+             gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 1, &vy));
+  for (size_t p = 0; p < gm_domain_point_count(s.domain); p++) {
+    vx[p] = 2.0 + 3.0 * z[p];                         /* m/s */
+    vy[p] = 0.5 * sin(2.0 * 3.14159265358979 * x[p]); /* m/s */
+  }
+  return s;
+}
+
 static scene build_from(scene_kind kind, gm_domain_def def) {
   switch (kind) {
   case ELASTIC:
@@ -298,6 +335,8 @@ static scene build_from(scene_kind kind, gm_domain_def def) {
     return build_3d(def, 2);
   case SMALL_3D:
     return build_3d(def, 1);
+  case PERIODIC_3D:
+    return build_periodic_3d(def);
   case FLOW:
     break;
   }
@@ -671,11 +710,24 @@ END_TEST
 
 /* APIC: the affine matrices are part of the state (GM_FIELD_AFFINE is
  * compared with the other fields); the granular uGIMP scene keeps B_p,
- * the elastic one (linear MPM) C_p. */
+ * the elastic one (linear MPM) C_p. In 3D the nine components: the
+ * sheared block of linear MPM (C_p) with its oblique wall, source and
+ * sink in USL, and with uGIMP and cpGIMP boxes (B_p) in USF and MUSL, a
+ * 1-worker file restarted on 2. */
 START_TEST(test_restart_apic) {
   scene_transfer = GM_TRANSFER_APIC;
   check_restart(GRANULAR_GIMP, 1, 2);
   check_restart(ELASTIC, 1, 1);
+  check_restart(SOLID_3D, 1, 2);
+  const gm_shape shapes[2] = {GM_SHAPE_UGIMP, GM_SHAPE_CPGIMP};
+  const gm_update_scheme schemes[2] = {GM_SCHEME_USF, GM_SCHEME_MUSL};
+  for (int k = 0; k < 2; k++) {
+    scene_shape_3d = shapes[k];
+    scene_scheme = schemes[k];
+    check_restart(SOLID_3D, 1, 2);
+  }
+  scene_shape_3d = GM_SHAPE_LINEAR;
+  scene_scheme = GM_SCHEME_USL;
   scene_transfer = GM_TRANSFER_FLIP;
 }
 END_TEST
@@ -732,8 +784,15 @@ static void expect_refused(const scene *target, const observed *before,
   forget(&after);
 }
 
+/* 2D, then 3D: linear MPM with FLIP, uGIMP with APIC. */
 START_TEST(test_restart_periodic) {
   check_restart(PERIODIC, 1, 2);
+  check_restart(PERIODIC_3D, 1, 2);
+  scene_shape_3d = GM_SHAPE_UGIMP;
+  scene_transfer = GM_TRANSFER_APIC;
+  check_restart(PERIODIC_3D, 1, 2);
+  scene_shape_3d = GM_SHAPE_LINEAR;
+  scene_transfer = GM_TRANSFER_FLIP;
 }
 END_TEST
 

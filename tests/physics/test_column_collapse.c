@@ -53,6 +53,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "collapse_laws.h"
 #include "test_util.h"
 
 static const double PI = 3.14159265358979323846;
@@ -102,19 +103,12 @@ enum {
   AXISYMMETRIC_COUNT = sizeof AXISYMMETRIC_CASES / sizeof AXISYMMETRIC_CASES[0]
 };
 
-/* Lube et al. 2005, in the two fitted regimes only. */
+/* Lube et al. 2005 (examples/collapse_laws.h), in the two fitted regimes
+ * only. */
 static double lube_runout(double aspect) {
-  ck_assert_msg(aspect <= 1.8 || aspect >= 2.8,
+  ck_assert_msg(aspect <= LUBE2005_LINEAR_END || aspect >= LUBE2005_POWER_START,
                 "a = %g lies between the fitted regimes", aspect);
-  return aspect <= 1.8 ? 1.2 * aspect : 1.9 * pow(aspect, 2.0 / 3.0);
-}
-
-/* Lube, Huppert, Sparks & Hallworth 2004 (JFM 508:175), axisymmetric
- * (r_inf - R0)/R0: 1.24 a for a <~ 1.7, 1.6 a^(1/2) above. The form is
- * confirmed by a secondary source, the coefficients are recalled
- * (docs/references.md). */
-static double lube2004_runout(double aspect) {
-  return aspect <= 1.7 ? 1.24 * aspect : 1.6 * sqrt(aspect);
+  return lube2005_runout(aspect);
 }
 
 static double law_runout(const collapse_case *scene) {

@@ -223,23 +223,33 @@ START_TEST(test_failed_step_undoes_injection) {
 }
 END_TEST
 
+/* Misuse of the source and sink calls, in plane strain (_i = 0) and 3D
+ * (_i = 1): in 3D the z coordinate and the sink's z extent are checked
+ * too, and the message names the point with all its coordinates. */
 START_TEST(test_source_and_sink_arguments) {
+  int three_d = _i == 1;
   gm_domain_def def = gm_domain_def_default();
+  if (three_d)
+    def.geometry = GM_GEOMETRY_3D;
   gm_domain *domain = test_create_domain(&def);
-  int material = test_add_elastic(domain, 1e5, 0.3, DENSITY);
-  const double outside[2] = {0.5, 3.0}; /* the box is 1 m x 1 m */
+  int material =
+      test_add_elastic(domain, 1e5, 0.3, three_d ? DENSITY_3D : DENSITY);
+  /* The box is 1 m a side: outside above it in 2D, behind it in 3D. */
+  const double outside_2d[2] = {0.5, 3.0}, outside_3d[3] = {0.5, 0.5, 1.5};
+  const double inside[3] = {0.5, 0.5, 0.5};
   gm_source_def source = gm_source_def_default();
   source.material = material;
   source.count = 1;
-  source.position = outside;
+  source.position = three_d ? outside_3d : outside_2d;
   source.point_size = 0.1;
   int id = -1;
   ck_assert_int_eq(gm_domain_add_source(domain, &source, &id),
                    GM_ERR_OUT_OF_GRID);
-  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "point 0"));
+  ck_assert_ptr_nonnull(
+      strstr(gm_domain_last_error(domain),
+             three_d ? "point 0 (0.5, 0.5, 1.5)" : "point 0"));
   source.position = NULL;
   ck_assert_int_eq(gm_domain_add_source(domain, &source, &id), GM_ERR_NULL);
-  const double inside[2] = {0.5, 0.5};
   source.position = inside;
   source.point_size = -1.0;
   ck_assert_int_eq(gm_domain_add_source(domain, &source, &id),
@@ -253,37 +263,18 @@ START_TEST(test_source_and_sink_arguments) {
   sink.upper[0] = 1.0; /* upper[1] == lower[1]: empty box */
   ck_assert_int_eq(gm_domain_add_sink(domain, &sink, &id),
                    GM_ERR_INVALID_ARGUMENT);
+  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "lower[1]"));
+  if (three_d) {
+    sink.upper[1] = 1.0; /* upper[2] == lower[2]: empty in z */
+    ck_assert_int_eq(gm_domain_add_sink(domain, &sink, &id),
+                     GM_ERR_INVALID_ARGUMENT);
+    ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "lower[2]"));
+  }
   gm_flow_totals totals = gm_flow_totals_default();
   ck_assert_int_eq(gm_domain_get_sink_totals(domain, 0, &totals),
                    GM_ERR_INVALID_ARGUMENT);
   ck_assert_int_eq(gm_domain_point_count(domain), 0);
-  gm_domain_destroy(domain);
-}
-END_TEST
-
-/* The same checks in 3D: the z coordinate and extent are checked too. */
-START_TEST(test_source_and_sink_arguments_3d) {
-  gm_domain_def def = gm_domain_def_default();
-  def.geometry = GM_GEOMETRY_3D;
-  gm_domain *domain = test_create_domain(&def);
-  int material = test_add_elastic(domain, 1e5, 0.3, DENSITY_3D);
-  const double outside[3] = {0.5, 0.5, 1.5}; /* the box is 1 m deep */
-  gm_source_def source = gm_source_def_default();
-  source.material = material;
-  source.count = 1;
-  source.position = outside;
-  source.point_size = 0.1;
-  int id = -1;
-  ck_assert_int_eq(gm_domain_add_source(domain, &source, &id),
-                   GM_ERR_OUT_OF_GRID);
-  ck_assert_ptr_nonnull(
-      strstr(gm_domain_last_error(domain), "point 0 (0.5, 0.5, 1.5)"));
-  gm_sink_def sink = gm_sink_def_default();
-  sink.upper[0] = sink.upper[1] = 1.0; /* upper[2] == lower[2]: empty */
-  ck_assert_int_eq(gm_domain_add_sink(domain, &sink, &id),
-                   GM_ERR_INVALID_ARGUMENT);
-  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "lower[2]"));
-  sink.upper[2] = 1.0;
+  sink.upper[1] = sink.upper[2] = 1.0;
   TEST_ASSERT_OK(domain, gm_domain_add_sink(domain, &sink, &id));
   ck_assert_int_eq(id, 0);
   gm_domain_destroy(domain);
@@ -297,8 +288,7 @@ int main(void) {
   tcase_add_loop_test(tcase, test_mass_balance_exact, 0, DIMENSIONS);
   tcase_add_loop_test(tcase, test_ids_after_removal, 0, DIMENSIONS);
   tcase_add_loop_test(tcase, test_failed_step_undoes_injection, 0, DIMENSIONS);
-  tcase_add_test(tcase, test_source_and_sink_arguments);
-  tcase_add_test(tcase, test_source_and_sink_arguments_3d);
+  tcase_add_loop_test(tcase, test_source_and_sink_arguments, 0, DIMENSIONS);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
