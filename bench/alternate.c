@@ -11,9 +11,12 @@
  * and time spent waiting for a core is not counted: the comparison that
  * bench/yardstick.sh's interleaved processes give only over minutes.
  *
- * Usage: granmpm-alternate CELLS STEPS SHAPE LIB.so [LIB.so ...]
+ * Usage: granmpm-alternate CELLS STEPS SHAPE LIB.so[@SHAPE] [...]
  *   CELLS: cells per side of the block (158: 99 856 points; 500: 1e6)
- *   SHAPE: gm_shape number (0 linear, 1 uGIMP, 3 CPDI, ...)
+ *   SHAPE: gm_shape number (0 linear, 1 uGIMP, 3 CPDI, ...); a library
+ *   given as LIB.so@SHAPE runs that shape instead, so one process can
+ *   alternate, say, linear and uGIMP steps of one build (their ratio
+ *   from one patch of load; the same file may be given twice).
  * Prints per library the median, lower quartile and mean CPU time of a
  * step, in ns per point-step. All domains are alive together: at 1e6
  * points each holds about 300 MB.
@@ -41,7 +44,9 @@ typedef const char *error_fn(const gm_domain *domain);
 typedef void destroy_fn(gm_domain *domain);
 
 typedef struct library {
-  const char *path;
+  const char *path; /* as given, with any @SHAPE */
+  char file[4096];  /* the file to load */
+  int shape;        /* gm_shape of its scene */
   step_fn *step;
   error_fn *last_error;
   destroy_fn *destroy;
@@ -72,7 +77,7 @@ static int compare_doubles(const void *a, const void *b) {
 }
 
 static size_t open_scene(library *lib, int cells, int shape) {
-  void *handle = dlopen(lib->path, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
+  void *handle = dlopen(lib->file, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
   if (!handle) {
     fprintf(stderr, "granmpm-alternate: %s\n", dlerror());
     exit(1);
@@ -132,8 +137,8 @@ static size_t open_scene(library *lib, int cells, int shape) {
 
 int main(int argc, char **argv) {
   if (argc < 5 || argc - 4 > MAX_LIBRARIES) {
-    fprintf(stderr, "usage: granmpm-alternate CELLS STEPS SHAPE LIB.so "
-                    "[LIB.so ...] (at most 8)\n");
+    fprintf(stderr, "usage: granmpm-alternate CELLS STEPS SHAPE LIB.so[@SHAPE] "
+                    "[LIB.so[@SHAPE] ...] (at most 8)\n");
     return 2;
   }
   int cells = atoi(argv[1]), steps = atoi(argv[2]), shape = atoi(argv[3]);
@@ -144,7 +149,14 @@ int main(int argc, char **argv) {
   size_t points = 0;
   for (int l = 0; l < count; l++) {
     libs[l].path = argv[4 + l];
-    points = open_scene(&libs[l], cells, shape);
+    snprintf(libs[l].file, sizeof libs[l].file, "%s", argv[4 + l]);
+    libs[l].shape = shape;
+    char *at = strrchr(libs[l].file, '@');
+    if (at) { /* LIB.so@SHAPE */
+      *at = '\0';
+      libs[l].shape = atoi(at + 1);
+    }
+    points = open_scene(&libs[l], cells, libs[l].shape);
   }
   const double h = 0.01, young = 1e7, nu = 0.3, rho = 1800.0;
   double modulus = young * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));

@@ -336,7 +336,10 @@ static void move_chunk(gm_domain *domain, const gather_view *v,
     inside = inside && axis_inside;
   }
   bool wide = v->shape_grid->shape != GM_SHAPE_LINEAR; /* keys: later */
-  if (inside && !wide) { /* keys of the moved points, for the next step */
+  if (inside && wide)
+    return;     /* every point inside: nothing to report (was: each point
+                   tested again through gm_report_moved_point) */
+  if (inside) { /* keys of the moved points, for the next step */
     const double *x = v->next_position[0] + first;
     const double *y = v->next_position[v->dim > 1 ? 1 : 0] + first;
     int64_t *restrict key = v->block_key + first;
@@ -519,7 +522,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
         report_outside_moves(domain, scratch, first, count, dt);
     } else {
       if (wide)
-        gm_gather_chunk_wide(v, first, count, g, domain, scratch);
+        gm_gather_chunk_wide(v, first, count, g, domain, scratch, flip, deform);
       else if (v->dim == 1)
         gather_chunk_1d(v, first, count, g);
       else

@@ -7,54 +7,10 @@
  */
 #include "grid/grid.h"
 
+#include "grid/gather_wide.h"
 #include "grid/transfer.h"
 
 #include <math.h>
-
-/* The sums of one point's gather (g2p.c): acceleration and velocity,
- * L_ab = sum v_ia dN_i/dx_b, the gradient sum of massless nodes. */
-typedef struct point_gather {
-  double acceleration[2]; /* m/s^2 */
-  double velocity[2];     /* m/s */
-  double gradient[2][2];  /* 1/s */
-  double empty[2];        /* 1/m */
-} point_gather;
-
-static GM_ALWAYS_INLINE void gather_node(const gather_view *v, size_t node,
-                                         double weight, double grad_x,
-                                         double grad_y, point_gather *sum,
-                                         const int dim) {
-  double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
-  double grad[2] = {grad_x, grad_y};
-  for (int b = 0; b < dim; b++)
-    sum->empty[b] += is_empty * grad[b];
-  for (int a = 0; a < dim; a++) {
-    double nodal = v->grid_velocity[a][node];
-    sum->acceleration[a] += weight * v->grid_acceleration[a][node];
-    sum->velocity[a] += weight * nodal;
-    for (int b = 0; b < dim; b++)
-      sum->gradient[a][b] += nodal * grad[b];
-  }
-}
-
-/* A tensor-product support node by node, in the entry order b, a of
- * gm_product_support_expand (so the sums are bitwise those of the table). */
-static GM_ALWAYS_INLINE void gather_product(const gather_view *v,
-                                            const uint32_t *links, int64_t x0,
-                                            int64_t y0,
-                                            const gm_product_support *support,
-                                            point_gather *sum, const int dim) {
-  int span_x = support->span[0];
-  for (int b = 0; b < support->span[1]; b++) {
-    double weight_y = support->weight[1][b],
-           gradient_y = support->gradient_y[b];
-    for (int a = 0; a < span_x; a++)
-      gather_node(v, gm_block_node(links, v->shift, x0 + a, y0 + b),
-                  support->weight[0][a] * weight_y,
-                  support->gradient_x[a] * weight_y,
-                  support->weight_x_per_cell[a] * gradient_y, sum, dim);
-  }
-}
 
 /* CPDI corner by corner (support.c): each corner interpolates the nodes
  * of its cell bilinearly, v_c = sum N_i(x_c) v_i, and the point takes
@@ -125,30 +81,87 @@ static void gather_entries_affine(const gather_view *v, const uint32_t *links,
   }
 }
 
+/* Point p's sums into slot j of the chunk's output, with the massless
+ * nodes' correction. */
+static GM_ALWAYS_INLINE void
+store_point_gather(const gather_view *v, size_t p, size_t j, point_gather *sum,
+                   double affine[2][2], chunk_gather *out, const int dim) {
+  /* Massless nodes: the point's own velocity (see gather_chunk_2d). */
+  for (int a = 0; a < dim; a++)
+    for (int b = 0; b < dim; b++)
+      sum->gradient[a][b] += sum->velocity[a] * sum->empty[b];
+  for (int a = 0; a < 2; a++) {
+    out->acceleration[a][j] = a < dim ? sum->acceleration[a] : 0.0;
+    out->velocity[a][j] = a < dim ? sum->velocity[a] : 0.0;
+  }
+  out->gradient[0][j] = sum->gradient[0][0];
+  out->gradient[1][j] = sum->gradient[0][1];
+  out->gradient[2][j] = sum->gradient[1][0];
+  out->gradient[3][j] = sum->gradient[1][1];
+  /* Hoop strain rate v_r / r (002 sec 3). */
+  out->gradient[4][j] =
+      v->axisymmetric ? sum->velocity[0] / v->position[0][p] : 0.0;
+  out->affine[0][j] = affine[0][0];
+  out->affine[1][j] = affine[0][1];
+  out->affine[2][j] = affine[1][0];
+  out->affine[3][j] = affine[1][1];
+}
+
 static GM_ALWAYS_INLINE void
 gather_chunk_kind(const gather_view *v, size_t first, size_t count,
                   chunk_gather *out, const gm_domain *domain,
-                  gm_worker_scratch *scratch, const int dim) {
+                  gm_worker_scratch *scratch, const int dim,
+                  const bool acceleration, const bool gradient) {
   const double *const *deformation = v->support_tensor;
   bool cpdi = v->shape_grid->shape == GM_SHAPE_CPDI;
   /* Two blocks per axis: the block and its neighbour links. */
   int64_t edge = dim == 1 ? 2 * GM_BLOCK_NODES : 2 << v->shift;
+  /* uGIMP and cpGIMP in 2D try the short support first (support_short.h);
+   * a longer domain, or one the checks refuse, takes the general one. */
+  gm_shape shape = v->shape_grid->shape;
+  bool rectangle = shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP;
+  bool try_short = dim == 2 && rectangle && !v->affine;
+  /* A local copy: the stores of the sums (doubles) would otherwise reload
+   * the grid's origin and spacing at every point. */
+  const gm_shape_grid shape_grid = *v->shape_grid;
   wide_support support;
+  uint32_t base_block = GM_NO_BLOCK;
+  int64_t base[2] = {0, 0}; /* node of base_block's lower corner */
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
-    int64_t lowest[2], reach[2];
-    bool found =
-        gm_wide_point_support(v->shape_grid, dim, v->position, deformation,
-                              v->domain_size, p, &support, lowest, reach);
     uint32_t block = v->point_block[p];
     const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
-    int64_t base[2];
-    gm_block_base(v->grid, v->grid->block_key[block], base);
-    int64_t x0 = lowest[0] - base[0];
-    int64_t y0 = dim > 1 ? lowest[1] - base[1] : 0;
+    if (block != base_block) { /* two integer divisions: once per block,
+                                  not per point (a chunk's points are
+                                  mostly in one block) */
+      gm_block_base(v->grid, v->grid->block_key[block], base);
+      base_block = block;
+    }
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
     double affine[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* m^2/s, APIC's B_p */
+    gm_short_axis axis[2];
+    double half[2]; /* m */
+    int64_t lowest[2], reach[2];
+    if (try_short) {
+      gm_rectangle_half_edges(shape, 2, v->domain_size, deformation, p, half);
+      if (gm_short_support_2d(&shape_grid, v->position[0][p], v->position[1][p],
+                              half[0], half[1], axis)) {
+        int64_t sx = axis[0].lowest - base[0], sy = axis[1].lowest - base[1];
+        reach[0] = axis[0].reach;
+        reach[1] = axis[1].reach;
+        if (gm_wide_support_fits(2, sx, sy, reach, edge)) {
+          gather_short_2d(v, links, sx, sy, axis, &sum, acceleration, gradient);
+          store_point_gather(v, p, j, &sum, affine, out, 2);
+          continue;
+        }
+      }
+    }
+    bool found =
+        gm_wide_point_support(v->shape_grid, dim, v->position, deformation,
+                              v->domain_size, p, &support, lowest, reach);
+    int64_t x0 = lowest[0] - base[0];
+    int64_t y0 = dim > 1 ? lowest[1] - base[1] : 0;
     if (!found || !gm_wide_support_fits(dim, x0, y0, reach, edge)) {
       gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
                       "step: the support of point id %lld cannot be "
@@ -169,35 +182,21 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
     } else {
       gather_product(v, links, x0, y0, &support.product, &sum, dim);
     }
-    /* Massless nodes: the point's own velocity (see gather_chunk_2d). */
-    for (int a = 0; a < dim; a++)
-      for (int b = 0; b < dim; b++)
-        sum.gradient[a][b] += sum.velocity[a] * sum.empty[b];
-    for (int a = 0; a < 2; a++) {
-      out->acceleration[a][j] = a < dim ? sum.acceleration[a] : 0.0;
-      out->velocity[a][j] = a < dim ? sum.velocity[a] : 0.0;
-    }
-    out->gradient[0][j] = sum.gradient[0][0];
-    out->gradient[1][j] = sum.gradient[0][1];
-    out->gradient[2][j] = sum.gradient[1][0];
-    out->gradient[3][j] = sum.gradient[1][1];
-    /* Hoop strain rate v_r / r (002 sec 3). */
-    out->gradient[4][j] =
-        v->axisymmetric ? sum.velocity[0] / v->position[0][p] : 0.0;
-    out->affine[0][j] = affine[0][0];
-    out->affine[1][j] = affine[0][1];
-    out->affine[2][j] = affine[1][0];
-    out->affine[3][j] = affine[1][1];
+    store_point_gather(v, p, j, &sum, affine, out, dim);
   }
 }
 
 void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
                           chunk_gather *out, const gm_domain *domain,
-                          gm_worker_scratch *scratch) {
-  if (v->dim > 1)
-    gather_chunk_kind(v, first, count, out, domain, scratch, 2);
+                          gm_worker_scratch *scratch, bool flip, bool deform) {
+  if (v->dim == 1)
+    gather_chunk_kind(v, first, count, out, domain, scratch, 1, true, true);
+  else if (flip && !deform) /* USL's first pass, USF's second, MUSL's first */
+    gather_chunk_kind(v, first, count, out, domain, scratch, 2, true, false);
+  else if (!flip && deform) /* USL's second, USF's first, MUSL's second */
+    gather_chunk_kind(v, first, count, out, domain, scratch, 2, false, true);
   else
-    gather_chunk_kind(v, first, count, out, domain, scratch, 1);
+    gather_chunk_kind(v, first, count, out, domain, scratch, 2, true, true);
 }
 
 void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
@@ -206,8 +205,20 @@ void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
   int dim = v->dim;
   const double *const position[2] = {v->next_position[0], v->next_position[1]};
   const double *const *deformation = v->next_support_tensor;
+  gm_shape shape = v->shape_grid->shape;
+  bool try_short =
+      dim == 2 && (shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP);
   for (size_t p = first; p < first + count; p++) {
     int64_t lowest[2], highest[2];
+    if (try_short) {  /* support_short.h; else the general bounds */
+      double half[2]; /* m */
+      gm_rectangle_half_edges(shape, 2, v->domain_size, deformation, p, half);
+      if (gm_short_lowest_2d(v->shape_grid, position[0][p], position[1][p],
+                             half[0], half[1], lowest)) {
+        v->block_key[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);
+        continue;
+      }
+    }
     if (gm_wide_support_bounds(v->shape_grid, dim, position, deformation,
                                v->domain_size, p, lowest, highest)) {
       v->block_key[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);

@@ -18,10 +18,16 @@
 /* Nodes of the tile: 16 x 16 in 2D, 128 in 1D (two blocks either way). */
 #define WIDE_TILE_NODES (4 * GM_BLOCK_NODES)
 
+/* A node's fields side by side (as p2g.c's tile): a point's update of a
+ * node touches one 40-byte record, not five arrays. */
+typedef struct wide_tile_node {
+  double mass;        /* kg */
+  double momentum[2]; /* kg m/s */
+  double force[2];    /* N */
+} wide_tile_node;
+
 typedef struct wide_tile {
-  double mass[WIDE_TILE_NODES];        /* kg */
-  double momentum[2][WIDE_TILE_NODES]; /* kg m/s */
-  double force[2][WIDE_TILE_NODES];    /* N */
+  wide_tile_node node[WIDE_TILE_NODES];
 } wide_tile;
 
 /* Adds the tile's first `rows` x `columns` nodes to the grid. */
@@ -37,12 +43,12 @@ static void flush_wide_tile(const scatter_view *v, const gm_p2g_pass *pass,
       size_t node = gm_block_node(links, v->shift, x, y);
       size_t t = (size_t)(x + tile_edge * y);
       if (pass->mass)
-        v->grid_mass[node] += tile->mass[t];
+        v->grid_mass[node] += tile->node[t].mass;
       for (int k = 0; k < dim; k++) {
         if (pass->momentum)
-          v->grid_momentum[k][node] += tile->momentum[k][t];
+          v->grid_momentum[k][node] += tile->node[t].momentum[k];
         if (pass->forces)
-          v->grid_force[k][node] += tile->force[k][t];
+          v->grid_force[k][node] += tile->node[t].force[k];
       }
     }
   }
@@ -99,15 +105,15 @@ add_to_node(wide_tile *tile, size_t t, double weight, double grad_x,
             double grad_y, const point_load *load, const bool do_mass,
             const bool do_momentum, const bool do_forces) {
   if (do_mass)
-    tile->mass[t] += weight * load->mass;
+    tile->node[t].mass += weight * load->mass;
   if (do_momentum) {
-    tile->momentum[0][t] += weight * load->momentum[0];
-    tile->momentum[1][t] += weight * load->momentum[1];
+    tile->node[t].momentum[0] += weight * load->momentum[0];
+    tile->node[t].momentum[1] += weight * load->momentum[1];
   }
   if (do_forces) {
-    tile->force[0][t] +=
+    tile->node[t].force[0] +=
         weight * load->body[0] - (load->txx * grad_x + load->txy * grad_y);
-    tile->force[1][t] +=
+    tile->node[t].force[1] +=
         weight * load->body[1] - (load->txy * grad_x + load->tyy * grad_y);
   }
 }
@@ -130,6 +136,34 @@ scatter_product(wide_tile *tile, int64_t tile_edge, int64_t x0, int64_t y0,
                   support->gradient_x[a] * weight_y,
                   support->weight_x_per_cell[a] * gradient_y, load, do_mass,
                   do_momentum, do_forces);
+  }
+}
+
+/* A short uGIMP or cpGIMP support in 2D (support_short.h), node by node in
+ * scatter_product's order (the same bits). */
+static GM_ALWAYS_INLINE void
+scatter_short_2d(wide_tile *tile, int64_t tile_edge, int64_t x0, int64_t y0,
+                 const gm_short_axis axis[2], double inv_cell,
+                 const point_load *load, const bool do_mass,
+                 const bool do_momentum, const bool do_forces) {
+  double gradient_x[3], weight_x_per_cell[3]; /* 1/m, gm_product_support's */
+  for (int a = 0; a < 3; a++) {
+    gradient_x[a] = inv_cell * axis[0].gradient[a];
+    weight_x_per_cell[a] = inv_cell * axis[0].weight[a];
+  }
+  /* Loops of 3 with an exit past the reach (see gather_short_nodes). */
+  for (int b = 0; b < 3; b++) {
+    if (b > axis[1].reach)
+      break;
+    double weight_y = axis[1].weight[b], gradient_y = axis[1].gradient[b];
+    size_t row = (size_t)(x0 + tile_edge * (y0 + b));
+    for (int a = 0; a < 3; a++) {
+      if (a > axis[0].reach)
+        break;
+      add_to_node(tile, row + (size_t)a, axis[0].weight[a] * weight_y,
+                  gradient_x[a] * weight_y, weight_x_per_cell[a] * gradient_y,
+                  load, do_mass, do_momentum, do_forces);
+    }
   }
 }
 
@@ -163,14 +197,14 @@ scatter_cpdi(wide_tile *tile, int64_t tile_edge, int dim, const int64_t base[2],
         size_t t = row + (size_t)a;
         double value = support->axis[c][0][a] * support->axis[c][1][b];
         if (do_mass)
-          tile->mass[t] += value * mass;
+          tile->node[t].mass += value * mass;
         if (do_momentum) {
-          tile->momentum[0][t] += value * momentum[0];
-          tile->momentum[1][t] += value * momentum[1];
+          tile->node[t].momentum[0] += value * momentum[0];
+          tile->node[t].momentum[1] += value * momentum[1];
         }
         if (do_forces) {
-          tile->force[0][t] += value * force[0];
-          tile->force[1][t] += value * force[1];
+          tile->node[t].force[0] += value * force[0];
+          tile->node[t].force[1] += value * force[1];
         }
       }
     }
@@ -209,11 +243,33 @@ static void scatter_entries_affine(wide_tile *tile, int64_t tile_edge,
     add_to_node(tile, t, weight, support->gradient[0][e],
                 support->gradient[1][e], load, pass->mass, false, pass->forces);
     double wm = weight * m; /* kg; m_p N_ip (v_p + C (x_i - x_p)) */
-    tile->momentum[0][t] += weight * load->momentum[0] +
-                            wm * (c[0] * offset[0][e] + c[1] * offset[1][e]);
-    tile->momentum[1][t] += weight * load->momentum[1] +
-                            wm * (c[2] * offset[0][e] + c[3] * offset[1][e]);
+    tile->node[t].momentum[0] +=
+        weight * load->momentum[0] +
+        wm * (c[0] * offset[0][e] + c[1] * offset[1][e]);
+    tile->node[t].momentum[1] +=
+        weight * load->momentum[1] +
+        wm * (c[2] * offset[0][e] + c[3] * offset[1][e]);
   }
+}
+
+/* Point p's mass, momentum, body force and stress times volume. */
+static GM_ALWAYS_INLINE void load_point(const scatter_view *v, size_t p,
+                                        const int dim, point_load *load) {
+  double m = v->mass[p];
+  load->mass = m;
+  load->momentum[0] = m * v->velocity[0][p];
+  load->momentum[1] = dim > 1 ? m * v->velocity[1][p] : 0.0;
+  load->body[0] = m * v->gravity[0];
+  load->body[1] = dim > 1 ? m * v->gravity[1] : 0.0;
+  for (int c = 0; c < dim; c++)
+    if (v->external_force[c])
+      load->body[c] += v->external_force[c][p];
+  double volume = v->volume[p]; /* stress times volume: N m */
+  load->txx = v->stress[0][p] * volume;
+  load->tyy = dim > 1 ? v->stress[1][p] * volume : 0.0;
+  load->txy = dim > 1 ? v->stress[3][p] * volume : 0.0;
+  if (v->axisymmetric) /* hoop row of B (002 sec 3) */
+    load->body[0] -= v->stress[2][p] * volume / v->position[0][p];
 }
 
 /* One block; do_* are compile-time constants in each specialisation
@@ -230,11 +286,42 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
   int64_t base[2];
   gm_block_base(v->grid, v->grid->block_key[block], base);
   int64_t columns = 0, rows = 1; /* extent of the touched tile nodes */
+  /* uGIMP and cpGIMP in 2D try the short support first (support_short.h);
+   * a longer domain, or one the checks refuse, takes the general one. */
+  gm_shape shape = v->shape_grid->shape;
+  bool try_short = dim == 2 && !affine &&
+                   (shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP);
+  double inv_cell = v->shape_grid->inv_cell; /* 1/m */
+  /* A local copy: the tile's stores (doubles) would otherwise reload the
+   * grid's origin and spacing at every point. */
+  const gm_shape_grid shape_grid = *v->shape_grid;
   wide_support support;
   for (uint32_t k = v->point_start[block]; k < v->point_start[block + 1]; k++) {
     size_t p = v->order[k];
     if (v->skip_rigid && v->rigid[v->material[p]])
       continue; /* rigid points take no part (rigid.c) */
+    gm_short_axis axis[2];
+    double half[2]; /* m */
+    if (try_short) {
+      gm_rectangle_half_edges(shape, 2, v->domain_size, v->deformation, p,
+                              half);
+      if (gm_short_support_2d(&shape_grid, v->position[0][p], v->position[1][p],
+                              half[0], half[1], axis)) {
+        int64_t sx = axis[0].lowest - base[0], sy = axis[1].lowest - base[1];
+        int64_t short_reach[2] = {axis[0].reach, axis[1].reach};
+        if (gm_wide_support_fits(2, sx, sy, short_reach, tile_edge)) {
+          columns = sx + short_reach[0] + 1 > columns ? sx + short_reach[0] + 1
+                                                      : columns;
+          rows =
+              sy + short_reach[1] + 1 > rows ? sy + short_reach[1] + 1 : rows;
+          point_load load;
+          load_point(v, p, 2, &load);
+          scatter_short_2d(tile, tile_edge, sx, sy, axis, inv_cell, &load,
+                           do_mass, do_momentum, do_forces);
+          continue;
+        }
+      }
+    }
     /* The support's lowest node and its reach (nodes past it) per axis. */
     int64_t lowest[2], reach[2];
     bool found =
@@ -254,21 +341,7 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
     columns = x0 + reach[0] + 1 > columns ? x0 + reach[0] + 1 : columns;
     rows = y0 + reach[1] + 1 > rows ? y0 + reach[1] + 1 : rows;
     point_load load;
-    double m = v->mass[p];
-    load.mass = m;
-    load.momentum[0] = m * v->velocity[0][p];
-    load.momentum[1] = dim > 1 ? m * v->velocity[1][p] : 0.0;
-    load.body[0] = m * v->gravity[0];
-    load.body[1] = dim > 1 ? m * v->gravity[1] : 0.0;
-    for (int c = 0; c < dim; c++)
-      if (v->external_force[c])
-        load.body[c] += v->external_force[c][p];
-    double volume = v->volume[p]; /* stress times volume: N m */
-    load.txx = v->stress[0][p] * volume;
-    load.tyy = dim > 1 ? v->stress[1][p] * volume : 0.0;
-    load.txy = dim > 1 ? v->stress[3][p] * volume : 0.0;
-    if (v->axisymmetric) /* hoop row of B (002 sec 3) */
-      load.body[0] -= v->stress[2][p] * volume / v->position[0][p];
+    load_point(v, p, dim, &load);
     if (affine) {
       gm_support entries;
       if (cpdi)

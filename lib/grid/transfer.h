@@ -10,6 +10,16 @@
 
 #include "grid/grid.h"
 
+#if defined(__GNUC__)
+/* Two doubles, the x and y components of one sum, in one vector register
+ * (GCC and Clang vector extension; SSE2 on x86-64), for the wide kernels
+ * (gather_wide.h, p2g_wide.c): each lane does the scalar code's operation
+ * on its component, so every sum keeps its bits (the library is built
+ * with -std=c11, which keeps a * b + c two roundings). Other compilers
+ * take the scalar code. */
+typedef double gm_pair __attribute__((vector_size(2 * sizeof(double))));
+#endif
+
 /* The arrays of a P2G pass. */
 typedef struct scatter_view {
   const double *position[2];       /* m */
@@ -194,10 +204,13 @@ void gm_scatter_block_wide(const scatter_view *view, const gm_p2g_pass *pass,
                            gm_worker_scratch *scratch);
 /* Gathers one chunk of points with a GIMP or CPDI support (g2p_wide.c). */
 /* The same check as the scatter: a support outside the block's
- * neighbours fails the step instead of reading outside them. */
+ * neighbours fails the step instead of reading outside them. flip, deform:
+ * the pass's (g2p.c); a short 2D support leaves out the sums the pass does
+ * not read (the acceleration without flip, the velocity gradient without
+ * deform: out's arrays then hold zeros). */
 void gm_gather_chunk_wide(const gather_view *view, size_t first, size_t count,
                           chunk_gather *out, const gm_domain *domain,
-                          gm_worker_scratch *scratch);
+                          gm_worker_scratch *scratch, bool flip, bool deform);
 /* Reports every point of the chunk whose new det F = V / V0 is not
  * positive and finite (g2p.c); a finite inversion marks the failure
  * recoverable by a smaller dt. */

@@ -4,7 +4,8 @@
  * (they never see the domain): linear (shape_linear.h), GIMP
  * (shape_gimp.h), B-splines (shape_bspline.h), and the support of a point
  * for every shape variant with the corners of its current domain
- * (support.h, support.c; in 3D support_3d.h, support_3d.c). The bottom
+ * (support.h, support.c; in 3D support_3d.h, support_3d.c; the fixed
+ * three-node axes of short GIMP domains, support_short.h). The bottom
  * layer: core/domain.h includes it for gm_shape_grid. Private to the
  * library.
  */
@@ -16,5 +17,6 @@
 #include "shapes/shape_linear.h"
 #include "shapes/support.h"
 #include "shapes/support_3d.h"
+#include "shapes/support_short.h"
 
 #endif

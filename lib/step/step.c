@@ -48,8 +48,9 @@
  *                          Schreyer 1995), then GRID_VELOCITIES gives v^L
  *     MOVE_AND_REMAP       USL: UPDATE_POINTS and REMAP_MOMENTUM in one
  *                          sweep over the points where gm_move_remap_fits
- *                          (move_remap.c, bitwise the same), else the two
- *                          stages in turn
+ *                          (move_remap.c, bitwise the same) or, for uGIMP
+ *                          and cpGIMP, gm_move_remap_wide_fits
+ *                          (move_remap_wide.c), else the two stages in turn
  *     DEFORM               USL: strain increment (3.18), Jaumann spin
  *                          (3.20-3.21), stress (3.19, 3.22), V = J V0
  *                          (3.23), density (3.24), from the re-mapped v^L
@@ -388,8 +389,11 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
     break;
   }
   case STAGE_MOVE_AND_REMAP:
-    if (gm_move_remap_fits(domain)) {
-      gm_move_remap(domain, dt);
+    if (gm_move_remap_fits(domain) || gm_move_remap_wide_fits(domain)) {
+      if (gm_move_remap_fits(domain))
+        gm_move_remap(domain, dt);
+      else
+        gm_move_remap_wide(domain, dt);
       gm_p2g_pass pass = {false, true, false, cur ^ 1, cur, false};
       attempt->scattered = pass; /* what REMAP_MOMENTUM scatters */
       break;

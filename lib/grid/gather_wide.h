@@ -1,0 +1,177 @@
+/*
+ * gather_wide.h - one point's gather from the nodes of a tensor-product
+ * support (uGIMP, cpGIMP, the B-splines): the sums of g2p.c (acceleration,
+ * velocity, velocity gradient and the massless nodes' gradient sum), node
+ * by node from the support's axis factors, general (gm_product_support)
+ * or short (support_short.h). Shared by the gather pass (g2p_wide.c) and
+ * USL's fused move and re-map of the short GIMP supports
+ * (move_remap_wide.c), which must give the same bits. Reads only the
+ * view's nodal arrays and shape grid.
+ */
+#ifndef GM_GATHER_WIDE_H
+#define GM_GATHER_WIDE_H
+
+#include "grid/transfer.h"
+
+/* The sums of one point's gather (g2p.c): acceleration and velocity,
+ * L_ab = sum v_ia dN_i/dx_b, the gradient sum of massless nodes. */
+typedef struct point_gather {
+  double acceleration[2]; /* m/s^2 */
+  double velocity[2];     /* m/s */
+  double gradient[2][2];  /* 1/s */
+  double empty[2];        /* 1/m */
+} point_gather;
+
+/* One node's terms. The acceleration (read by the FLIP update) and the
+ * gradient with its empty-node sum (read by the deformation) are left out
+ * where the pass does not read them (gather_short_2d's passes); each sum
+ * is taken alone, so the ones kept have the same bits. */
+static GM_ALWAYS_INLINE void
+gather_node_kind(const gather_view *v, size_t node, double weight,
+                 double grad_x, double grad_y, point_gather *sum, const int dim,
+                 const bool acceleration, const bool gradient) {
+  double grad[2] = {grad_x, grad_y};
+  if (gradient) {
+    double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
+    for (int b = 0; b < dim; b++)
+      sum->empty[b] += is_empty * grad[b];
+  }
+  for (int a = 0; a < dim; a++) {
+    double nodal = v->grid_velocity[a][node];
+    if (acceleration)
+      sum->acceleration[a] += weight * v->grid_acceleration[a][node];
+    sum->velocity[a] += weight * nodal;
+    if (gradient)
+      for (int b = 0; b < dim; b++)
+        sum->gradient[a][b] += nodal * grad[b];
+  }
+}
+
+/* Every sum (the general and CPDI paths). */
+static GM_ALWAYS_INLINE void gather_node(const gather_view *v, size_t node,
+                                         double weight, double grad_x,
+                                         double grad_y, point_gather *sum,
+                                         const int dim) {
+  gather_node_kind(v, node, weight, grad_x, grad_y, sum, dim, true, true);
+}
+
+/* A tensor-product support node by node, in the entry order b, a of
+ * gm_product_support_expand (so the sums are bitwise those of the table). */
+static GM_ALWAYS_INLINE void gather_product(const gather_view *v,
+                                            const uint32_t *links, int64_t x0,
+                                            int64_t y0,
+                                            const gm_product_support *support,
+                                            point_gather *sum, const int dim) {
+  int span_x = support->span[0];
+  for (int b = 0; b < support->span[1]; b++) {
+    double weight_y = support->weight[1][b],
+           gradient_y = support->gradient_y[b];
+    for (int a = 0; a < span_x; a++)
+      gather_node(v, gm_block_node(links, v->shift, x0 + a, y0 + b),
+                  support->weight[0][a] * weight_y,
+                  support->gradient_x[a] * weight_y,
+                  support->weight_x_per_cell[a] * gradient_y, sum, dim);
+  }
+}
+
+/* A short uGIMP or cpGIMP support in 2D (support_short.h), node by node in
+ * the entry order b, a of gather_product, so the sums are bitwise
+ * gather_product's. x0, y0: the lowest node from the block's base; where
+ * the support lies inside the block (most points: x0, y0 + reach < 8), its
+ * nodes sit at fixed offsets from the block's first, without the links. */
+#if defined(__GNUC__)
+/* gather_node_kind on pairs: acceleration and velocity (a_x, a_y), (v_x,
+ * v_y), the gradient's columns (L_xx, L_yx), (L_xy, L_yy) and the empty
+ * sums (e_x, e_y). */
+static GM_ALWAYS_INLINE void
+gather_node_pair(const gather_view *v, size_t node, double weight,
+                 double grad_x, double grad_y, gm_pair *acc, gm_pair *vel,
+                 gm_pair *column_x, gm_pair *column_y, gm_pair *empty,
+                 const bool acceleration, const bool gradient) {
+  gm_pair w = {weight, weight};
+  gm_pair nodal = {v->grid_velocity[0][node], v->grid_velocity[1][node]};
+  if (gradient) {
+    double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
+    gm_pair e = {is_empty, is_empty}, g = {grad_x, grad_y};
+    *empty += e * g;
+  }
+  if (acceleration) {
+    gm_pair a = {v->grid_acceleration[0][node], v->grid_acceleration[1][node]};
+    *acc += w * a;
+  }
+  *vel += w * nodal;
+  if (gradient) {
+    gm_pair gx = {grad_x, grad_x}, gy = {grad_y, grad_y};
+    *column_x += nodal * gx;
+    *column_y += nodal * gy;
+  }
+}
+#endif
+
+static GM_ALWAYS_INLINE void gather_short_nodes(
+    const gather_view *v, const uint32_t *links, int64_t x0, int64_t y0,
+    const gm_short_axis axis[2], const double gradient_x[3],
+    const double weight_x_per_cell[3], point_gather *sum,
+    const bool acceleration, const bool gradient, const bool inside) {
+  const int64_t edge = GM_BLOCK_EDGE_2D;
+  size_t first = (size_t)links[0] * GM_BLOCK_NODES + (size_t)(x0 + edge * y0);
+#if defined(__GNUC__)
+  gm_pair zero = {0.0, 0.0};
+  gm_pair acc = zero, vel = zero, column_x = zero, column_y = zero,
+          empty = zero;
+#endif
+  /* Loops of 3 with an exit past the reach: unrolled by the compiler, one
+   * test for the third row and column instead of a counted loop. */
+  for (int b = 0; b < 3; b++) {
+    if (b > axis[1].reach)
+      break;
+    double weight_y = axis[1].weight[b], gradient_y = axis[1].gradient[b];
+    for (int a = 0; a < 3; a++) {
+      if (a > axis[0].reach)
+        break;
+      size_t node =
+          inside ? first + (size_t)(a + edge * b)
+                 : gm_block_node(links, GM_BLOCK_SHIFT_2D, x0 + a, y0 + b);
+#if defined(__GNUC__)
+      gather_node_pair(v, node, axis[0].weight[a] * weight_y,
+                       gradient_x[a] * weight_y,
+                       weight_x_per_cell[a] * gradient_y, &acc, &vel, &column_x,
+                       &column_y, &empty, acceleration, gradient);
+#else
+      gather_node_kind(
+          v, node, axis[0].weight[a] * weight_y, gradient_x[a] * weight_y,
+          weight_x_per_cell[a] * gradient_y, sum, 2, acceleration, gradient);
+#endif
+    }
+  }
+#if defined(__GNUC__) /* the sums start at 0, as sum's: the same bits */
+  for (int k = 0; k < 2; k++) {
+    sum->acceleration[k] = acc[k];
+    sum->velocity[k] = vel[k];
+    sum->gradient[k][0] = column_x[k];
+    sum->gradient[k][1] = column_y[k];
+    sum->empty[k] = empty[k];
+  }
+#endif
+}
+
+static GM_ALWAYS_INLINE void
+gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
+                int64_t y0, const gm_short_axis axis[2], point_gather *sum,
+                const bool acceleration, const bool gradient) {
+  double inv_cell = v->shape_grid->inv_cell;  /* 1/m */
+  double gradient_x[3], weight_x_per_cell[3]; /* 1/m, gm_product_support's */
+  for (int a = 0; a < 3; a++) {
+    gradient_x[a] = inv_cell * axis[0].gradient[a];
+    weight_x_per_cell[a] = inv_cell * axis[0].weight[a];
+  }
+  const int64_t edge = GM_BLOCK_EDGE_2D;
+  if (x0 + axis[0].reach < edge && y0 + axis[1].reach < edge)
+    gather_short_nodes(v, links, x0, y0, axis, gradient_x, weight_x_per_cell,
+                       sum, acceleration, gradient, true);
+  else
+    gather_short_nodes(v, links, x0, y0, axis, gradient_x, weight_x_per_cell,
+                       sum, acceleration, gradient, false);
+}
+
+#endif
