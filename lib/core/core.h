@@ -69,9 +69,6 @@ typedef struct gm_worker_scratch gm_worker_scratch;
 /* Records the message read by gm_last_create_error() (this thread). */
 gm_status gm_set_create_error(gm_status status, const char *format, ...)
     __attribute__((format(printf, 2, 3)));
-/* GM_ERR_UNSUPPORTED with a message naming `what` when the domain is 3D
- * and `what` is not done in 3D yet (docs/3d.md); GM_OK otherwise. */
-gm_status gm_refuse_in_3d(gm_domain *domain, const char *what);
 /* Records an error message on the domain and returns status. */
 gm_status gm_set_error(gm_domain *domain, gm_status status, const char *format,
                        ...) __attribute__((format(printf, 3, 4)));

@@ -103,12 +103,3 @@ gm_status gm_collect_worker_errors(gm_domain *domain) {
   memcpy(domain->last_error, first->error_message, sizeof domain->last_error);
   return first->error_status;
 }
-
-gm_status gm_refuse_in_3d(gm_domain *domain, const char *what) {
-  if (domain->dim != 3)
-    return GM_OK;
-  return gm_set_error(domain, GM_ERR_UNSUPPORTED,
-                      "%s is not supported in GM_GEOMETRY_3D in this "
-                      "version (docs/3d.md lists what runs in 3D)",
-                      what);
-}
