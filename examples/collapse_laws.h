@@ -43,7 +43,7 @@ static inline double lube2005_final_height(double aspect) {
  * columns and a^(1/2) for tall ones, is confirmed by a secondary source
  * (Trepanier & Franklin 2010, arXiv:1005.0319, abstract); the coefficients
  * and the switch at 1.7 are recalled, not checked against the paper. The
- * two branches meet within 1 % at 1.7. */
+ * two branches meet within 1.1 % at 1.7. */
 static inline double lube2004_runout(double aspect) {
   return aspect <= 1.7 ? 1.24 * aspect : 1.6 * sqrt(aspect);
 }

@@ -88,8 +88,9 @@ typedef enum gm_geometry {
   GM_GEOMETRY_1D = 1,           /* uniaxial strain along x */
   GM_GEOMETRY_PLANE_STRAIN = 2, /* x, y; unit thickness in z */
   GM_GEOMETRY_AXISYMMETRIC = 3, /* x = radius r >= 0, y = axial z */
-  GM_GEOMETRY_3D = 4            /* x, y, z; linear shapes and the plain
-                                   family only (gm_domain_create(3)) */
+  GM_GEOMETRY_3D = 4            /* x, y, z; linear, uGIMP and cpGIMP
+                                   shapes, plain family
+                                   (gm_domain_create(3)) */
 } gm_geometry;
 
 /** Where in the explicit cycle the stress is updated (see 002 section 4.4). */
@@ -145,8 +146,8 @@ typedef enum gm_transfer {
  * x = x0 + L are one node, a ghost node beyond one face is the image of
  * the node a box length L away, and a point leaving through one face comes
  * back through the other (gm_domain_create(3): plain and stress_free
- * families only; no planar walls or rigid materials; y faces may not be
- * periodic). */
+ * families only; no planar walls or rigid materials; y faces, and z faces
+ * in 3D, may not be periodic). */
 typedef enum gm_wall_type {
   GM_WALL_OPEN = 0,    /* no condition: a point crossing it is an error */
   GM_WALL_FIXED = 1,   /* no-slip: both velocity components zero */

@@ -8,7 +8,8 @@
 # the size. Writes validate/results/collapse_size.csv (sweep.sh rows,
 # label L<L0>-a<a>) and collapse_size.md (per size: the run-outs, the change
 # in the last halving against issue 13's 3 %, the error against the law).
-# About 4 minutes of one core idle (9 at load 3-6). SIZES and ASPECTS
+# About 15 minutes of one core at load 3-6 (865 s of runs on 2026-11-28;
+# JOBS=2 runs two at a time). SIZES and ASPECTS
 # override the plan.
 # SPDX-License-Identifier: BSD-2-Clause
 set -eu

@@ -11,7 +11,7 @@
  * gm_domain_create and collapse_scene_add_walls, as the example does).
  *
  * Compile it with the probe:
- *   gcc -std=c11 -O2 -Iinclude bench/convergence/toe_probe.c \
+ *   gcc -std=c11 -O2 -Iinclude -Iexamples bench/convergence/toe_probe.c \
  *     bench/convergence/collapse_scene.c -Lbuild/lib/.libs -lgranmpm -lm
  *
  * SPDX-License-Identifier: BSD-2-Clause

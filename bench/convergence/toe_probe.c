@@ -45,7 +45,7 @@
  *             (in tau_c, default 0.02) before 0.25 and 0.5 tau_c (see
  *             write_band); band_width.py and band_share.py read them.
  * Build after `make` in the worktree:
- *   gcc -std=c11 -O2 -Iinclude bench/convergence/toe_probe.c \
+ *   gcc -std=c11 -O2 -Iinclude -Iexamples bench/convergence/toe_probe.c \
  *     bench/convergence/collapse_scene.c -Lbuild/lib/.libs -lgranmpm -lm \
  *     -o toe_probe
  *   LD_LIBRARY_PATH=build/lib/.libs ./toe_probe --cell 0.0075 --ppc 2 \

@@ -573,20 +573,22 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
 }
 
 static void g2p_flip_only(void *c, size_t b, size_t e, int w) {
-  g2p_chunks_kind(c, b, e, w, true, false, false); /* MUSL, first */
+  g2p_chunks_kind(c, b, e, w, true, false, false); /* MUSL, second */
 }
 static void g2p_move_deform(void *c, size_t b, size_t e, int w) {
-  g2p_chunks_kind(c, b, e, w, false, true, true); /* MUSL, second */
+  g2p_chunks_kind(c, b, e, w, false, true, true); /* MUSL, third */
 }
+/* USL's second pass; USF's first and third; MUSL's first */
 static void g2p_deform_only(void *c, size_t b, size_t e, int w) {
-  g2p_chunks_kind(c, b, e, w, false, false, true); /* USF first, USL second */
+  g2p_chunks_kind(c, b, e, w, false, false, true);
 }
 static void g2p_flip_move(void *c, size_t b, size_t e, int w) {
   g2p_chunks_kind(c, b, e, w, true, true, false); /* USL first, USF second */
 }
 
 /* The passes of the three schemes (step.c): USL flip+move then deform,
- * MUSL flip then move+deform, USF deform then flip+move. */
+ * MUSL deform (dt/2) then flip then move+deform (dt/2), USF deform (dt/2)
+ * then flip+move then deform (dt/2). */
 static gm_parallel_fn *pass_kernel(const gm_g2p_pass *pass) {
   if (pass->flip_velocity && pass->move_points)
     return g2p_flip_move;

@@ -191,9 +191,9 @@ void gm_gather_chunk_wide(const gather_view *v, size_t first, size_t count,
                           gm_worker_scratch *scratch, bool flip, bool deform) {
   if (v->dim == 1)
     gather_chunk_kind(v, first, count, out, domain, scratch, 1, true, true);
-  else if (flip && !deform) /* USL's first pass, USF's second, MUSL's first */
+  else if (flip && !deform) /* USL's first pass, USF's and MUSL's second */
     gather_chunk_kind(v, first, count, out, domain, scratch, 2, true, false);
-  else if (!flip && deform) /* USL's second, USF's first, MUSL's second */
+  else if (!flip && deform) /* USL's second, USF's and MUSL's first and third */
     gather_chunk_kind(v, first, count, out, domain, scratch, 2, false, true);
   else
     gather_chunk_kind(v, first, count, out, domain, scratch, 2, true, true);

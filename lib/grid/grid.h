@@ -68,8 +68,8 @@ typedef struct gm_g2p_pass {
                          signal-speed bound of the new state */
   double dt;
   bool in_place;  /* deform from the next buffer's F, D and stress (the
-                     second half of USF's split update, step.c) rather
-                     than from the committed ones */
+                     second half of USF's and MUSL's split update,
+                     step.c) rather than from the committed ones */
   double move_dt; /* s, the move's interval where it is not dt (MUSL's
                      move over the step with the second half of the
                      stress update, step.c); 0: dt */

@@ -345,8 +345,8 @@ void gm_p2g_3d(gm_domain *domain, const gm_p2g_pass *pass) {
   for (int k = 0; k < 6; k++)
     ctx.stress[k] = stressed->stress[k];
   ctx.volume = stressed->volume;
-  /* B_p travels with the velocity it belongs to (MUSL's second scatter
-   * reads the velocities and affine matrices just gathered). */
+  /* B_p travels with the velocity it belongs to (MUSL's re-map reads the
+   * velocities and affine matrices just gathered). */
   bool apic = domain->def.transfer == GM_TRANSFER_APIC;
   for (int k = 0; k < 9; k++)
     ctx.affine[k] = apic ? moving->affine[k] : NULL;

@@ -23,8 +23,8 @@ static const char *face_name(int face) {
 /* What GM_GEOMETRY_3D runs in this version (docs/3d.md): linear, uGIMP
  * and cpGIMP shapes, the plain family, FLIP/PIC/APIC, open, slip, fixed and
  * periodic x box faces; every scheme, gravity, damping, host forces. The rest
- * is refused by name here (or by the call that would add it: walls,
- * sources, sinks, checkpoints, VTU). */
+ * is refused by name here (or by the call that would add it: planar walls
+ * with GIMP shapes, walls and rigid materials beside periodic faces). */
 static gm_status validate_3d(const gm_domain_def *def) {
   static const char *shapes[] = {"GM_SHAPE_LINEAR",   "GM_SHAPE_UGIMP",
                                  "GM_SHAPE_CPGIMP",   "GM_SHAPE_CPDI",

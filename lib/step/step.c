@@ -16,8 +16,8 @@
  *     BIN                  points sorted into grid blocks, grid built
  *     GRANULAR_PREPARE     parallel grids of the granular family (000)
  *     SCATTER              P2G mass m_i (3.13), momentum m_i v_i (3.14),
- *                          force f_i from sigma_t (3.15)  [USL, MUSL]
- *     SCATTER_MOMENTUM     P2G mass (3.13), momentum (3.14)  [USF]
+ *                          force f_i from sigma_t (3.15)  [USL]
+ *     SCATTER_MOMENTUM     P2G mass (3.13), momentum (3.14)  [USF, MUSL]
  *     FOLD_PERIODIC_IMAGES after every scatter: periodic x faces, each
  *                          image node's sums onto its owner a box length
  *                          away (periodic.c)
