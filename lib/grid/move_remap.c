@@ -38,7 +38,6 @@
 
 #include "grid/transfer.h"
 
-#include <string.h>
 
 #define TILE       (GM_BLOCK_EDGE_2D + 1)
 #define TILE_NODES (TILE * TILE)
@@ -199,21 +198,14 @@ static void move_remap_blocks(void *context, size_t begin, size_t end,
 static void clear_sums(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   move_remap_context *ctx = context;
-  size_t first = begin * GM_BLOCK_NODES;
-  size_t bytes = (end - begin) * GM_BLOCK_NODES * sizeof(double);
-  memset(ctx->sum[0] + first, 0, bytes);
-  memset(ctx->sum[1] + first, 0, bytes);
+  gm_remap_sums_clear(ctx->sum, begin, end);
 }
 
 /* Copies the new momenta of a range of blocks to the grid (after it). */
 static void copy_sums(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   move_remap_context *ctx = context;
-  gm_grid *grid = &ctx->domain->grid;
-  size_t first = begin * GM_BLOCK_NODES;
-  size_t bytes = (end - begin) * GM_BLOCK_NODES * sizeof(double);
-  memcpy(grid->momentum[0] + first, ctx->sum[0] + first, bytes);
-  memcpy(grid->momentum[1] + first, ctx->sum[1] + first, bytes);
+  gm_remap_sums_commit(&ctx->domain->grid, ctx->sum, begin, end);
 }
 
 void gm_move_remap(gm_domain *domain, double dt) {

@@ -248,21 +248,14 @@ static void move_remap_blocks(void *context, size_t begin, size_t end,
 static void clear_sums(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   move_remap_wide_context *c = context;
-  size_t first = begin * GM_BLOCK_NODES;
-  size_t bytes = (end - begin) * GM_BLOCK_NODES * sizeof(double);
-  memset(c->sum[0] + first, 0, bytes);
-  memset(c->sum[1] + first, 0, bytes);
+  gm_remap_sums_clear(c->sum, begin, end);
 }
 
 /* Copies the new momenta of a range of blocks to the grid (after it). */
 static void copy_sums(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   move_remap_wide_context *c = context;
-  gm_grid *grid = &c->domain->grid;
-  size_t first = begin * GM_BLOCK_NODES;
-  size_t bytes = (end - begin) * GM_BLOCK_NODES * sizeof(double);
-  memcpy(grid->momentum[0] + first, c->sum[0] + first, bytes);
-  memcpy(grid->momentum[1] + first, c->sum[1] + first, bytes);
+  gm_remap_sums_commit(&c->domain->grid, c->sum, begin, end);
 }
 
 void gm_move_remap_wide(gm_domain *domain, double dt) {

@@ -10,6 +10,8 @@
 
 #include "grid/grid.h"
 
+#include <string.h>
+
 #if defined(__GNUC__)
 /* Two doubles, the x and y components of one sum, in one vector register
  * (GCC and Clang vector extension; SSE2 on x86-64), for the wide kernels
@@ -19,6 +21,26 @@
  * take the scalar code. */
 typedef double gm_pair __attribute__((vector_size(2 * sizeof(double))));
 #endif
+
+/* The fused move and momentum re-map (move_remap.c, move_remap_wide.c)
+ * sums the new nodal momenta (kg m/s) into spare per-node arrays: cleared
+ * before the sweep, copied over the grid's momenta after it, for the
+ * blocks [begin, end). */
+static inline void gm_remap_sums_clear(double *const sum[2], size_t begin,
+                                       size_t end) {
+  size_t first = begin * GM_BLOCK_NODES;
+  size_t bytes = (end - begin) * GM_BLOCK_NODES * sizeof(double);
+  memset(sum[0] + first, 0, bytes);
+  memset(sum[1] + first, 0, bytes);
+}
+
+static inline void gm_remap_sums_commit(gm_grid *grid, double *const sum[2],
+                                        size_t begin, size_t end) {
+  size_t first = begin * GM_BLOCK_NODES;
+  size_t bytes = (end - begin) * GM_BLOCK_NODES * sizeof(double);
+  memcpy(grid->momentum[0] + first, sum[0] + first, bytes);
+  memcpy(grid->momentum[1] + first, sum[1] + first, bytes);
+}
 
 /* The arrays of a P2G pass. */
 typedef struct scatter_view {

@@ -388,9 +388,10 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
     attempt->scattered = pass;
     break;
   }
-  case STAGE_MOVE_AND_REMAP:
-    if (gm_move_remap_fits(domain) || gm_move_remap_wide_fits(domain)) {
-      if (gm_move_remap_fits(domain))
+  case STAGE_MOVE_AND_REMAP: {
+    bool linear = gm_move_remap_fits(domain);
+    if (linear || gm_move_remap_wide_fits(domain)) {
+      if (linear)
         gm_move_remap(domain, dt);
       else
         gm_move_remap_wide(domain, dt);
@@ -402,6 +403,7 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
     if (status == GM_OK)
       status = run_stage(domain, STAGE_REMAP_MOMENTUM, dt, attempt);
     break;
+  }
   case STAGE_DEFORM: {
     gm_g2p_pass pass = {false, false, true, true, dt, false, 0.0};
     gm_g2p(domain, &pass);
