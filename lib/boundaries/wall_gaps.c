@@ -60,6 +60,11 @@ int gm_gap_plane_count(const gm_domain *domain) {
 
 /* A plane whose gaps are measured: a point on it and its unit normal
  * into the material's side. */
+int gm_centre_gap_plane_count(const gm_domain *domain) {
+  return domain->def.shape == GM_SHAPE_LINEAR ? domain->wall_count
+                                              : gm_gap_plane_count(domain);
+}
+
 typedef struct gap_plane {
   double point[2];  /* m */
   double normal[2]; /* unit */
@@ -170,8 +175,12 @@ static void measure_point(gm_domain *domain, const gap_context *ctx,
     double *gap = grid->wall_gap + node * (size_t)planes;
     for (int w = 0; w < planes; w++)
       gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
-    double *centre_gap = grid->wall_centre_gap + node * (size_t)planes;
-    for (int w = 0; w < planes; w++)
+    int centres = gm_centre_gap_plane_count(domain);
+    if (centres == 0)
+      continue; /* linear, box faces only: no centre gaps (the array is
+                   NULL, and even NULL + 0 is undefined; fuzz/fuzz_api) */
+    double *centre_gap = grid->wall_centre_gap + node * (size_t)centres;
+    for (int w = 0; w < centres; w++)
       centre_gap[w] = centre_distance[w] < centre_gap[w] ? centre_distance[w]
                                                          : centre_gap[w];
   }
@@ -243,8 +252,10 @@ static void clear_gaps(void *context, size_t begin, size_t end, int worker) {
   double *gap = domain->grid.wall_gap;
   for (size_t k = begin * stride; k < end * stride; k++)
     gap[k] = INFINITY;
+  size_t centre_stride =
+      GM_BLOCK_NODES * (size_t)gm_centre_gap_plane_count(domain);
   double *centre_gap = domain->grid.wall_centre_gap;
-  for (size_t k = begin * stride; k < end * stride; k++)
+  for (size_t k = begin * centre_stride; k < end * centre_stride; k++)
     centre_gap[k] = INFINITY;
 }
 

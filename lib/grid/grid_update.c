@@ -164,8 +164,9 @@ static void constrain_faces(const gm_domain *domain, size_t node, int64_t ix,
 static void limit_face_centres(const gm_domain *domain, size_t node, int64_t ix,
                                int64_t iy, double dt, double velocity[2]) {
   const gm_grid *grid = &domain->grid;
-  int planes = gm_gap_plane_count(domain);
-  const double *centre_gap = grid->wall_centre_gap + node * (size_t)planes;
+  const double *centre_gap =
+      grid->wall_centre_gap +
+      node * (size_t)gm_centre_gap_plane_count(domain); /* wide: all planes */
   double tolerance = GM_CONTACT_TOLERANCE * domain->def.cell_size; /* m */
   int64_t index[2] = {ix, iy};
   for (int axis = 0; axis < domain->dim; axis++) {
@@ -228,7 +229,7 @@ static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
   const double *gap =
       grid->wall_gap + node * (size_t)gm_gap_plane_count(domain);
   const double *centre_gap =
-      grid->wall_centre_gap + node * (size_t)gm_gap_plane_count(domain);
+      grid->wall_centre_gap + node * (size_t)gm_centre_gap_plane_count(domain);
   gm_wall_pool_record record = {-1, 0.0, 0.0};
   bool acted =
       gm_walls_contact(domain, position, velocity, gap, centre_gap, ctx->dt,
