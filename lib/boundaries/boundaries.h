@@ -56,6 +56,10 @@ void gm_walls_share_friction(gm_domain *domain, double dt, int mode);
 void gm_walls_measure_gaps(gm_domain *domain);
 /* Gap records per node: the planar walls and the measured box faces. */
 int gm_gap_plane_count(const gm_domain *domain);
+/* Centre-gap records per node (grid->wall_centre_gap): as the gap records
+ * with the shapes wider than a tent, the planar walls only with linear
+ * shapes, whose faces need no centre gap (grid_update.c). */
+int gm_centre_gap_plane_count(const gm_domain *domain);
 /* Slot of box face f (2 axis + side) in a node's gap records; -1 when
  * the face is not measured (open, or a B-spline mirror). */
 int gm_gap_face_slot(const gm_domain *domain, int face);

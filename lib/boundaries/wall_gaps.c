@@ -18,6 +18,10 @@
  * after the planar walls in the gap records (gm_gap_face_slot): a face
  * node held at zero while its material is still a fraction of a cell
  * above the face would hang that material in the air (grid_update.c).
+ * They get the centre gap too, from the points whose centres are less
+ * than a cell from the face: the face holds only its face and ghost
+ * nodes, and a point on it gathered from the node a cell in front as
+ * well (grid_update.c, limit_face_centres).
  * The faces of the B-splines are mirrors (bspline_faces.c) and are not
  * measured.
  *
@@ -56,6 +60,11 @@ int gm_gap_plane_count(const gm_domain *domain) {
 
 /* A plane whose gaps are measured: a point on it and its unit normal
  * into the material's side. */
+int gm_centre_gap_plane_count(const gm_domain *domain) {
+  return domain->def.shape == GM_SHAPE_LINEAR ? domain->wall_count
+                                              : gm_gap_plane_count(domain);
+}
+
 typedef struct gap_plane {
   double point[2];  /* m */
   double normal[2]; /* unit */
@@ -128,16 +137,16 @@ static void measure_point(gm_domain *domain, const gap_context *ctx,
   /* A support reaches at most 9 nodes (8 cells) from the point. */
   double reach = 8.0 * h; /* m */
   double distance[GM_MAX_WALLS + 4];
-  double centre_distance[GM_MAX_WALLS]; /* m, planar walls only */
-  int walls = domain->wall_count;
+  double centre_distance[GM_MAX_WALLS + 4]; /* m */
   bool near = false;
   for (int w = 0; w < planes; w++) {
     const gap_plane *plane = &ctx->planes[w];
     double centre = (point.position[0] - plane->point[0]) * plane->normal[0] +
                     (point.position[1] - plane->point[1]) * plane->normal[1];
     distance[w] = INFINITY;
-    if (w < walls)
-      centre_distance[w] = centre > reach ? INFINITY : centre;
+    /* A box face: within a cell only. A point farther away would need a
+     * node faster than a cell per step to be carried past the face. */
+    centre_distance[w] = centre > (plane->face ? h : reach) ? INFINITY : centre;
     if (centre > reach)
       continue; /* no node of its support lies behind this plane */
     double gap = centre - extent_along(domain, &point, plane->normal);
@@ -162,17 +171,16 @@ static void measure_point(gm_domain *domain, const gap_context *ctx,
     int64_t x = support.lowest[0] - base[0] + support.offset[0][e];
     int64_t y =
         dim > 1 ? support.lowest[1] - base[1] + support.offset[1][e] : 0;
-    double *gap = grid->wall_gap +
-                  gm_block_node(links, grid->shift, x, y) * (size_t)planes;
+    size_t node = gm_block_node(links, grid->shift, x, y);
+    double *gap = grid->wall_gap + node * (size_t)planes;
     for (int w = 0; w < planes; w++)
       gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
-    if (walls == 0)
-      continue; /* box faces only: no centre gaps (the array is NULL, and
-                   even NULL + 0 is undefined; found by fuzz/fuzz_api) */
-    double *centre_gap =
-        grid->wall_centre_gap +
-        gm_block_node(links, grid->shift, x, y) * (size_t)walls;
-    for (int w = 0; w < walls; w++)
+    int centres = gm_centre_gap_plane_count(domain);
+    if (centres == 0)
+      continue; /* linear, box faces only: no centre gaps (the array is
+                   NULL, and even NULL + 0 is undefined; fuzz/fuzz_api) */
+    double *centre_gap = grid->wall_centre_gap + node * (size_t)centres;
+    for (int w = 0; w < centres; w++)
       centre_gap[w] = centre_distance[w] < centre_gap[w] ? centre_distance[w]
                                                          : centre_gap[w];
   }
@@ -244,9 +252,10 @@ static void clear_gaps(void *context, size_t begin, size_t end, int worker) {
   double *gap = domain->grid.wall_gap;
   for (size_t k = begin * stride; k < end * stride; k++)
     gap[k] = INFINITY;
-  size_t wall_stride = GM_BLOCK_NODES * (size_t)domain->wall_count;
+  size_t centre_stride =
+      GM_BLOCK_NODES * (size_t)gm_centre_gap_plane_count(domain);
   double *centre_gap = domain->grid.wall_centre_gap;
-  for (size_t k = begin * wall_stride; k < end * wall_stride; k++)
+  for (size_t k = begin * centre_stride; k < end * centre_stride; k++)
     centre_gap[k] = INFINITY;
 }
 

@@ -476,7 +476,7 @@ gm_status gm_walls_reserve(gm_domain *domain) {
     grid->wall_gap_capacity = gaps;
   }
   size_t centre_gaps = grid->block_capacity * GM_BLOCK_NODES *
-                       (size_t)domain->wall_count; /* doubles */
+                       (size_t)gm_centre_gap_plane_count(domain); /* doubles */
   if (centre_gaps > grid->wall_centre_gap_capacity) {
     double *grown = gm_alloc(centre_gaps * sizeof(double));
     if (!grown)

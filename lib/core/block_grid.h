@@ -92,10 +92,12 @@ typedef struct gm_grid {
    * the node may approach the wall by that much in a step (walls.c). */
   double *wall_gap;
   size_t wall_gap_capacity; /* doubles allocated */
-  /* Per node and planar wall (node * wall_count + wall): the smallest
-   * distance (m) from the wall to the centre of a point the node carries
-   * (wall_gaps.c); nodes the wall's tent does not reach may carry a point
-   * by at most that much toward the wall in a step (walls.c). */
+  /* Per node and gap plane, as wall_gap (the planar walls only with
+   * linear shapes, gm_centre_gap_plane_count): the smallest distance (m) from
+   * the wall or box face to the centre of a point the node carries
+   * (wall_gaps.c; for a face, points less than a cell from it); nodes the
+   * wall's tent or the face does not reach may carry a point by at most
+   * that much toward it in a step (walls.c, grid_update.c). */
   double *wall_centre_gap;
   size_t wall_centre_gap_capacity; /* doubles allocated */
 } gm_grid;

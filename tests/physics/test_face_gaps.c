@@ -111,11 +111,96 @@ START_TEST(test_block_falls_onto_face) {
 }
 END_TEST
 
+/* A point centre at the slip face x = 0 must not pass it with the shapes
+ * wider than a tent (issue: the uGIMP granular slot silo of
+ * examples/papers/wieckowski1999_silo_discharge.c, cell 0.0125 m, lost
+ * point 6578 through its symmetry face, x = -7.6e-7 m at t = 0.619 s, just
+ * after the orifice opened). The face holds its face and ghost nodes while
+ * the material touches it, but a point on the face gathers from the node
+ * a cell in front too (uGIMP, 2 x 2 points per cell: 1/16 of its
+ * velocity), which the face did not constrain.
+ *
+ * An elastic block, 5 x 5 cells of 2 x 2 points, its left column's centres
+ * on the face (the state the silo's point had reached), moving toward it at
+ * 1 m/s under gravity, on a slip floor. Asserted: every step is taken (a
+ * centre past the face fails the step, "would leave the grid box") and
+ * after every 2 ms of 20 ms no point centre lies left of the face,
+ * tolerance 0 (the face is a geometric bound; a leak is the weight of the
+ * free node times its velocity, ~1e-5 m per step, far above rounding). */
+static const gm_shape CENTRE_SHAPES[3] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
+                                          GM_SHAPE_UGIMP};
+static const gm_transfer CENTRE_TRANSFERS[3] = {
+    GM_TRANSFER_FLIP, GM_TRANSFER_FLIP, GM_TRANSFER_APIC};
+
+/* The smallest x of a point centre (m). */
+static double leftmost_centre(const gm_domain *domain) {
+  const double *x = NULL;
+  TEST_ASSERT_OK(domain,
+                 gm_domain_view_field(domain, GM_FIELD_POSITION, 0, &x));
+  double leftmost = INFINITY;
+  for (size_t p = 0; p < gm_domain_point_count(domain); p++)
+    leftmost = fmin(leftmost, x[p]);
+  return leftmost;
+}
+
+/* _i: case (3). */
+START_TEST(test_no_centre_through_face) {
+  gm_domain_def def = gm_domain_def_default();
+  def.shape = CENTRE_SHAPES[_i];
+  def.transfer = CENTRE_TRANSFERS[_i];
+  def.cell_size = CELL;
+  def.extent[0] = 0.3;
+  def.extent[1] = 0.3;
+  def.gravity[1] = -GRAVITY;
+  for (int face = 0; face < 4; face++)
+    def.walls[face] = GM_WALL_SLIP;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, 1e6, 0.3, DENSITY);
+  enum { COLUMNS = 10, ROWS = 10 };
+  double spacing = CELL / 2.0; /* m */
+  static double position[COLUMNS * ROWS * 2], volume[COLUMNS * ROWS],
+      velocity[COLUMNS * ROWS * 2];
+  for (int j = 0; j < ROWS; j++)
+    for (int i = 0; i < COLUMNS; i++) {
+      int p = j * COLUMNS + i;
+      position[2 * p] = i * spacing;
+      position[2 * p + 1] = (j + 0.5) * spacing;
+      velocity[2 * p] = -1.0; /* m/s, toward the face */
+      velocity[2 * p + 1] = 0.0;
+      volume[p] = spacing * spacing;
+    }
+  gm_points_def points = gm_points_def_default();
+  points.count = COLUMNS * ROWS;
+  points.material = material;
+  points.position = position;
+  points.velocity = velocity;
+  points.volume = volume;
+  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  const char *name = test_shape_name(def.shape);
+  const char *transfer = def.transfer == GM_TRANSFER_APIC ? "APIC" : "FLIP";
+  for (int k = 1; k <= 10; k++) {
+    TEST_ASSERT_OK(domain,
+                   gm_domain_advance(domain, 0.002 * k, 0.0, NULL, NULL));
+    double leftmost = leftmost_centre(domain);
+    ck_assert_msg(leftmost >= 0.0,
+                  "%s, %s: a point centre at x = %g m, past the face, at "
+                  "t = %g s",
+                  name, transfer, leftmost, 0.002 * k);
+  }
+  printf("%s %s: leftmost centre %.3g cells from the face after 20 ms\n", name,
+         transfer, leftmost_centre(domain) / CELL);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 int main(void) {
   Suite *suite = suite_create("face_gaps");
   TCase *tcase = tcase_create("block falling onto a box face");
   tcase_set_timeout(tcase, 120);
   tcase_add_loop_test(tcase, test_block_falls_onto_face, 0, 3 * 2 * 3);
   suite_add_tcase(suite, tcase);
+  TCase *centres = tcase_create("point centre on a box face");
+  tcase_add_loop_test(centres, test_no_centre_through_face, 0, 3);
+  suite_add_tcase(suite, centres);
   return test_run_suite(suite) ? 1 : 0;
 }
