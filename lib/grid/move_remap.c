@@ -38,7 +38,6 @@
 
 #include "grid/transfer.h"
 
-
 #define TILE       (GM_BLOCK_EDGE_2D + 1)
 #define TILE_NODES (TILE * TILE)
 
