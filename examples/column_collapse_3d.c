@@ -423,7 +423,8 @@ static void write_pictures(run3d *run) {
           "dashed: Lube et al. 2004 run-out)'\n",
           time);
   fprintf(plot, "set xlabel 'x (m)'\nset ylabel 'y (m)'\nset size ratio -1\n");
-  fprintf(plot, "set xrange [0:%g]\nset yrange [0:%g]\n", range, range);
+  double top_range = 1.15 * fmax(law_front, run->last.sector_max);
+  fprintf(plot, "set xrange [0:%g]\nset yrange [0:%g]\n", top_range, top_range);
   fprintf(plot, "set cblabel 'height z (m)'\nset palette rgb 33,13,10\n");
   fprintf(plot, "set parametric\nset trange [0:pi/2]\n");
   fprintf(plot,

@@ -8,24 +8,28 @@
 # fluidity 300 1/s, reference stress 1795 Pa), plain family. Two floors:
 #   linear-wall: linear MPM, Coulomb planar wall mu = 0.45 (3D planar walls
 #                take linear shapes only in this version);
-#   ugimp-face:  uGIMP, the no-slip box face.
+#   ugimp-face:  uGIMP, the no-slip box face;
+#   linear-face: linear MPM, the no-slip box face.
 # Writes validate/results/collapse_3d.csv (one row per setting, N and
-# points per cell) and collapse_3d.md (the table). Environment: DIVISIONS
-# (default "6 8 12 16"), PPC (default 2), SETTINGS (default both), BUILD
-# (default build). Run it directly (nice); tens of minutes on the shared
-# 2-core machine with N = 16.
+# points per cell) and collapse_3d.md (the table). Environment: PLAN, a
+# list of setting:N:ppc (default: the committed table's 16 runs; empty:
+# only rewrite the table), BUILD (default build), APPEND=1 (keep the rows
+# already in the CSV). About 20 minutes of one core with the default plan
+# (the 3D run at R0/24 takes 7 of them: the times are in the table;
+# 2026-11-28, load 3-4 on 2 cores).
 # SPDX-License-Identifier: BSD-2-Clause
 set -eu
 top=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD:-$top/build}
 results=$top/validate/results
 mkdir -p "$results"
-DIVISIONS=${DIVISIONS:-"6 8 12 16"}
-PPC=${PPC:-2}
-SETTINGS=${SETTINGS:-"linear-wall ugimp-face"}
+PLAN=${PLAN-"linear-wall:6:2 linear-wall:8:2 linear-wall:12:2 linear-wall:16:2
+  linear-wall:24:2 linear-wall:8:3 linear-wall:12:3 ugimp-face:6:2 ugimp-face:8:2
+  ugimp-face:12:2 ugimp-face:16:2 ugimp-face:8:3 linear-face:6:2 linear-face:8:2
+  linear-face:12:2 linear-face:16:2"}
 MATERIAL="--family plain --material perzyna --friction 37 --fluidity 300 --reference-stress 1795 --aspect 1 --length 0.1"
 csv=$results/collapse_3d.csv
-[ -f "$csv" ] || echo "setting,divisions,ppc,cell_m,runout_axisym,runout_3d,difference,height_axisym,height_3d,runout_side_3d,runout_diagonal_3d,seconds_axisym,seconds_3d,points_3d" >"$csv"
+[ "${APPEND:-0}" = 1 ] && [ -f "$csv" ] || echo "setting,divisions,ppc,cell_m,runout_axisym,runout_3d,difference,height_axisym,height_3d,runout_side_3d,runout_diagonal_3d,seconds_axisym,seconds_3d,points_3d" >"$csv"
 value() { # value NAME FILE: the value of RESULT NAME=
   sed -n "s/^RESULT $1=\([^ ]*\) .*/\1/p" "$2"
 }
@@ -34,27 +38,26 @@ stat() { # stat KEY FILE: the value of KEY= on the STATS line
 }
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
-for setting in $SETTINGS; do
+for run in $PLAN; do
+  setting=${run%%:*} rest=${run#*:}
+  n=${rest%%:*} ppc=${rest#*:}
   case $setting in
   linear-wall) floor="--method linear --floor wall --floor-mu 0.45" ;;
   ugimp-face) floor="--method ugimp --floor face" ;;
+  linear-face) floor="--method linear --floor face" ;;
   *) echo "unknown setting $setting" >&2 && exit 2 ;;
   esac
-  for n in $DIVISIONS; do
-    for ppc in $PPC; do
-      cell=$(awk -v n="$n" 'BEGIN { printf "%.12g", 0.1 / n }')
-      echo "$setting R0/$n ppc $ppc" >&2
-      # shellcheck disable=SC2086 # MATERIAL and floor are option lists
-      nice -n 5 "$build/examples/column_collapse" --geometry axisym $MATERIAL $floor \
-        --cell "$cell" --ppc "$ppc" --out '' --quiet >"$scratch/axi" 2>&1
-      # shellcheck disable=SC2086
-      nice -n 5 "$build/examples/column_collapse_3d" $MATERIAL $floor \
-        --cell "$cell" --ppc "$ppc" --out '' --quiet >"$scratch/3d" 2>&1
-      ra=$(value runout "$scratch/axi")
-      r3=$(value runout "$scratch/3d")
-      echo "$setting,$n,$ppc,$cell,$ra,$r3,$(awk -v a="$ra" -v b="$r3" 'BEGIN { printf "%.4f", (b - a) / a }'),$(value final_height_over_L0 "$scratch/axi"),$(value final_height_over_R0 "$scratch/3d"),$(value runout_side "$scratch/3d"),$(value runout_diagonal "$scratch/3d"),$(stat seconds "$scratch/axi"),$(stat seconds "$scratch/3d"),$(stat points "$scratch/3d")" | tee -a "$csv"
-    done
-  done
+  cell=$(awk -v n="$n" 'BEGIN { printf "%.12g", 0.1 / n }')
+  echo "$setting R0/$n ppc $ppc" >&2
+  # shellcheck disable=SC2086 # MATERIAL and floor are option lists
+  nice -n 5 "$build/examples/column_collapse" --geometry axisym $MATERIAL $floor \
+    --cell "$cell" --ppc "$ppc" --out '' --quiet >"$scratch/axi" 2>&1
+  # shellcheck disable=SC2086
+  nice -n 5 "$build/examples/column_collapse_3d" $MATERIAL $floor \
+    --cell "$cell" --ppc "$ppc" --out '' --quiet >"$scratch/3d" 2>&1
+  ra=$(value runout "$scratch/axi")
+  r3=$(value runout "$scratch/3d")
+  echo "$setting,$n,$ppc,$cell,$ra,$r3,$(awk -v a="$ra" -v b="$r3" 'BEGIN { printf "%.4f", (b - a) / a }'),$(value final_height_over_L0 "$scratch/axi"),$(value final_height_over_R0 "$scratch/3d"),$(value runout_side "$scratch/3d"),$(value runout_diagonal "$scratch/3d"),$(stat seconds "$scratch/axi"),$(stat seconds "$scratch/3d"),$(stat points "$scratch/3d")" | tee -a "$csv"
 done
 {
   echo "# 3D cylinder collapse against the axisymmetric run of the same column"
@@ -65,5 +68,5 @@ done
   echo
   echo "| setting | R0/N | ppc | axisym run-out | 3D run-out | difference | H/R0 axisym | H/R0 3D | 3D side | 3D diagonal | s axisym | s 3D | 3D points |"
   echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-  tail -n +2 "$csv" | awk -F, '{ printf "| %s | %s | %s | %.4f | %.4f | %+.1f %% | %.3f | %.3f | %.4f | %.4f | %s | %s | %s |\n", $1, $2, $3, $5, $6, 100 * $7, $8, $9, $10, $11, $12, $13, $14 }'
+  tail -n +2 "$csv" | sort -t, -k1,1 -k3,3n -k2,2n | awk -F, '{ printf "| %s | %s | %s | %.4f | %.4f | %+.1f %% | %.3f | %.3f | %.4f | %.4f | %s | %s | %s |\n", $1, $2, $3, $5, $6, 100 * $7, $8, $9, $10, $11, $12, $13, $14 }'
 } >"$results/collapse_3d.md"
