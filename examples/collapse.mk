@@ -7,6 +7,18 @@ examples_column_collapse_SOURCES = examples/column_collapse.c \
 examples_column_collapse_LDADD = lib/libgranmpm.la -lm
 examples_column_collapse_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
 
+# 3D column collapse (quarter cylinder or square column) against Lube et
+# al. (2004) and the axisymmetric run of the same column.
+noinst_PROGRAMS += examples/column_collapse_3d
+examples_column_collapse_3d_SOURCES = examples/column_collapse_3d.c \
+	examples/collapse_laws.h $(EXAMPLE_COMMON)
+examples_column_collapse_3d_LDADD = lib/libgranmpm.la -lm
+examples_column_collapse_3d_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
+# Its run-out against the axisymmetric run of the same column, within 5 %
+# at R0/6 and R0/8 (issue 16 item 3; larger cells: validate/collapse_3d.sh).
+TESTS += tests/scripts/collapse_3d_axisym.sh
+EXTRA_DIST += tests/scripts/collapse_3d_axisym.sh
+
 # Validation against Lube et al. (2005): two aspect ratios, +-15 %.
 check_PROGRAMS += tests/physics/test_column_collapse
 tests_physics_test_column_collapse_SOURCES = tests/physics/test_column_collapse.c
