@@ -23,6 +23,7 @@
 #include "grid/grid.h"
 
 #include "grid/apic_3d.h"
+#include "grid/apic_linear.h"
 
 #include <math.h>
 #include <string.h>
@@ -202,6 +203,58 @@ static void gather_chunk_3d(const gm_domain *domain, gm_worker_scratch *scratch,
                           true);
 }
 
+/* Linear APIC: C_p -= dt sum_i (1 - theta_i) a_i (x) grad N_ip over the
+ * nodes of too little mass (apic_linear.h; the 2D form in g2p.c), at the
+ * positions of the gather. A point none of whose 8 nodes is light keeps
+ * every bit of C_p. */
+static void light_nodes_chunk_3d(gm_domain *domain, size_t first, size_t count,
+                                 double dt) {
+  gm_points *points = &domain->points;
+  const gm_grid *grid = &domain->grid;
+  const gm_point_buffers *from = &points->buffer[points->cur];
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const double *origin = domain->shape_grid.origin; /* m, node 0 */
+  const int64_t mask = GM_BLOCK_EDGE_3D - 1;
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    double critical = gm_apic_light_node_mass(domain, p, 0.0, dt); /* kg */
+    const uint32_t *links =
+        grid->neighbour + (size_t)points->point_block[p] * GM_BLOCK_NEIGHBOURS;
+    double w[3][2], d[3][2];
+    int64_t local[3];
+    for (int axis = 0; axis < 3; axis++)
+      local[axis] = gm_shape_linear_axis(from->position[axis][p], origin[axis],
+                                         domain->inv_cell, w[axis], d[axis]) &
+                    mask;
+    size_t node[8];
+    bool light = false;
+    for (int n = 0; n < 8; n++) {
+      node[n] =
+          gm_block_node_3d(links, local[0] + (n & 1), local[1] + ((n >> 1) & 1),
+                           local[2] + (n >> 2));
+      light |= grid->mass[node[n]] < critical;
+    }
+    if (!light)
+      continue;
+    double change[9] = {0}; /* 1/s, row-major */
+    for (int n = 0; n < 8; n++) {
+      int a = n & 1, b = (n >> 1) & 1, c = n >> 2;
+      double deficit =
+          gm_apic_light_node_deficit(grid->mass[node[n]], critical);
+      double grad[3] = {d[0][a] * w[1][b] * w[2][c],
+                        w[0][a] * d[1][b] * w[2][c],
+                        w[0][a] * w[1][b] * d[2][c]}; /* 1/m */
+      for (int i = 0; i < 3; i++) {
+        double part = dt * deficit * grid->force[i][node[n]]; /* m/s */
+        for (int k = 0; k < 3; k++)
+          change[3 * i + k] += part * grad[k];
+      }
+    }
+    for (int k = 0; k < 9; k++)
+      to->affine[k][p] -= change[k];
+  }
+}
+
 /* v_p += dt sum N a_i (FLIP), blended with PIC sum N v_i; with APIC the
  * PIC velocity and the affine matrix (C_p = L for linear MPM, B_p for
  * GIMP). */
@@ -217,6 +270,8 @@ static void flip_chunk_3d(gm_domain *domain, size_t first, size_t count,
     for (int k = 0; k < 9; k++) /* L and B: both row-major */
       memcpy(to->affine[k] + first, linear ? g->gradient[k] : g->affine[k],
              count * sizeof(double));
+    if (linear)
+      light_nodes_chunk_3d(domain, first, count, dt);
     return;
   }
   double pic = domain->def.pic_fraction, flip = 1.0 - pic; /* - */
