@@ -43,12 +43,12 @@ static const double DISC_RADIUS = 0.4; /* m, 8 cells across */
 static const double DISC_CENTRE = 1.0; /* m, both axes; box 2 x 2 m */
 static const int DISC_STEPS = 100;     /* ~1.1 s, 2.2 rad of rotation */
 /* Pa: the ball (3D), ~0.39 s and 0.78 rad over its 100 steps. With the
- * disc's 1e4 (1.1 s, 2.2 rad) uGIMP keeps L to 3e-14 as well, but cpGIMP
- * in USL blows up at step 83 (measured): its box loses its x edge where
- * F_xx of the rotation about (1, 2, 3) crosses zero (1.65 rad), and with
- * it the floor of D_p. Linear APIC blew up at step 37 too until the gather
- * took the acceleration of nodes of tiny mass into C_p in part only
- * (lib/grid/apic_linear.h); test_apic_linear.c runs this ball at 1e4. */
+ * disc's 1e4 (1.1 s, 2.2 rad) uGIMP keeps L to 3e-14 as well; linear APIC
+ * blew up at step 37 and cpGIMP in USL at step 83 (its box loses its x
+ * edge where F_xx of the rotation about (1, 2, 3) crosses zero, 1.65 rad,
+ * and with it the floor of D_p) until the gathers took the acceleration
+ * of nodes of tiny mass into C_p or B_p in part only (lib/grid/
+ * apic_linear.h, g2p_3d.c); test_apic_linear.c runs this ball at 1e4. */
 static const double BALL_YOUNGS = 1e5;
 
 /* What GM_FIELD_AFFINE holds for a linear velocity field v = v0 + A x:
