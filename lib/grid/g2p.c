@@ -10,6 +10,7 @@
  */
 #include "grid/grid.h"
 
+#include "grid/apic_linear.h"
 #include "grid/transfer.h"
 
 #include <math.h>
@@ -265,6 +266,58 @@ static void gather_chunk_1d(const gather_view *v, size_t first, size_t count,
   }
 }
 
+/* Linear APIC: the part of C_p = sum v_i (x) grad N_i that the
+ * acceleration of a node of too little mass made this step is taken out,
+ * C_p -= dt sum_i (1 - theta_i) a_i (x) grad N_i (apic_linear.h says why
+ * and how much), at the positions of the gather. A point none of whose
+ * nodes is light keeps every bit of C_p. */
+static void light_nodes_chunk(const gm_domain *domain, const gather_view *v,
+                              size_t first, size_t count, double dt) {
+  const double *gm = v->grid_mass;
+  int dim = v->dim;
+  int64_t mask = ((int64_t)1 << v->shift) - 1;
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    double x = v->position[0][p], y = v->position[dim > 1 ? 1 : 0][p];
+    double critical = gm_apic_light_node_mass(domain, p, x, dt); /* kg */
+    double wx[2], dx[2], wy[2] = {1.0, 0.0}, dy[2] = {0.0, 0.0};
+    size_t node[4];
+    const uint32_t *links =
+        v->neighbour + (size_t)v->point_block[p] * GM_BLOCK_NEIGHBOURS;
+    if (dim == 1) {
+      int64_t local =
+          gm_shape_linear_axis(x, v->origin[0], v->inv_cell, wx, dx) & mask;
+      int64_t next = local + 1;
+      node[0] = (size_t)links[0] * GM_BLOCK_NODES + (size_t)local;
+      node[1] = (size_t)links[next >> v->shift] * GM_BLOCK_NODES +
+                (size_t)(next & mask);
+    } else {
+      int64_t local[2];
+      gm_linear_cell_2d(x, y, v->origin[0], v->origin[1], v->inv_cell, links,
+                        wx, dx, wy, dy, node, local);
+    }
+    int nodes = dim == 1 ? 2 : 4;
+    bool light = false;
+    for (int n = 0; n < nodes; n++)
+      light |= gm[node[n]] < critical;
+    if (!light)
+      continue;
+    double change[4] = {0, 0, 0, 0}; /* 1/s, xx xy yx yy */
+    for (int n = 0; n < nodes; n++) {
+      double deficit = gm_apic_light_node_deficit(gm[node[n]], critical);
+      int a = n & 1, b = n >> 1;
+      double grad[2] = {dx[a] * wy[b], wx[a] * dy[b]}; /* 1/m */
+      for (int i = 0; i < dim; i++) {
+        double part = dt * deficit * v->grid_acceleration[i][node[n]];
+        for (int k = 0; k < dim; k++)
+          change[dim * i + k] += part * grad[k];
+      }
+    }
+    for (int c = 0; c < dim * dim; c++)
+      v->next_affine[c][p] -= change[c];
+  }
+}
+
 /* Particle velocities, FLIP: v_p += dt * sum N_i a_i (004 eq 3.17),
  * blended with PIC, v_p = sum N_i v_i, by gm_domain_def.pic_fraction. The
  * nodal velocities here are already the updated ones (grid_update.c).
@@ -273,8 +326,9 @@ static void gather_chunk_1d(const gather_view *v, size_t first, size_t count,
  * (x_i - x_p)^T for the wide shapes (g2p_wide.c), C_p = sum v_i (x) grad
  * N_i, the velocity gradient L already gathered, for linear MPM (p2g.c
  * says why linear MPM keeps C_p rather than B_p). */
-static void flip_chunk(const gather_view *v, size_t first, size_t count,
-                       const chunk_gather *g, double dt) {
+static void flip_chunk(const gm_domain *domain, const gather_view *v,
+                       size_t first, size_t count, const chunk_gather *g,
+                       double dt) {
   if (v->apic) {
     for (int k = 0; k < v->dim; k++)
       memcpy(v->next_velocity[k] + first, g->velocity[k],
@@ -283,6 +337,8 @@ static void flip_chunk(const gather_view *v, size_t first, size_t count,
     for (int k = 0; k < v->dim * v->dim; k++) /* L: xx xy yx yy, as B */
       memcpy(v->next_affine[k] + first, linear ? g->gradient[k] : g->affine[k],
              count * sizeof(double));
+    if (linear)
+      light_nodes_chunk(domain, v, first, count, dt);
     return;
   }
   double pic = v->pic_fraction, flip = 1.0 - pic; /* - */
@@ -528,7 +584,7 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
       else
         gather_chunk_2d(v, first, count, g, flip, deform);
       if (flip)
-        flip_chunk(v, first, count, g, dt);
+        flip_chunk(domain, v, first, count, g, dt);
       if (move)
         move_chunk(domain, v, scratch, first, count, g, move_dt);
     }

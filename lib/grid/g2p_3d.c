@@ -23,6 +23,7 @@
 #include "grid/grid.h"
 
 #include "grid/apic_3d.h"
+#include "grid/apic_linear.h"
 
 #include <math.h>
 #include <string.h>
@@ -202,6 +203,147 @@ static void gather_chunk_3d(const gm_domain *domain, gm_worker_scratch *scratch,
                           true);
 }
 
+/* uGIMP and cpGIMP APIC: the same share as linear MPM's (apic_linear.h),
+ * taken out of B_p = sum_i N_ip v_i (x_i - x_p)^T, for a box whose D_p
+ * has shrunk towards the tent's (cpGIMP where a diagonal component of F
+ * nears zero): B_p -= dt sum_i (1 - theta_i) N_ip a_i (x_i - x_p)^T with
+ * theta_i = min(1, m_i / (r_i m_crit)), r_i = N_ip o_i^T D_p^-1 o_i the
+ * node's leverage in the point's fit (about 1 for the tent's far node, so
+ * that node's velocity is kept whole; small for the tail of a wide box,
+ * whose velocity the fit mostly forgets). Only a box with some D_kk below
+ * (c_p dt)^2 / 4 takes part, where the tent's own D_p turns unstable (the
+ * one-node model of apic_linear.h without the share: f (1 - f) h^2 <
+ * (c dt)^2 / 4): uGIMP's D_kk is at least h^2 / 8 with 2 points per cell
+ * per axis (h^2 / 12 with 3, h^2 / 16 with 4), above it at any cfl up to
+ * 0.7 (0.57, 0.5), and cpGIMP's too until its box has shrunk well below
+ * its initial edge, so the boxes of test_apic.c keep their angular
+ * momentum to round-off (measured: the same 2.9e-14). With (c dt)^2 / 2
+ * the cpGIMP ball of test_apic.c (E = 1e5 Pa, F_xx down to 0.7) took part
+ * and lost 1.3e-5 of it. Measured on the ball at E = 1e4 Pa: USL inverted
+ * a point at step 83 (F_xx through zero) and now runs 400 steps, MUSL and
+ * USF ran and run. 2D boxes need nothing: the 2D disc at E = 1e4 Pa runs
+ * 400 steps with cpGIMP in every scheme as it did. */
+static void light_nodes_box_3d(gm_domain *domain, size_t first, size_t count,
+                               double dt) {
+  gm_points *points = &domain->points;
+  const gm_grid *grid = &domain->grid;
+  const gm_point_buffers *from = &points->buffer[points->cur];
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const double *origin = domain->shape_grid.origin; /* m, node 0 */
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    double modulus =
+        domain->materials[points->material[p]].p_wave_modulus; /* Pa */
+    double wave_squared = modulus * from->volume[p] / points->mass[p];
+    double small = 0.25 * wave_squared * dt * dt; /* m^2 */
+    uint32_t block = points->point_block[p];
+    const uint32_t *links =
+        grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+    double x[3] = {from->position[0][p], from->position[1][p],
+                   from->position[2][p]}; /* m */
+    double half[3];                       /* m */
+    gm_box_half_edges_3d(domain->shape_grid.shape,
+                         (const double *const *)points->domain_size,
+                         (const double *const *)from->deformation, p, half);
+    gm_box_support_3d support;
+    if (!gm_box_support_compute_3d(&domain->shape_grid, x, half, &support))
+      continue; /* the gather has failed the step */
+    double offset[3][GM_SUPPORT_3D_MAX_SPAN]; /* m */
+    double inertia[3] = {0, 0, 0};            /* m^2, D_kk */
+    bool shrunk = false;
+    for (int axis = 0; axis < 3; axis++) {
+      gm_apic_axis_offsets_3d(origin[axis], domain->def.cell_size,
+                              support.lowest[axis], support.span[axis], x[axis],
+                              offset[axis]);
+      for (int a = 0; a < support.span[axis]; a++)
+        inertia[axis] +=
+            support.weight[axis][a] * offset[axis][a] * offset[axis][a];
+      shrunk |= inertia[axis] < small;
+    }
+    if (!shrunk || !(inertia[0] > 0 && inertia[1] > 0 && inertia[2] > 0))
+      continue;
+    int64_t base[3], local[3];
+    gm_block_coordinates_3d(grid, grid->block_key[block], base);
+    for (int axis = 0; axis < 3; axis++)
+      local[axis] = support.lowest[axis] - (base[axis] << GM_BLOCK_SHIFT_3D);
+    double critical = gm_apic_light_node_mass(domain, p, 0.0, dt); /* kg */
+    double change[9] = {0};                                        /* m^2/s */
+    for (int c = 0; c < support.span[2]; c++)
+      for (int b = 0; b < support.span[1]; b++)
+        for (int a = 0; a < support.span[0]; a++) {
+          size_t node =
+              gm_block_node_3d(links, local[0] + a, local[1] + b, local[2] + c);
+          double weight = support.weight[0][a] * support.weight[1][b] *
+                          support.weight[2][c];
+          double o[3] = {offset[0][a], offset[1][b], offset[2][c]}; /* m */
+          double leverage =
+              weight * (o[0] * o[0] / inertia[0] + o[1] * o[1] / inertia[1] +
+                        o[2] * o[2] / inertia[2]);
+          double deficit =
+              gm_apic_light_node_deficit(grid->mass[node], leverage * critical);
+          for (int i = 0; i < 3; i++) {
+            double part = dt * deficit * weight * grid->force[i][node];
+            for (int k = 0; k < 3; k++)
+              change[3 * i + k] += part * o[k];
+          }
+        }
+    for (int k = 0; k < 9; k++)
+      to->affine[k][p] -= change[k];
+  }
+}
+
+/* Linear APIC: C_p -= dt sum_i (1 - theta_i) a_i (x) grad N_ip over the
+ * nodes of too little mass (apic_linear.h; the 2D form in g2p.c), at the
+ * positions of the gather. A point none of whose 8 nodes is light keeps
+ * every bit of C_p. */
+static void light_nodes_chunk_3d(gm_domain *domain, size_t first, size_t count,
+                                 double dt) {
+  gm_points *points = &domain->points;
+  const gm_grid *grid = &domain->grid;
+  const gm_point_buffers *from = &points->buffer[points->cur];
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const double *origin = domain->shape_grid.origin; /* m, node 0 */
+  const int64_t mask = GM_BLOCK_EDGE_3D - 1;
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    double critical = gm_apic_light_node_mass(domain, p, 0.0, dt); /* kg */
+    const uint32_t *links =
+        grid->neighbour + (size_t)points->point_block[p] * GM_BLOCK_NEIGHBOURS;
+    double w[3][2], d[3][2];
+    int64_t local[3];
+    for (int axis = 0; axis < 3; axis++)
+      local[axis] = gm_shape_linear_axis(from->position[axis][p], origin[axis],
+                                         domain->inv_cell, w[axis], d[axis]) &
+                    mask;
+    size_t node[8];
+    bool light = false;
+    for (int n = 0; n < 8; n++) {
+      node[n] =
+          gm_block_node_3d(links, local[0] + (n & 1), local[1] + ((n >> 1) & 1),
+                           local[2] + (n >> 2));
+      light |= grid->mass[node[n]] < critical;
+    }
+    if (!light)
+      continue;
+    double change[9] = {0}; /* 1/s, row-major */
+    for (int n = 0; n < 8; n++) {
+      int a = n & 1, b = (n >> 1) & 1, c = n >> 2;
+      double deficit =
+          gm_apic_light_node_deficit(grid->mass[node[n]], critical);
+      double grad[3] = {d[0][a] * w[1][b] * w[2][c],
+                        w[0][a] * d[1][b] * w[2][c],
+                        w[0][a] * w[1][b] * d[2][c]}; /* 1/m */
+      for (int i = 0; i < 3; i++) {
+        double part = dt * deficit * grid->force[i][node[n]]; /* m/s */
+        for (int k = 0; k < 3; k++)
+          change[3 * i + k] += part * grad[k];
+      }
+    }
+    for (int k = 0; k < 9; k++)
+      to->affine[k][p] -= change[k];
+  }
+}
+
 /* v_p += dt sum N a_i (FLIP), blended with PIC sum N v_i; with APIC the
  * PIC velocity and the affine matrix (C_p = L for linear MPM, B_p for
  * GIMP). */
@@ -217,6 +359,10 @@ static void flip_chunk_3d(gm_domain *domain, size_t first, size_t count,
     for (int k = 0; k < 9; k++) /* L and B: both row-major */
       memcpy(to->affine[k] + first, linear ? g->gradient[k] : g->affine[k],
              count * sizeof(double));
+    if (linear)
+      light_nodes_chunk_3d(domain, first, count, dt);
+    else
+      light_nodes_box_3d(domain, first, count, dt);
     return;
   }
   double pic = domain->def.pic_fraction, flip = 1.0 - pic; /* - */

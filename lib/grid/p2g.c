@@ -166,7 +166,10 @@ static void flush_tile(const scatter_view *v, const uint32_t *links,
  * transfers except for the change of D_p as points move (the moment
  * m_p C_p D_p is gathered with one D_p and scattered with the next): a
  * bounded error, 0.5 % for the disc, that does not accumulate. The wide
- * shapes (p2g_wide.c) have D_p bounded below and keep the exact form. */
+ * shapes (p2g_wide.c) have D_p bounded below and keep the exact form.
+ * Keeping C_p makes each node's velocity a degree of freedom of its own,
+ * unstable at nodes of tiny mass: the gather takes their acceleration into
+ * C_p in part only (apic_linear.h). */
 static GM_ALWAYS_INLINE void
 scatter_block_2d_kind(const scatter_view *v, uint32_t block, scatter_tile *tile,
                       const bool do_mass, const bool do_momentum,
