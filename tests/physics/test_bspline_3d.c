@@ -12,6 +12,8 @@
  *  - a checkpoint restarts bitwise (1 worker, and a 1-worker file on 2);
  *  - no allocation in a step after warm-up;
  *  - a block crossing periodic x faces keeps its velocity to round-off;
+ *  - rigid points move as prescribed, and a plate's impulse balances the
+ *    momentum of the block that hits it;
  *  - what stays unsupported is refused by name: CPDI in 3D, planar walls
  *    with a B-spline in 3D.
  *
@@ -353,7 +355,7 @@ START_TEST(test_workers_bitwise_bspline_3d) {
   state result[2];
   for (int workers = 1; workers <= 2; workers++) {
     gm_domain *domain = bar_3d(shape, scheme, transfer, workers, JITTER);
-    run(domain, 150);
+    run(domain, 100);
     result[workers - 1] = observe(domain);
     gm_domain_destroy(domain);
   }
@@ -512,6 +514,156 @@ START_TEST(test_periodic_translation_bspline_3d) {
 }
 END_TEST
 
+/* ------------------------------------------------------ rigid points */
+/* The scenes of test_rigid.c's 3D cases (0.05 m cells, a 2 x 1 x 1 m box
+ * with open faces): rigid points mark every node of their B-spline
+ * support (27 or 64) and those nodes take the prescribed velocity. */
+static gm_domain *rigid_domain(gm_shape shape, gm_update_scheme scheme) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.scheme = scheme;
+  def.shape = shape;
+  def.cell_size = 0.05;
+  def.extent[0] = 2.0;
+  def.extent[1] = def.extent[2] = 1.0;
+  return test_create_domain(&def);
+}
+
+static int add_plate(gm_domain *domain, const double velocity[3]) {
+  gm_rigid_def rigid = gm_rigid_def_default();
+  for (int k = 0; k < 3; k++)
+    rigid.velocity[k] = velocity[k];
+  int plate = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_rigid(domain, &rigid, &plate));
+  return plate;
+}
+
+/* _i: shape (_i % 2). A rigid block moving at (0.5, -0.25, 0.3) m/s
+ * alone (MUSL): every point at x0 + v t to 1e-12 m after 100 steps (the
+ * weights sum to 1 over nodes that all carry v: round-off ~1e-15 m per
+ * step), its velocity exactly v, its stress zero. A node of the support
+ * left unmarked would carry 0 and slow the point by its weight. */
+START_TEST(test_rigid_motion_bspline_3d) {
+  gm_domain *domain = rigid_domain(shape_of(_i), GM_SCHEME_MUSL);
+  const double velocity[3] = {0.5, -0.25, 0.3}; /* m/s */
+  int plate = add_plate(domain, velocity);
+  const double lower[3] = {0.4, 0.4, 0.4}, upper[3] = {0.6, 0.6, 0.6};
+  size_t count = test_fill_box(domain, plate, lower, upper, 2, NULL);
+  double *start = malloc(3 * count * sizeof *start);
+  double *now = malloc(6 * count * sizeof *now);
+  ck_assert(start && now);
+  test_get_field_by_id(domain, GM_FIELD_POSITION, 0, start);
+  const double dt = 1e-3; /* s */
+  for (int step = 0; step < 100; step++)
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, dt));
+  test_get_field_by_id(domain, GM_FIELD_POSITION, 0, now);
+  for (size_t i = 0; i < 3 * count; i++)
+    ck_assert_msg(fabs(now[i] - (start[i] + velocity[i % 3] * 100 * dt)) <
+                      1e-12,
+                  "%s: point %zu axis %zu at %.17g",
+                  test_shape_name(shape_of(_i)), i / 3, i % 3, now[i]);
+  test_get_field_by_id(domain, GM_FIELD_VELOCITY, 0, now);
+  for (size_t i = 0; i < 3 * count; i++)
+    ck_assert(now[i] == velocity[i % 3]);
+  test_get_field_by_id(domain, GM_FIELD_STRESS, 0, now);
+  for (size_t i = 0; i < 6 * count; i++)
+    ck_assert(now[i] == 0.0);
+  free(start);
+  free(now);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
+/* The block of test_rigid.c (E = 1e6 Pa, nu = 0, 0.4 x 0.2 x 0.2 m)
+ * thrown at (1, 0.2, -0.1) m/s (3D) or (1, 0.2) m/s (plane strain) into a
+ * resting rigid plate, 0.5 s; the plate's total impulse and the block's
+ * final momentum (kg m/s; per m of thickness in the plane). */
+typedef struct impact {
+  double start[3], end[3], impulse[3];
+} impact;
+
+static impact run_impact(gm_shape shape, gm_update_scheme scheme, int dim) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = dim == 3 ? GM_GEOMETRY_3D : GM_GEOMETRY_PLANE_STRAIN;
+  def.scheme = scheme;
+  def.shape = shape;
+  def.cell_size = 0.05;
+  def.extent[0] = 2.0;
+  def.extent[1] = def.extent[2] = 1.0;
+  gm_domain *domain = test_create_domain(&def);
+  const double rest[3] = {0.0, 0.0, 0.0};
+  int plate = add_plate(domain, rest);
+  const double plate_lower[3] = {1.2, 0.3, 0.3};
+  const double plate_upper[3] = {1.3, 0.7, 0.7};
+  test_fill_box(domain, plate, plate_lower, plate_upper, 2, NULL);
+  int block = test_add_elastic(domain, 1e6, 0.0, 1000.0);
+  gm_fill_def fill = gm_fill_def_default();
+  fill.material = block;
+  const double block_lower[3] = {0.7, 0.4, 0.4};
+  const double block_upper[3] = {1.1, 0.6, 0.6};
+  memcpy(fill.lower, block_lower, sizeof fill.lower);
+  memcpy(fill.upper, block_upper, sizeof fill.upper);
+  fill.velocity[0] = 1.0;
+  fill.velocity[1] = 0.2;
+  fill.velocity[2] = dim == 3 ? -0.1 : 0.0;
+  TEST_ASSERT_OK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
+  impact result = {{0}, {0}, {0}};
+  gm_summary summary = gm_summary_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &summary));
+  memcpy(result.start, summary.momentum, sizeof result.start);
+  for (int step = 0; step < 2500; step++) {
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, 2e-4));
+    gm_rigid_load load = gm_rigid_load_default();
+    TEST_ASSERT_OK(domain, gm_domain_get_rigid_load(domain, plate, &load));
+    for (int k = 0; k < 3; k++)
+      result.impulse[k] += load.impulse[k];
+  }
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &summary));
+  memcpy(result.end, summary.momentum, sizeof result.end);
+  gm_domain_destroy(domain);
+  return result;
+}
+
+/* _i: shape (_i % 2), scheme (_i / 2: USL, USF; MUSL, measured 0.661 and
+ * 0.141 against the plane's 0.659 and 0.137, is left out for time). The
+ * plate's impulse is minus the
+ * block's momentum change, per component, to 1e-9 of the momentum (the
+ * same nodal sums: round-off over 2500 steps). The rebound is not the
+ * other shapes' 97.5 %: the rigid nodes hold the material they reach both
+ * ways (no separation, gm_rigid(3)), and a B-spline reaches 1.5 or 2 cells,
+ * so the plate holds the rebounding block longer: the plane-strain block
+ * keeps 0.670 (quadratic) and 0.200 (cubic) of its x momentum in USL
+ * (uGIMP 0.857, linear 0.975). With nu = 0 the 3D block must do what the
+ * plane one does; the z sliding (0.1 m/s, absent in the plane) changes
+ * the no-slip contact a little (measured below); 0.05 of the momentum
+ * fails a 3D support marked or mirrored differently from 2D (a rebound of
+ * 0 or 1). */
+START_TEST(test_rigid_impact_bspline_3d) {
+  gm_shape shape = shape_of(_i);
+  gm_update_scheme scheme = _i / 2 ? GM_SCHEME_USF : GM_SCHEME_USL;
+  impact solid = run_impact(shape, scheme, 3);
+  impact plane = run_impact(shape, scheme, 2);
+  double scale =
+      sqrt(solid.start[0] * solid.start[0] + solid.start[1] * solid.start[1] +
+           solid.start[2] * solid.start[2]); /* kg m/s */
+  for (int k = 0; k < 3; k++)
+    ck_assert_msg(fabs(solid.impulse[k] + solid.end[k] - solid.start[k]) <
+                      1e-9 * scale,
+                  "%s %s axis %d: impulse %.12g, momentum change %.12g",
+                  test_shape_name(shape), test_scheme_name(scheme), k,
+                  solid.impulse[k], solid.end[k] - solid.start[k]);
+  double rebound[2] = {-solid.end[0] / solid.start[0],
+                       -plane.end[0] / plane.start[0]}; /* - */
+  printf("3D rigid impact %s %s: rebound %.4f of the x momentum (plane "
+         "strain %.4f)\n",
+         test_shape_name(shape), test_scheme_name(scheme), rebound[0],
+         rebound[1]);
+  ck_assert_msg(fabs(rebound[0] - rebound[1]) < 0.05,
+                "%s %s: rebound %g, plane strain %g", test_shape_name(shape),
+                test_scheme_name(scheme), rebound[0], rebound[1]);
+}
+END_TEST
+
 /* -------------------------------------------------------------- misuse */
 START_TEST(test_unsupported_refused_3d) {
   /* CPDI stays refused in 3D, by name. */
@@ -555,6 +707,8 @@ static Suite *bspline_3d_suite(void) {
   tcase_add_loop_test(laws, test_restart_bitwise_bspline_3d, 0, 6);
   tcase_add_loop_test(laws, test_no_allocation_bspline_3d, 0, 12);
   tcase_add_loop_test(laws, test_periodic_translation_bspline_3d, 0, 4);
+  tcase_add_loop_test(laws, test_rigid_motion_bspline_3d, 0, 2);
+  tcase_add_loop_test(laws, test_rigid_impact_bspline_3d, 0, 4);
   tcase_add_test(laws, test_unsupported_refused_3d);
   suite_add_tcase(suite, laws);
   return suite;
