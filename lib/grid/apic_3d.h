@@ -78,4 +78,19 @@ gm_apic_box_velocity_3d(const gm_box_support_3d *support,
                      b[3 * r + 2] * inverse[6 + k];
 }
 
+/* C = B D^-1 (1/s) for the B-splines, whose D_p is a constant: Jiang et
+ * al. 2015 give D_p = h^2/4 I for quadratic and h^2/3 I for cubic
+ * B-splines, the variance (n + 1) h^2 / 12 of the cardinal B-spline of
+ * degree n: sum_i N_i(x) (x_i - x)^2 is that constant wherever the point
+ * is, and the products of the axis sums off the diagonal vanish
+ * (sum_i N_i (x_i - x) = 0). The node-by-node sum agrees to round-off
+ * (tests/unit/test_support_3d.c); the constant skips it. */
+static inline void gm_apic_bspline_velocity_3d(gm_shape shape, double cell,
+                                               const double b[9], double c[9]) {
+  double variance = shape == GM_SHAPE_BSPLINE2 ? 0.25 : 1.0 / 3.0; /* cells^2 */
+  double inverse = 1.0 / (variance * cell * cell);                 /* 1/m^2 */
+  for (int k = 0; k < 9; k++)
+    c[k] = b[k] * inverse;
+}
+
 #endif

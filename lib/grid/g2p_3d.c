@@ -1,7 +1,8 @@
 /*
  * g2p_3d.c - grid-to-particle transfer and kinematics in 3D with linear
- * shape functions (the 8 nodes of the point's cell) or a GIMP box (uGIMP,
- * cpGIMP: up to 5 nodes per axis, support_3d.h). One pass can update
+ * shape functions (the 8 nodes of the point's cell), a GIMP box (uGIMP,
+ * cpGIMP: up to 5 nodes per axis) or a B-spline (3 or 4 nodes per axis;
+ * support_3d.h). One pass can update
  * particle velocities with the nodal accelerations (FLIP, 004 eq 3.17,
  * blended with PIC by gm_domain_def.pic_fraction), move points with the
  * nodal velocities, and compute the velocity gradient L = sum v_i (x)
@@ -198,7 +199,7 @@ static void gather_chunk_3d(const gm_domain *domain, gm_worker_scratch *scratch,
   if (domain->shape_grid.shape == GM_SHAPE_LINEAR)
     gather_chunk_3d_shape(domain, scratch, first, count, out, flip, deform,
                           false);
-  else /* uGIMP, cpGIMP (domain.c refuses the others in 3D) */
+  else /* uGIMP, cpGIMP, B-splines (domain.c refuses CPDI in 3D) */
     gather_chunk_3d_shape(domain, scratch, first, count, out, flip, deform,
                           true);
 }

@@ -1,8 +1,9 @@
 /*
  * p2g_3d.c - particle-to-grid transfer in 3D: lumped nodal mass, momentum
  * and forces (004 eqs 3.13-3.15 with three axes), with linear shape
- * functions (trilinear, the 8 nodes of the point's cell) or a GIMP box
- * (uGIMP, cpGIMP: up to 5 nodes per axis, support_3d.h). Either way the
+ * functions (trilinear, the 8 nodes of the point's cell), a GIMP box
+ * (uGIMP, cpGIMP: up to 5 nodes per axis) or a B-spline (3 or 4 nodes per
+ * axis; support_3d.h, the "wide" supports here). Either way the
  * weight of a node is a product of axis factors, formed node by node.
  * Blocks are 4 x 4 x 4 nodes (block_grid.h); they are scattered colour by
  * colour (8 colours, the parities of the block coordinates), each block by
@@ -16,7 +17,8 @@
  *
  * GM_TRANSFER_APIC (Jiang et al. 2015) adds the affine momentum: node i
  * gets m_p N_ip (v_p + C_p (x_i - x_p)) instead of m_p N_ip v_p, with
- * C_p = B_p D_p^-1 (apic_3d.h) for the GIMP boxes, whose D_p is bounded
+ * C_p = B_p D_p^-1 (apic_3d.h) for the GIMP boxes and the B-splines
+ * (whose D_p is the constant h^2/4 I or h^2/3 I), whose D_p is bounded
  * below, and C_p itself, stored, for linear MPM (as in 2D: p2g.c says why
  * a stored B_p divided by the tent's D_p = diag(f (1 - f) h^2) blows up
  * near node planes). sum_i N_ip (x_i - x_p) = 0 keeps the total momentum
@@ -160,8 +162,11 @@ affine_of_point_3d(const p2g_3d_context *ctx, const double *const position[3],
     gm_apic_axis_offsets_3d(domain->shape_grid.origin[axis], cell,
                             support->lowest[axis], support->span[axis],
                             position[axis][p], offset[axis]);
-  gm_apic_box_velocity_3d(
-      support, (const double(*)[GM_SUPPORT_3D_MAX_SPAN])offset, b, c);
+  if (gm_shape_is_bspline(domain->shape_grid.shape))
+    gm_apic_bspline_velocity_3d(domain->shape_grid.shape, cell, b, c);
+  else
+    gm_apic_box_velocity_3d(
+        support, (const double(*)[GM_SUPPORT_3D_MAX_SPAN])offset, b, c);
 }
 
 /* do_mass, do_momentum, do_forces, wide and apic are constants in each
@@ -288,7 +293,8 @@ static void scatter_block_3d(const p2g_3d_context *ctx,
                              gm_worker_scratch *scratch, uint32_t block) {
   bool wide = ctx->domain->shape_grid.shape != GM_SHAPE_LINEAR;
   bool apic = ctx->affine[0] != NULL;
-  /* uGIMP, cpGIMP are the wide shapes (domain.c refuses the others in 3D) */
+  /* uGIMP, cpGIMP and the B-splines are the wide shapes (domain.c refuses
+   * CPDI in 3D) */
   if (!wide && !apic)
     scatter_block_3d_shape(ctx, scratch, block, false, false);
   else if (!wide)

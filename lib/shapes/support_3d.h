@@ -1,7 +1,7 @@
 /*
  * support_3d.h - the support of a material point in 3D for the GIMP
- * variants (uGIMP, cpGIMP): the nodes its box reaches, with the weight and
- * gradient factors of each axis.
+ * variants (uGIMP, cpGIMP) and the B-splines: the nodes it reaches, with
+ * the weight and gradient factors of each axis.
  *
  * GIMP's weight of node i is the tent N_i averaged over the point's domain
  * (004 eq 3.27 along one axis, shape_gimp.h). In 3D the grid basis is
@@ -17,6 +17,13 @@
  * The box: uGIMP keeps the initial one (GM_FIELD_DOMAIN_SIZE), moved with
  * the point; cpGIMP stretches each edge by |F_kk| (the axis-aligned
  * approximation of the deformed domain used in 2D, support.h).
+ *
+ * The B-splines (GM_SHAPE_BSPLINE2, GM_SHAPE_BSPLINE3) are tensor products
+ * of the axis functions of shape_bspline.h at the point's position, as in
+ * 2D (support.c): N_i = N_a(s_x) N_b(s_y) N_c(s_z), 3 (quadratic) or 4
+ * (cubic) nodes per axis, 27 or 64 in all; they have no box (the half
+ * edges passed in are not used). The box faces mirror them
+ * (bspline_faces.c).
  *
  * The 3D blocks are 4 x 4 x 4 nodes and a block reaches its seven upper
  * neighbours only (block_grid.h): a point binned by its support's lowest
@@ -49,7 +56,8 @@ typedef struct gm_box_support_3d {
 } gm_box_support_3d;
 
 /* The support of a box of centre x (m) and half edges half (m; 0 is the
- * tent of linear MPM) on a 3D grid (grid->dim == 3). False if the box
+ * tent of linear MPM) on a 3D grid (grid->dim == 3), or of the B-spline of
+ * a point at x when grid->shape is one (half unused). False if the support
  * leaves the grid's nodes (ghost layer included) or spans more than
  * GM_SUPPORT_3D_MAX_SPAN nodes along an axis, or x is not finite (out is
  * then undefined). */

@@ -20,21 +20,20 @@ static const char *face_name(int face) {
   return names[face];
 }
 
-/* What GM_GEOMETRY_3D runs in this version (docs/3d.md): linear, uGIMP
- * and cpGIMP shapes, the plain family, FLIP/PIC/APIC, open, slip, fixed and
- * periodic x box faces; every scheme, gravity, damping, host forces. The rest
- * is refused by name here (or by the call that would add it: planar walls
- * with GIMP shapes, walls and rigid materials beside periodic faces). */
+/* What GM_GEOMETRY_3D runs in this version (docs/3d.md): linear, uGIMP,
+ * cpGIMP and the B-spline shapes, the plain family, FLIP/PIC/APIC, open, slip,
+ * fixed and periodic x box faces; every scheme, gravity, damping, host forces.
+ * The rest is refused by name here (or by the call that would add it: planar
+ * walls with GIMP shapes, walls and rigid materials beside periodic faces). */
 static gm_status validate_3d(const gm_domain_def *def) {
   static const char *shapes[] = {"GM_SHAPE_LINEAR",   "GM_SHAPE_UGIMP",
                                  "GM_SHAPE_CPGIMP",   "GM_SHAPE_CPDI",
                                  "GM_SHAPE_BSPLINE2", "GM_SHAPE_BSPLINE3"};
-  if (def->shape != GM_SHAPE_LINEAR && def->shape != GM_SHAPE_UGIMP &&
-      def->shape != GM_SHAPE_CPGIMP)
+  if (def->shape == GM_SHAPE_CPDI)
     CREATE_FAIL(GM_ERR_UNSUPPORTED,
                 "gm_domain_def.shape %s is not supported in GM_GEOMETRY_3D "
-                "in this version (only GM_SHAPE_LINEAR, GM_SHAPE_UGIMP and "
-                "GM_SHAPE_CPGIMP)",
+                "in this version (only GM_SHAPE_LINEAR, GM_SHAPE_UGIMP, "
+                "GM_SHAPE_CPGIMP, GM_SHAPE_BSPLINE2 and GM_SHAPE_BSPLINE3)",
                 shapes[def->shape]);
   if (def->family != GM_FAMILY_PLAIN)
     CREATE_FAIL(GM_ERR_UNSUPPORTED,

@@ -303,16 +303,13 @@ static const bad_domain_case bad_domain_cases[] = {
     {"extent NaN", DOMAIN_EXTENT_X, NAN, NONFINITE, "extent"},
     {"geometry 0", DOMAIN_GEOMETRY, 0, INVALID, "geometry"},
     {"geometry 99", DOMAIN_GEOMETRY, 99, INVALID, "geometry"},
-    /* GM_GEOMETRY_3D runs linear MPM, uGIMP and cpGIMP, the plain
+    /* GM_GEOMETRY_3D runs linear MPM, uGIMP, cpGIMP and the B-splines
+     * (test_bspline_3d.c), the plain
      * family, FLIP and APIC, closed and periodic x faces (docs/3d.md); the
      * rest (periodic y and z faces as in 2D: test_periodic.c) is refused by
      * name. */
     {"3D CPDI", DOMAIN_3D_SHAPE, GM_SHAPE_CPDI, ONLY(GM_ERR_UNSUPPORTED),
      "GM_SHAPE_CPDI"},
-    {"3D B-spline2", DOMAIN_3D_SHAPE, GM_SHAPE_BSPLINE2,
-     ONLY(GM_ERR_UNSUPPORTED), "GM_SHAPE_BSPLINE2"},
-    {"3D B-spline3", DOMAIN_3D_SHAPE, GM_SHAPE_BSPLINE3,
-     ONLY(GM_ERR_UNSUPPORTED), "GM_SHAPE_BSPLINE3"},
     {"3D granular", DOMAIN_3D_FAMILY, GM_FAMILY_GRANULAR,
      ONLY(GM_ERR_UNSUPPORTED), "GM_FAMILY_GRANULAR"},
     {"3D stress-free", DOMAIN_3D_FAMILY, GM_FAMILY_STRESS_FREE,

@@ -16,6 +16,10 @@
  * separable and the box axis-aligned). Also the bounds: a box past the
  * ghost layer, a box spanning 6 nodes, a NaN centre are refused.
  *
+ * The quadratic and cubic B-splines through the same functions (27 and 64
+ * nodes): the same properties at random points of the box, node by node
+ * against the closed forms, and APIC's D_p = h^2/4 I, h^2/3 I.
+ *
  * SPDX-License-Identifier: BSD-2-Clause
  */
 #include "shapes/shapes.h"
@@ -254,12 +258,161 @@ START_TEST(test_box_half_edges_3d) {
 }
 END_TEST
 
+/* The cardinal B-spline of a node at xi (m) evaluated at x, and its
+ * derivative (1/m), from the closed forms in cells (shape_bspline.h's
+ * header, de Boor), computed here in metres from u = (x - xi) / h. */
+static void bspline_reference(gm_shape shape, double xi, double x, double *w,
+                              double *g) {
+  double u = (x - xi) / cell_size, a = fabs(u), sign = u < 0 ? -1.0 : 1.0;
+  if (shape == GM_SHAPE_BSPLINE2) {
+    *w = a <= 0.5 ? 0.75 - u * u : a <= 1.5 ? 0.5 * (1.5 - a) * (1.5 - a) : 0;
+    *g = a <= 0.5 ? -2.0 * u : a <= 1.5 ? -sign * (1.5 - a) : 0;
+  } else {
+    *w = a <= 1.0   ? 2.0 / 3.0 - u * u + 0.5 * a * a * a
+         : a <= 2.0 ? (2.0 - a) * (2.0 - a) * (2.0 - a) / 6.0
+                    : 0.0;
+    *g = a <= 1.0   ? -2.0 * u + 1.5 * sign * a * a
+         : a <= 2.0 ? -0.5 * sign * (2.0 - a) * (2.0 - a)
+                    : 0.0;
+  }
+  *g /= cell_size;
+}
+
+/* The 3D B-splines (GM_SHAPE_BSPLINE2, GM_SHAPE_BSPLINE3): 27 or 64 nodes
+ * of weights N_a(x) N_b(y) N_c(z) at random points of the box, checked for
+ * the partition of unity, the reproduction of linear fields, zero-sum
+ * gradients and sum x_i (x) grad N_i = I, node by node against the closed
+ * form, and APIC's D_p = sum_i N_i (x_i - x_p) (x) (x_i - x_p), which must
+ * be the constant h^2/4 I (quadratic), h^2/3 I (cubic) that p2g_3d.c uses
+ * (apic_3d.h). _i: 0 quadratic, 1 cubic. */
+START_TEST(test_bspline_3d_properties) {
+  gm_shape shape = _i ? GM_SHAPE_BSPLINE3 : GM_SHAPE_BSPLINE2;
+  gm_shape_grid grid = make_grid(shape);
+  int span = _i ? 4 : 3;
+  double variance = (_i ? 1.0 / 3.0 : 0.25) * cell_size * cell_size; /* m^2 */
+  lcg_state = 20261128u + (uint64_t)_i;
+  double worst_sum = 0.0, worst_linear = 0.0, worst_gradient = 0.0;
+  double worst_reference = 0.0, worst_inertia = 0.0, missed = 0.0;
+  for (int sample = 0; sample < SAMPLE_COUNT; sample++) {
+    double x[3], half[3] = {0.0, 0.0, 0.0}; /* m; half: not used */
+    for (int k = 0; k < 3; k++) /* inside the box, as every point is */
+      x[k] = lcg_between(box_origin[k],
+                         box_origin[k] + (double)cell_count[k] * cell_size);
+    if (sample % 7 == 0) /* on a node plane, or half way between */
+      x[sample % 3] =
+          node_coordinate(sample % 3, 3) + (sample % 2 ? 0.5 * cell_size : 0.0);
+    gm_box_support_3d support;
+    REQUIRE(gm_box_support_compute_3d(&grid, x, half, &support),
+            "support refused at (%g, %g, %g)", x[0], x[1], x[2]);
+    int64_t lowest[3];
+    REQUIRE(gm_box_support_lowest_3d(&grid, x, half, lowest) &&
+                lowest[0] == support.lowest[0] &&
+                lowest[1] == support.lowest[1] &&
+                lowest[2] == support.lowest[2],
+            "lowest node differs from the support's");
+    double sum = 0.0, moment[3] = {0, 0, 0}; /* -, m */
+    double gradient_sum[3] = {0, 0, 0};      /* 1/m */
+    double identity[3][3] = {{0}};           /* sum x_i (x) grad N_i */
+    double inertia[3][3] = {{0}};            /* m^2, D_p */
+    for (int k = 0; k < 3; k++) {
+      ck_assert_int_eq(support.span[k], span);
+      /* The nodes just outside the support weigh nothing there. */
+      for (int n = -1; n <= span; n += span + 1) {
+        double w, g;
+        bspline_reference(shape, node_coordinate(k, support.lowest[k] + n),
+                          x[k], &w, &g);
+        missed = fmax(missed, w);
+      }
+    }
+    for (int c = 0; c < span; c++)
+      for (int b = 0; b < span; b++)
+        for (int a = 0; a < span; a++) {
+          int offset[3] = {a, b, c};
+          double weight = 1.0, gradient[3] = {1.0, 1.0, 1.0};
+          double reference = 1.0, reference_gradient[3] = {1.0, 1.0, 1.0};
+          double node[3]; /* m */
+          for (int k = 0; k < 3; k++) {
+            int64_t index = support.lowest[k] + offset[k];
+            node[k] = node_coordinate(k, index);
+            double w, g;
+            bspline_reference(shape, node[k], x[k], &w, &g);
+            weight *= support.weight[k][offset[k]];
+            reference *= w;
+            for (int j = 0; j < 3; j++) {
+              gradient[j] *= j == k ? support.gradient[k][offset[k]]
+                                    : support.weight[k][offset[k]];
+              reference_gradient[j] *= j == k ? g : w;
+            }
+          }
+          ck_assert_msg(weight >= 0.0 && weight <= 1.0, "weight %g", weight);
+          worst_reference = fmax(worst_reference, fabs(weight - reference));
+          for (int j = 0; j < 3; j++)
+            worst_reference =
+                fmax(worst_reference,
+                     fabs(gradient[j] - reference_gradient[j]) * cell_size);
+          sum += weight;
+          for (int k = 0; k < 3; k++) {
+            moment[k] += weight * node[k];
+            gradient_sum[k] += gradient[k];
+            for (int j = 0; j < 3; j++) {
+              identity[k][j] += node[k] * gradient[j];
+              inertia[k][j] += weight * (node[k] - x[k]) * (node[j] - x[j]);
+            }
+          }
+        }
+    worst_sum = fmax(worst_sum, fabs(sum - 1.0));
+    for (int k = 0; k < 3; k++) {
+      worst_linear = fmax(worst_linear, fabs(moment[k] - x[k]) / cell_size);
+      worst_gradient = fmax(worst_gradient, fabs(gradient_sum[k]) * cell_size);
+      for (int j = 0; j < 3; j++) {
+        worst_gradient =
+            fmax(worst_gradient, fabs(identity[k][j] - (k == j ? 1.0 : 0.0)));
+        worst_inertia =
+            fmax(worst_inertia,
+                 fabs(inertia[k][j] - (k == j ? variance : 0.0)) / variance);
+      }
+    }
+  }
+  printf("3D %s: |sum N - 1| %.2g, |sum N x - x_p| %.2g h, gradient sums "
+         "%.2g, against the closed form %.2g, D_p off %.2g, outside %.2g\n",
+         _i ? "cubic" : "quadratic", worst_sum, worst_linear, worst_gradient,
+         worst_reference, worst_inertia, missed);
+  /* Round-off: sums of 27 or 64 products of three factors of a few ulps;
+   * positions up to ~15 cells from node 0 carry ~1e-15 h of their own
+   * rounding, and sum x_i grad N_i sums terms up to ~15 / h * h. A missing
+   * node, a wrong lowest node or a gradient sign is off by O(1e-2..1); D_p
+   * taken as the other degree's constant by 1/3. */
+  ck_assert_msg(worst_sum <= 1e-13, "partition of unity off by %g", worst_sum);
+  ck_assert_msg(worst_linear <= 1e-12, "linear reproduction off by %g h",
+                worst_linear);
+  ck_assert_msg(worst_gradient <= 1e-12, "gradient sums off by %g",
+                worst_gradient);
+  ck_assert_msg(worst_reference <= 1e-12, "closed form differs by %g",
+                worst_reference);
+  ck_assert_msg(worst_inertia <= 1e-12, "D_p off by %g of h^2 / %g",
+                worst_inertia, _i ? 3.0 : 4.0);
+  /* Outside: 0, or the square of a rounding where a node is 1.5 cells off
+   * (the quadratic's pair at the edge); a node left out would weigh up to
+   * 1/8 (quadratic) or 1/6 (cubic). */
+  ck_assert_msg(missed <= 1e-14, "a node outside the support weighs %g",
+                missed);
+  /* Bounds: a NaN, and a point past the ghost layer, are refused. */
+  gm_box_support_3d support;
+  double outside[3] = {box_origin[0] - 1.01 * cell_size, box_origin[1],
+                       box_origin[2]};
+  ck_assert(!gm_box_support_compute_3d(&grid, outside, outside, &support));
+  outside[0] = NAN;
+  ck_assert(!gm_box_support_compute_3d(&grid, outside, outside, &support));
+}
+END_TEST
+
 static Suite *support_3d_suite(void) {
   Suite *suite = suite_create("support_3d");
   TCase *tc = tcase_create("gimp");
   tcase_add_test(tc, test_gimp_box_3d_properties);
   tcase_add_test(tc, test_box_half_edges_3d);
   tcase_add_test(tc, test_gimp_box_3d_bounds);
+  tcase_add_loop_test(tc, test_bspline_3d_properties, 0, 2);
   suite_add_tcase(suite, tc);
   return suite;
 }
