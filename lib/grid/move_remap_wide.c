@@ -165,8 +165,16 @@ static GM_ALWAYS_INLINE void scatter_cpdi_momentum(momentum_tile *tile,
       size_t row = (size_t)(x + EDGE * (y + b));
       for (int a = 0; a < 2; a++) {
         double value = s->axis[c][0][a] * s->axis[c][1][b];
-        tile->node[row + (size_t)a][0] += value * share_x;
-        tile->node[row + (size_t)a][1] += value * share_y;
+        double *node = tile->node[row + (size_t)a];
+#if defined(__GNUC__) /* x and y as one pair, the same operation per lane */
+        gm_pair w = {value, value}, share = {share_x, share_y}, sum;
+        memcpy(&sum, node, sizeof sum);
+        sum += w * share;
+        memcpy(node, &sum, sizeof sum);
+#else
+        node[0] += value * share_x;
+        node[1] += value * share_y;
+#endif
       }
     }
   }

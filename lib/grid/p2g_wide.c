@@ -199,6 +199,21 @@ scatter_cpdi(wide_tile *tile, int64_t tile_edge, int dim, const int64_t base[2],
         double value = support->axis[c][0][a] * support->axis[c][1][b];
         if (do_mass)
           tile->node[t].mass += value * mass;
+#if defined(__GNUC__) /* x and y as one pair, the same operation per lane */
+        gm_pair w = {value, value}, sum;
+        if (do_momentum) {
+          gm_pair part = {momentum[0], momentum[1]};
+          memcpy(&sum, tile->node[t].momentum, sizeof sum);
+          sum += w * part;
+          memcpy(tile->node[t].momentum, &sum, sizeof sum);
+        }
+        if (do_forces) {
+          gm_pair part = {force[0], force[1]};
+          memcpy(&sum, tile->node[t].force, sizeof sum);
+          sum += w * part;
+          memcpy(tile->node[t].force, &sum, sizeof sum);
+        }
+#else
         if (do_momentum) {
           tile->node[t].momentum[0] += value * momentum[0];
           tile->node[t].momentum[1] += value * momentum[1];
@@ -207,6 +222,7 @@ scatter_cpdi(wide_tile *tile, int64_t tile_edge, int dim, const int64_t base[2],
           tile->node[t].force[0] += value * force[0];
           tile->node[t].force[1] += value * force[1];
         }
+#endif
       }
     }
   }

@@ -94,7 +94,6 @@ static inline bool gm_cpdi_support_2d(const gm_shape_grid *grid, double x,
   }
   out->corner_count = 4;
   out->share = 0.25;
-  reach[0] = reach[1] = 0;
   for (int c = 0; c < 4; c++) {
     for (int k = 0; k < 2; k++) {
       int64_t cell = gm_floor_index(cells[c][k]);
@@ -102,10 +101,12 @@ static inline bool gm_cpdi_support_2d(const gm_shape_grid *grid, double x,
       out->cell[c][k] = cell;
       out->axis[c][k][0] = 1.0 - fraction;
       out->axis[c][k][1] = fraction;
-      int64_t far = cell + 1 - out->lowest[k];
-      reach[k] = far > reach[k] ? far : reach[k];
     }
   }
+  /* The farthest corner cell's upper node: floor is monotonic, so the
+   * largest floor of the corners is the floor of the largest, highest - 1. */
+  reach[0] = highest[0] - out->lowest[0];
+  reach[1] = highest[1] - out->lowest[1];
   return true;
 }
 
