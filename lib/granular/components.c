@@ -33,7 +33,6 @@
 #include "granular/granular.h"
 
 #include "granular/pair_rules.h"
-#include "shapes/support_cpdi.h"
 
 #include <math.h>
 #include <string.h>

@@ -12,7 +12,6 @@
 #define GM_GATHER_WIDE_H
 
 #include "grid/transfer.h"
-#include "shapes/support_cpdi.h"
 
 /* The sums of one point's gather (g2p.c): acceleration and velocity,
  * L_ab = sum v_ia dN_i/dx_b, the gradient sum of massless nodes. */

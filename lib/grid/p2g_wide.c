@@ -12,7 +12,6 @@
 #include "grid/grid.h"
 
 #include "grid/transfer.h"
-#include "shapes/support_cpdi.h"
 
 #include <string.h>
 
