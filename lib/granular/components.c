@@ -54,6 +54,27 @@ static void general_geometry(gm_domain *domain, size_t p,
                            measure, interaction);
 }
 
+/* The same for CPDI in 2D: the corners once (support_cpdi.h, those of
+ * gm_support_bounds and gm_point_domain_corners) for both. */
+static void cpdi_geometry_2d(gm_domain *domain, size_t p,
+                             const gm_point_domain *point, double measure) {
+  gm_granular_work *work = &domain->granular;
+  const double *d = point->deformation; /* the domain map D */
+  double corners[4][2], cells[4][2];
+  int64_t low[2] = {0, 0}, high[2] = {0, 0};
+  /* Cannot fail: the binning checked the same support. */
+  gm_cpdi_corners_2d(&domain->shape_grid, point->position[0],
+                     point->position[1], d[0], d[1], d[2], d[3],
+                     point->half_size[0], point->half_size[1], corners, cells,
+                     low, high);
+  for (int k = 0; k < 2; k++) {
+    work->support_low[k][p] = (int32_t)low[k]; /* range: domain_granular.h */
+    work->support_high[k][p] = (int32_t)high[k];
+  }
+  gm_interaction_domain_from_corners(2, point->position, corners, measure,
+                                     &work->interaction[p]);
+}
+
 /* The same for the rectangle variants, directly: the support as in
  * gm_support_bounds, the box half edges scaled to `measure`. */
 static void rectangle_geometry(gm_domain *domain, size_t p,
@@ -125,7 +146,9 @@ static void point_geometry(void *context, size_t begin, size_t end,
                 material->critical_density;
     }
     work->granular[p] = material->granular;
-    if (parallelograms)
+    if (parallelograms && dim == 2)
+      cpdi_geometry_2d(domain, p, &point, measure);
+    else if (parallelograms)
       general_geometry(domain, p, &point, measure);
     else
       rectangle_geometry(domain, p, &point, measure);

@@ -11,8 +11,15 @@ void gm_interaction_domain_of(gm_shape shape, int dim,
                               gm_interaction_domain *out) {
   double corners[4][2];
   gm_point_domain_corners(shape, dim, point, corners);
+  gm_interaction_domain_from_corners(dim, point->position, corners, measure,
+                                     out);
+}
+
+void gm_interaction_domain_from_corners(int dim, const double centre[2],
+                                        double corners[4][2], double measure,
+                                        gm_interaction_domain *out) {
   for (int k = 0; k < 2; k++) {
-    out->centre[k] = point->position[k];
+    out->centre[k] = centre[k];
     /* r1 = (c1 - c0) / 2, r2 = (c3 - c0) / 2 (corners counter-clockwise) */
     out->half_edge[0][k] = 0.5 * (corners[1][k] - corners[0][k]);
     out->half_edge[1][k] =

@@ -37,6 +37,11 @@ typedef struct gm_interaction_domain {
 void gm_interaction_domain_of(gm_shape shape, int dim,
                               const gm_point_domain *point, double measure,
                               gm_interaction_domain *out);
+/* The same from the domain's corners (m, counter-clockwise from the lower
+ * left, gm_point_domain_corners; in 1D corners 0 and 1) and its centre. */
+void gm_interaction_domain_from_corners(int dim, const double centre[2],
+                                        double corners[4][2], double measure,
+                                        gm_interaction_domain *out);
 
 /* Do the interiors of a and b intersect? dim 1: segments along x; dim 2:
  * parallelograms (rectangles included). */

@@ -12,10 +12,11 @@
  * every bit of F, V and the stress is what the general path gives (no
  * contraction into FMAs: the library is built as ISO C, where GCC keeps
  * -ffp-contract=off). It starts from the gathered velocity gradient, so it
- * serves every shape whose domain deforms with F alone (linear, GIMP,
- * B-splines). Anything else (axisymmetry, CPDI's domain map, USF's
- * in-place second half, another material or a chunk mixing materials)
- * takes the general path.
+ * serves every shape: CPDI's domain map D takes F's increment in a loop
+ * of its own, as in the general path (gm_deform_domain_map_chunk), and its
+ * reset follows in g2p.c. Anything else (axisymmetry, USF's in-place
+ * second half, another material or a chunk mixing materials) takes the
+ * general path.
  *
  * Two loops, not one: with all 23 point and chunk streams in one loop the
  * pass was 12 % slower than the general path (block-1e5, loads stalled on
@@ -31,8 +32,7 @@
 bool gm_elastic_chunk_fits(const gm_domain *domain, const gather_view *v,
                            const gm_g2p_pass *pass, size_t first,
                            size_t count) {
-  if (v->dim != 2 || v->axisymmetric || pass->in_place ||
-      v->next_domain_map[0] || count == 0)
+  if (v->dim != 2 || v->axisymmetric || pass->in_place || count == 0)
     return false;
   const int32_t *material = domain->points.material + first;
   for (size_t j = 1; j < count; j++)
@@ -88,6 +88,8 @@ bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,
     volume[j] = jacobian * initial_volume[j];
     positive &= jacobian > 0.0 && jacobian < INFINITY;
   }
+  if (v->next_domain_map[0]) /* CPDI: D takes F's increment (g2p.c) */
+    gm_deform_domain_map_chunk(v, first, count, g, dt);
   for (size_t j = 0; j < count; j++) {
     /* prepare_rows (stress_update.c): Jaumann rotation, strain increment */
     double spin = 0.5 * (l_xy[j] - l_yx[j]) * dt; /* W_xy dt */

@@ -460,25 +460,8 @@ static bool deform_chunk(gm_domain *domain, const gather_view *v,
     volume[j] = jacobian * initial_volume[j];
     positive &= jacobian > 0.0 && jacobian < INFINITY;
   }
-  if (v->next_domain_map[0]) { /* CPDI: the domain map takes F's increment */
-    const double *d_xx = v->domain_map[F_XX] + first;
-    const double *d_xy = v->domain_map[F_XY] + first;
-    const double *d_yx = v->domain_map[F_YX] + first;
-    const double *d_yy = v->domain_map[F_YY] + first;
-    double *m_xx = v->next_domain_map[F_XX] + first;
-    double *m_xy = v->next_domain_map[F_XY] + first;
-    double *m_yx = v->next_domain_map[F_YX] + first;
-    double *m_yy = v->next_domain_map[F_YY] + first;
-    for (size_t j = 0; j < count; j++) { /* the same arithmetic as F's */
-      double i_xx = 1.0 + l_xx[j] * dt, i_xy = l_xy[j] * dt;
-      double i_yx = l_yx[j] * dt, i_yy = 1.0 + l_yy[j] * dt;
-      double a_xx = d_xx[j], a_xy = d_xy[j], a_yx = d_yx[j], a_yy = d_yy[j];
-      m_xx[j] = i_xx * a_xx + i_xy * a_yx;
-      m_xy[j] = i_xx * a_xy + i_xy * a_yy;
-      m_yx[j] = i_yx * a_xx + i_yy * a_yx;
-      m_yy[j] = i_yx * a_xy + i_yy * a_yy;
-    }
-  }
+  if (v->next_domain_map[0]) /* CPDI: the domain map takes F's increment */
+    gm_deform_domain_map_chunk(v, first, count, g, dt);
   if (v->axisymmetric) { /* the hoop stretch multiplies det F */
     const double *f_zz = v->deformation[F_ZZ] + first;
     double *n_zz = v->next_deformation[F_ZZ] + first;
@@ -601,6 +584,8 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
         gm_density_control_chunk(domain, first, count);
         scratch->density_control_seconds += gm_monotonic_seconds() - start;
       }
+      if (deformed && v->next_domain_map[0]) /* as below */
+        gm_cpdi_reset_chunk(domain, first, count);
     } else if (deform &&
                deform_chunk(domain, v, scratch, first, count, g, dt)) {
       const double *gradient[5] = {g->gradient[0], g->gradient[1],

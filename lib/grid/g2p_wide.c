@@ -121,6 +121,10 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
   gm_shape shape = v->shape_grid->shape;
   bool rectangle = shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP;
   bool try_short = dim == 2 && rectangle && !v->affine;
+  /* CPDI in 2D takes its inline support (support_cpdi.h) and the gather of
+   * gather_wide.h; a support it refuses takes the general path, which
+   * refuses it too and records the error. */
+  bool try_cpdi = dim == 2 && cpdi && !v->affine;
   /* A local copy: the stores of the sums (doubles) would otherwise reload
    * the grid's origin and spacing at every point. */
   const gm_shape_grid shape_grid = *v->shape_grid;
@@ -152,6 +156,19 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
         reach[1] = axis[1].reach;
         if (gm_wide_support_fits(2, sx, sy, reach, edge)) {
           gather_short_2d(v, links, sx, sy, axis, &sum, acceleration, gradient);
+          store_point_gather(v, p, j, &sum, affine, out, 2);
+          continue;
+        }
+      }
+    }
+    if (try_cpdi) {
+      gm_cpdi_support *corners = &support.cpdi;
+      if (gm_cpdi_point_support_2d(&shape_grid, v->position, deformation,
+                                   v->domain_size, p, corners, reach)) {
+        int64_t cx = corners->lowest[0] - base[0];
+        int64_t cy = corners->lowest[1] - base[1];
+        if (gm_wide_support_fits(2, cx, cy, reach, edge)) {
+          gather_cpdi_2d(v, links, base, corners, &sum, acceleration, gradient);
           store_point_gather(v, p, j, &sum, affine, out, 2);
           continue;
         }
@@ -208,8 +225,20 @@ void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
   gm_shape shape = v->shape_grid->shape;
   bool try_short =
       dim == 2 && (shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP);
+  bool try_cpdi = dim == 2 && shape == GM_SHAPE_CPDI;
   for (size_t p = first; p < first + count; p++) {
     int64_t lowest[2], highest[2];
+    if (try_cpdi) { /* support_cpdi.h: gm_support_bounds' corners and tests */
+      double corners[4][2], cells[4][2];
+      if (gm_cpdi_corners_2d(
+              v->shape_grid, position[0][p], position[1][p], deformation[0][p],
+              deformation[1][p], deformation[2][p], deformation[3][p],
+              0.5 * v->domain_size[0][p], 0.5 * v->domain_size[1][p], corners,
+              cells, lowest, highest)) {
+        v->block_key[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);
+        continue;
+      }
+    }
     if (try_short) {  /* support_short.h; else the general bounds */
       double half[2]; /* m */
       gm_rectangle_half_edges(shape, 2, v->domain_size, deformation, p, half);

@@ -174,4 +174,103 @@ gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
                        sum, acceleration, gradient, false);
 }
 
+/* CPDI in 2D corner by corner (support_cpdi.h), the sums of g2p_wide.c's
+ * gather_cpdi in its order: each corner interpolates the nodes of its cell
+ * bilinearly, v_c = sum N_i(x_c) v_i, and the point takes v_p = share
+ * sum_c v_c and L = sum_c v_c (x) g_c. As gather_short_2d: the
+ * acceleration only where the pass reads it (the FLIP update), the
+ * gradient and the empty-node sum only where it deforms (each sum taken
+ * alone, so the ones kept have the same bits), a corner's cell inside the
+ * block found at fixed offsets from the block's first node, and a node's x
+ * and y components summed as one pair. base: the block's base node. */
+static GM_ALWAYS_INLINE void
+gather_cpdi_2d(const gather_view *v, const uint32_t *links,
+               const int64_t base[2], const gm_cpdi_support *support,
+               point_gather *sum, const bool acceleration,
+               const bool gradient) {
+  const int64_t edge = GM_BLOCK_EDGE_2D;
+  size_t first = (size_t)links[0] * GM_BLOCK_NODES;
+  double share = support->share;
+#if defined(__GNUC__)
+  gm_pair zero = {0.0, 0.0}, shares = {share, share};
+  gm_pair acc = zero, vel = zero, column_x = zero, column_y = zero,
+          empty_sum = zero;
+#endif
+  for (int c = 0; c < 4; c++) {
+    int64_t x = support->cell[c][0] - base[0];
+    int64_t y = support->cell[c][1] - base[1];
+    size_t node[4]; /* (a, b) = (0, 0), (1, 0), (0, 1), (1, 1) */
+    if (x + 1 < edge && y + 1 < edge) {
+      node[0] = first + (size_t)(x + edge * y);
+      node[1] = node[0] + 1;
+      node[2] = node[0] + (size_t)edge;
+      node[3] = node[0] + (size_t)edge + 1;
+    } else {
+      for (int n = 0; n < 4; n++)
+        node[n] =
+            gm_block_node(links, GM_BLOCK_SHIFT_2D, x + (n & 1), y + (n >> 1));
+    }
+    double empty = 0.0; /* -, the corner's weight on massless nodes */
+#if defined(__GNUC__)
+    gm_pair velocity = zero, corner_acc = zero; /* m/s, m/s^2 */
+#else
+    double velocity[2] = {0.0, 0.0}, corner_acc[2] = {0.0, 0.0};
+#endif
+    for (int n = 0; n < 4; n++) {
+      size_t i = node[n];
+      double value = support->axis[c][0][n & 1] * support->axis[c][1][n >> 1];
+      if (gradient)
+        empty += v->grid_mass[i] == 0.0 ? value : 0.0;
+#if defined(__GNUC__)
+      gm_pair w = {value, value};
+      gm_pair nodal = {v->grid_velocity[0][i], v->grid_velocity[1][i]};
+      velocity += w * nodal;
+      if (acceleration) {
+        gm_pair a = {v->grid_acceleration[0][i], v->grid_acceleration[1][i]};
+        corner_acc += w * a;
+      }
+#else
+      for (int k = 0; k < 2; k++) {
+        velocity[k] += value * v->grid_velocity[k][i];
+        if (acceleration)
+          corner_acc[k] += value * v->grid_acceleration[k][i];
+      }
+#endif
+    }
+    const double *g = support->corner_gradient[c]; /* 1/m */
+#if defined(__GNUC__)
+    vel += shares * velocity;
+    if (acceleration)
+      acc += shares * corner_acc;
+    if (gradient) {
+      gm_pair gx = {g[0], g[0]}, gy = {g[1], g[1]}, e = {empty, empty},
+              both = {g[0], g[1]};
+      column_x += velocity * gx;
+      column_y += velocity * gy;
+      empty_sum += e * both;
+    }
+#else
+    for (int k = 0; k < 2; k++) {
+      sum->velocity[k] += share * velocity[k];
+      if (acceleration)
+        sum->acceleration[k] += share * corner_acc[k];
+      if (gradient) {
+        for (int b = 0; b < 2; b++)
+          sum->gradient[k][b] += velocity[k] * g[b];
+        sum->empty[k] += empty * g[k];
+      }
+    }
+#endif
+  }
+#if defined(__GNUC__) /* the sums start at 0, as sum's: the same bits */
+  for (int k = 0; k < 2; k++) {
+    sum->acceleration[k] = acc[k];
+    sum->velocity[k] = vel[k];
+    sum->gradient[k][0] = column_x[k];
+    sum->gradient[k][1] = column_y[k];
+    sum->empty[k] = empty_sum[k];
+  }
+#endif
+}
+
 #endif

@@ -83,7 +83,7 @@ size_t gm_chunk_gather_size(void); /* bytes of a worker's G2P chunk buffer */
  * the grid's momenta as gm_g2p then gm_p2g would, bit for bit. */
 bool gm_move_remap_fits(const gm_domain *domain);
 void gm_move_remap(gm_domain *domain, double dt);
-/* The same sweep for uGIMP and cpGIMP in plane strain and axisymmetry
+/* The same sweep for uGIMP, cpGIMP and CPDI in plane strain and axisymmetry
  * (move_remap_wide.c), under the same conditions. */
 bool gm_move_remap_wide_fits(const gm_domain *domain);
 void gm_move_remap_wide(gm_domain *domain, double dt);

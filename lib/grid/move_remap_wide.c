@@ -1,10 +1,10 @@
 /*
  * move_remap_wide.c - USL's move pass and its momentum re-map in one sweep
- * over the points for uGIMP and cpGIMP in 2D, as move_remap.c does for
- * linear MPM (issue 15): each block's points are moved (FLIP or blended
- * velocity, 004 eq 3.17; x' = x + dt sum S_i v_i^L) and their re-mapped
- * momenta m_p v_p^{t+dt} summed into the block's tile from the same
- * support, which the separate passes (g2p.c's flip-and-move, then the
+ * over the points for uGIMP, cpGIMP and CPDI in 2D, as move_remap.c does
+ * for linear MPM (issue 15): each block's points are moved (FLIP or
+ * blended velocity, 004 eq 3.17; x' = x + dt sum S_i v_i^L) and their
+ * re-mapped momenta m_p v_p^{t+dt} summed into the block's tile from the
+ * same support, which the separate passes (g2p.c's flip-and-move, then the
  * REMAP_MOMENTUM scatter of p2g_wide.c) each compute: the re-map uses the
  * committed positions and domains, as the move's gather does (Sulsky, Zhou
  * & Schreyer 1995; 004 sec 3.2). One support per point instead of two, one
@@ -12,18 +12,21 @@
  *
  * Every bit is that of the separate passes: a point's gather is
  * gather_wide.h's (the short support where the domain is no longer than a
- * cell, the general one otherwise), its velocity and position follow
+ * cell, the general one otherwise; CPDI's corners of support_cpdi.h),
+ * its velocity and position follow
  * flip_chunk and move_chunk expression by expression, its momenta go into
- * the tile as scatter_product sums them (weight S_a S_b times m_p v'), the
+ * the tile as scatter_product sums them (weight S_a S_b times m_p v'; CPDI
+ * corner by corner as scatter_cpdi), the
  * block's points in order[] order, and the tiles are flushed colour by
  * colour, the blocks of a colour in their order, over the nodes the
  * separate scatter flushes, into sums that start at zero as the cleared
  * grid does. The new momenta go to the spare pair of node arrays of
  * move_remap.c (the next buffer's F_xx and F_xy, dead until DEFORM: for
  * cpGIMP the next F is read only by the DEFORM stage's keys, after it
- * writes F) and are copied to the grid's momenta once every block has
+ * writes F; CPDI's domains follow the domain map D, not F) and are copied
+ * to the grid's momenta once every block has
  * moved. The block keys of the moved points stay DEFORM's (a GIMP support
- * follows F in cpGIMP).
+ * follows F in cpGIMP, a CPDI one D).
  */
 #include "grid/grid.h"
 
@@ -48,13 +51,15 @@ typedef struct move_remap_wide_context {
   gather_view view;    /* the nodal arrays and shape grid gather_wide.h reads */
   const uint32_t *blocks; /* blocks of the colour being swept */
   double *sum[2];         /* kg m/s, the new momenta, per grid node */
+  bool cpdi;              /* CPDI corners, else the GIMP axes */
 } move_remap_wide_context;
 
 bool gm_move_remap_wide_fits(const gm_domain *domain) {
   const gm_points *points = &domain->points;
   gm_shape shape = domain->shape_grid.shape;
   return domain->dim == 2 && domain->def.scheme == GM_SCHEME_USL &&
-         (shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP) &&
+         (shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP ||
+          shape == GM_SHAPE_CPDI) &&
          domain->def.transfer != GM_TRANSFER_APIC &&
          domain->def.family == GM_FAMILY_PLAIN && domain->rigid_count == 0 &&
          !gm_periodic_x(domain) &&
@@ -123,6 +128,58 @@ point_support(const gm_domain *domain, const gather_view *v,
   return false;
 }
 
+/* Point p's CPDI support (support_cpdi.h; the committed domain map),
+ * with its reach per axis; false (the error recorded as the separate
+ * passes record it) as point_support. */
+static GM_ALWAYS_INLINE bool
+cpdi_point_support(const gm_domain *domain, const gather_view *v,
+                   const gm_shape_grid *shape_grid, size_t p,
+                   const int64_t base[2], gm_cpdi_support *corners,
+                   int64_t reach[2], gm_worker_scratch *scratch) {
+  if (gm_cpdi_point_support_2d(shape_grid, v->position, v->support_tensor,
+                               v->domain_size, p, corners, reach) &&
+      gm_wide_support_fits(2, corners->lowest[0] - base[0],
+                           corners->lowest[1] - base[1], reach, EDGE))
+    return true;
+  gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
+                  "step: the support of point id %lld cannot be "
+                  "computed or does not fit the block it was binned in "
+                  "(a degenerate domain, e.g. an edge far below a cell); "
+                  "the step was not taken",
+                  (long long)domain->points.id[p]);
+  return false;
+}
+
+/* CPDI's re-mapped momentum, corner by corner as p2g_wide.c's scatter_cpdi
+ * sums it (share of m_p v' times N_i(x_c)), the same products in the same
+ * order. */
+static GM_ALWAYS_INLINE void scatter_cpdi_momentum(momentum_tile *tile,
+                                                   const int64_t base[2],
+                                                   const gm_cpdi_support *s,
+                                                   double momentum_x,
+                                                   double momentum_y) {
+  double share_x = s->share * momentum_x, share_y = s->share * momentum_y;
+  for (int c = 0; c < 4; c++) {
+    int64_t x = s->cell[c][0] - base[0], y = s->cell[c][1] - base[1];
+    for (int b = 0; b < 2; b++) {
+      size_t row = (size_t)(x + EDGE * (y + b));
+      for (int a = 0; a < 2; a++) {
+        double value = s->axis[c][0][a] * s->axis[c][1][b];
+        double *node = tile->node[row + (size_t)a];
+#if defined(__GNUC__) /* x and y as one pair, the same operation per lane */
+        gm_pair w = {value, value}, share = {share_x, share_y}, sum;
+        memcpy(&sum, node, sizeof sum);
+        sum += w * share;
+        memcpy(node, &sum, sizeof sum);
+#else
+        node[0] += value * share_x;
+        node[1] += value * share_y;
+#endif
+      }
+    }
+  }
+}
+
 /* Moves the points of one block and sums their re-mapped momenta into
  * its tile (rows x columns nodes touched); returns false if a moved point
  * left the grid or is not finite. blend (pic_fraction > 0) is a constant
@@ -131,7 +188,7 @@ static GM_ALWAYS_INLINE bool
 move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
                       uint32_t block, momentum_tile *tile, int64_t *columns,
                       int64_t *rows, gm_worker_scratch *scratch,
-                      const bool blend) {
+                      const bool blend, const bool cpdi) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *from = &points->buffer[points->cur];
   const gm_point_buffers *to = &points->buffer[points->cur ^ 1];
@@ -162,15 +219,26 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     size_t p = order[k];
     gm_short_axis axis[2];
     gm_product_support product;
-    bool is_short;
+    gm_cpdi_support corners;
+    bool is_short = false;
     int64_t x0, y0, reach[2];
-    bool found = point_support(domain, v, &shape_grid, p, base, axis, &product,
-                               &is_short, &x0, &y0, reach, scratch);
+    bool found;
+    if (cpdi) {
+      found = cpdi_point_support(domain, v, &shape_grid, p, base, &corners,
+                                 reach, scratch);
+      x0 = found ? corners.lowest[0] - base[0] : 0;
+      y0 = found ? corners.lowest[1] - base[1] : 0;
+    } else {
+      found = point_support(domain, v, &shape_grid, p, base, axis, &product,
+                            &is_short, &x0, &y0, reach, scratch);
+    }
     /* A point without a support gathers nothing and is moved by zero, as
      * in the separate passes; the step fails anyway. */
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
-    if (found && is_short)
+    if (found && cpdi)
+      gather_cpdi_2d(v, links, base, &corners, &sum, true, false);
+    else if (found && is_short)
       gather_short_2d(v, links, x0, y0, axis, &sum, true, false);
     else if (found)
       gather_product(v, links, x0, y0, &product, &sum, 2);
@@ -203,6 +271,10 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     *rows = y0 + reach[1] + 1 > *rows ? y0 + reach[1] + 1 : *rows;
     double mass = point_mass[p];
     double momentum_x = mass * vx, momentum_y = mass * vy; /* kg m/s */
+    if (cpdi) {
+      scatter_cpdi_momentum(tile, base, &corners, momentum_x, momentum_y);
+      continue;
+    }
     const double *weight_x = is_short ? axis[0].weight : product.weight[0];
     const double *weight_y = is_short ? axis[1].weight : product.weight[1];
     for (int64_t b = 0; b <= reach[1]; b++) {
@@ -226,11 +298,18 @@ static void move_remap_blocks(void *context, size_t begin, size_t end,
   for (size_t item = begin; item < end; item++) {
     uint32_t block = c->blocks[item];
     int64_t columns, rows;
-    bool inside = c->move.pic == 0.0
-                      ? move_remap_block_kind(domain, c, block, &tile, &columns,
-                                              &rows, scratch, false)
-                      : move_remap_block_kind(domain, c, block, &tile, &columns,
-                                              &rows, scratch, true);
+    bool blend = c->move.pic != 0.0;
+    bool inside;
+    if (c->cpdi)
+      inside = blend ? move_remap_block_kind(domain, c, block, &tile, &columns,
+                                             &rows, scratch, true, true)
+                     : move_remap_block_kind(domain, c, block, &tile, &columns,
+                                             &rows, scratch, false, true);
+    else
+      inside = blend ? move_remap_block_kind(domain, c, block, &tile, &columns,
+                                             &rows, scratch, true, false)
+                     : move_remap_block_kind(domain, c, block, &tile, &columns,
+                                             &rows, scratch, false, false);
     const uint32_t *links =
         domain->grid.neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
     flush_tile(c->sum, links, &tile, columns, rows);
@@ -264,6 +343,7 @@ void gm_move_remap_wide(gm_domain *domain, double dt) {
   move_remap_wide_context c;
   memset(&c, 0, sizeof c);
   c.domain = domain;
+  c.cpdi = domain->shape_grid.shape == GM_SHAPE_CPDI;
   gm_linear_move_2d_init(domain, dt, &c.move);
   const gm_point_buffers *from = &points->buffer[points->cur];
   gm_point_buffers *to = &points->buffer[points->cur ^ 1];

@@ -198,6 +198,21 @@ scatter_cpdi(wide_tile *tile, int64_t tile_edge, int dim, const int64_t base[2],
         double value = support->axis[c][0][a] * support->axis[c][1][b];
         if (do_mass)
           tile->node[t].mass += value * mass;
+#if defined(__GNUC__) /* x and y as one pair, the same operation per lane */
+        gm_pair w = {value, value}, sum;
+        if (do_momentum) {
+          gm_pair part = {momentum[0], momentum[1]};
+          memcpy(&sum, tile->node[t].momentum, sizeof sum);
+          sum += w * part;
+          memcpy(tile->node[t].momentum, &sum, sizeof sum);
+        }
+        if (do_forces) {
+          gm_pair part = {force[0], force[1]};
+          memcpy(&sum, tile->node[t].force, sizeof sum);
+          sum += w * part;
+          memcpy(tile->node[t].force, &sum, sizeof sum);
+        }
+#else
         if (do_momentum) {
           tile->node[t].momentum[0] += value * momentum[0];
           tile->node[t].momentum[1] += value * momentum[1];
@@ -206,6 +221,7 @@ scatter_cpdi(wide_tile *tile, int64_t tile_edge, int dim, const int64_t base[2],
           tile->node[t].force[0] += value * force[0];
           tile->node[t].force[1] += value * force[1];
         }
+#endif
       }
     }
   }
@@ -291,6 +307,8 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
   gm_shape shape = v->shape_grid->shape;
   bool try_short = dim == 2 && !affine &&
                    (shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP);
+  /* CPDI in 2D likewise takes its inline support (support_cpdi.h). */
+  bool try_cpdi = dim == 2 && !affine && cpdi;
   double inv_cell = v->shape_grid->inv_cell; /* 1/m */
   /* A local copy: the tile's stores (doubles) would otherwise reload the
    * grid's origin and spacing at every point. */
@@ -324,6 +342,21 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
     }
     /* The support's lowest node and its reach (nodes past it) per axis. */
     int64_t lowest[2], reach[2];
+    if (try_cpdi &&
+        gm_cpdi_point_support_2d(&shape_grid, v->position, v->deformation,
+                                 v->domain_size, p, &support.cpdi, reach)) {
+      int64_t cx = support.cpdi.lowest[0] - base[0];
+      int64_t cy = support.cpdi.lowest[1] - base[1];
+      if (gm_wide_support_fits(2, cx, cy, reach, tile_edge)) {
+        columns = cx + reach[0] + 1 > columns ? cx + reach[0] + 1 : columns;
+        rows = cy + reach[1] + 1 > rows ? cy + reach[1] + 1 : rows;
+        point_load load;
+        load_point(v, p, 2, &load);
+        scatter_cpdi(tile, tile_edge, 2, base, &support.cpdi, &load, do_mass,
+                     do_momentum, do_forces);
+        continue;
+      }
+    }
     bool found =
         gm_wide_point_support(v->shape_grid, dim, v->position, v->deformation,
                               v->domain_size, p, &support, lowest, reach);
@@ -376,6 +409,9 @@ void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
   else if (pass->momentum && pass->forces)
     scatter_block_kind(v, pass, block, domain, scratch, &tile, false, true,
                        true);
+  else if (!pass->mass && pass->momentum && !pass->forces) /* REMAP */
+    scatter_block_kind(v, pass, block, domain, scratch, &tile, false, true,
+                       false);
   else
     scatter_block_kind(v, pass, block, domain, scratch, &tile, pass->mass,
                        pass->momentum, pass->forces);

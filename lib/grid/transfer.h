@@ -173,6 +173,37 @@ static inline double gm_deform_plane_point(double dt, double l_xx, double l_xy,
   return b_xx * b_yy - b_xy * b_yx;
 }
 
+/* CPDI: the domain map takes F's increment, D <- (I + L dt) D (the
+ * arithmetic of gm_deform_plane_point), for the chunk's points from the
+ * gathered gradient into next_domain_map. Shared by the general
+ * deformation pass (g2p.c) and the elastic one (deform_elastic.c). In
+ * USF's second half D is updated in place: each point's D is read whole
+ * before it is written (the pointers are not restrict). */
+static inline void gm_deform_domain_map_chunk(const gather_view *v,
+                                              size_t first, size_t count,
+                                              const chunk_gather *g,
+                                              double dt) {
+  const double *d_xx = v->domain_map[F_XX] + first;
+  const double *d_xy = v->domain_map[F_XY] + first;
+  const double *d_yx = v->domain_map[F_YX] + first;
+  const double *d_yy = v->domain_map[F_YY] + first;
+  double *m_xx = v->next_domain_map[F_XX] + first;
+  double *m_xy = v->next_domain_map[F_XY] + first;
+  double *m_yx = v->next_domain_map[F_YX] + first;
+  double *m_yy = v->next_domain_map[F_YY] + first;
+  const double *l_xx = g->gradient[0], *l_xy = g->gradient[1];
+  const double *l_yx = g->gradient[2], *l_yy = g->gradient[3];
+  for (size_t j = 0; j < count; j++) { /* the same arithmetic as F's */
+    double i_xx = 1.0 + l_xx[j] * dt, i_xy = l_xy[j] * dt;
+    double i_yx = l_yx[j] * dt, i_yy = 1.0 + l_yy[j] * dt;
+    double a_xx = d_xx[j], a_xy = d_xy[j], a_yx = d_yx[j], a_yy = d_yy[j];
+    m_xx[j] = i_xx * a_xx + i_xy * a_yx;
+    m_xy[j] = i_xx * a_xy + i_xy * a_yy;
+    m_yx[j] = i_yx * a_xx + i_yy * a_yx;
+    m_yy[j] = i_yx * a_xy + i_yy * a_yy;
+  }
+}
+
 /* Point p's support (position, deformation: its domain's), with its lowest
  * node and its reach (the farthest node past it) per axis; false if it
  * cannot be computed (see gm_support_compute). */
@@ -240,9 +271,10 @@ void gm_report_inverted_chunk(gm_domain *domain, const gather_view *v,
                               gm_worker_scratch *scratch, size_t first,
                               size_t count, double dt);
 /* The fused deformation pass of deform_elastic.c: whether a chunk may take
- * it (plane strain, no CPDI domain map, committed F and stress, one material
- * whose update is gm_elastic_update), and the pass itself, which returns
- * false (the inverted points reported) when some det F is not positive. */
+ * it (plane strain, committed F and stress, one material whose update is
+ * gm_elastic_update), and the pass itself, which returns false (the
+ * inverted points reported) when some det F is not positive. CPDI's domain
+ * map takes its increment there too; its reset stays the caller's. */
 bool gm_elastic_chunk_fits(const gm_domain *domain, const gather_view *v,
                            const gm_g2p_pass *pass, size_t first, size_t count);
 bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,

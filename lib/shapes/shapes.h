@@ -5,7 +5,8 @@
  * (shape_gimp.h), B-splines (shape_bspline.h), and the support of a point
  * for every shape variant with the corners of its current domain
  * (support.h, support.c; in 3D support_3d.h, support_3d.c; the fixed
- * three-node axes of short GIMP domains, support_short.h). The bottom
+ * three-node axes of short GIMP domains, support_short.h; the inline 2D
+ * CPDI support, support_cpdi.h). The bottom
  * layer: core/domain.h includes it for gm_shape_grid. Private to the
  * library.
  */
@@ -17,6 +18,7 @@
 #include "shapes/shape_linear.h"
 #include "shapes/support.h"
 #include "shapes/support_3d.h"
+#include "shapes/support_cpdi.h"
 #include "shapes/support_short.h"
 
 #endif

@@ -48,8 +48,8 @@
  *                          Schreyer 1995), then GRID_VELOCITIES gives v^L
  *     MOVE_AND_REMAP       USL: UPDATE_POINTS and REMAP_MOMENTUM in one
  *                          sweep over the points where gm_move_remap_fits
- *                          (move_remap.c, bitwise the same) or, for uGIMP
- *                          and cpGIMP, gm_move_remap_wide_fits
+ *                          (move_remap.c, bitwise the same) or, for uGIMP,
+ *                          cpGIMP and CPDI, gm_move_remap_wide_fits
  *                          (move_remap_wide.c), else the two stages in turn
  *     DEFORM               USL: strain increment (3.18), Jaumann spin
  *                          (3.20-3.21), stress (3.19, 3.22), V = J V0

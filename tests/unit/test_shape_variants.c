@@ -19,7 +19,9 @@
  *    points in the parallelogram's parametric coordinates (the interpolant
  *    is bilinear there and its gradient linear: exact).
  * Also the support bounds at the ghost layer and at the span limit, and the
- * uGIMP limit l -> 0 (the tent).
+ * uGIMP limit l -> 0 (the tent); and the inline 2D CPDI support the
+ * kernels take (support_cpdi.h) against the general one, bit for bit,
+ * refusals included.
  *
  * The grid has a non-zero origin and a cell size that is not a power of two
  * (0.37 m) so that the rounding in (x - origin) / h is exercised.
@@ -28,6 +30,7 @@
  */
 #include "shapes/shape_gimp.h"
 #include "shapes/support.h"
+#include "shapes/support_cpdi.h"
 
 #include "test_random.h"
 #include "test_util.h"
@@ -920,6 +923,128 @@ START_TEST(test_domain_ends_on_nodes) {
 }
 END_TEST
 
+/* ---------------------------------------------- the inline CPDI support */
+
+/* Does the inline 2D CPDI support (support_cpdi.h) give every bit of the
+ * general one (gm_cpdi_support_map, gm_support_bounds) and refuse the same
+ * domains? The kernels take the inline one and fall back to the general
+ * one only where it refuses, and the step's results are promised
+ * bitwise (the scratch driver of bench/results/2026-11-28-cpdi.md checks
+ * whole runs; this checks each support). Domains: the random ones above,
+ * inverted and degenerate maps (area <= 0), domains stretched past the
+ * span limit, centres up to two cells past the ghost layer and NaN. */
+static void compare_cpdi_support(const gm_shape_grid *grid,
+                                 const gm_point_domain *point,
+                                 const char *label) {
+  const double *d = point->deformation;
+  double half_x = point->half_size[0], half_y = point->half_size[1];
+  gm_cpdi_support general, inline_support;
+  memset(&general, 0, sizeof general);
+  memset(&inline_support, 0, sizeof inline_support);
+  bool found = gm_cpdi_support_map(grid, point->position[0], point->position[1],
+                                   d, half_x, half_y, &general);
+  int64_t reach[2] = {-1, -1};
+  bool inline_found = gm_cpdi_support_2d(
+      grid, point->position[0], point->position[1], d[0], d[1], d[2], d[3],
+      half_x, half_y, &inline_support, reach);
+  REQUIRE(found == inline_found, "%s: general %d, inline %d", label, (int)found,
+          (int)inline_found);
+  int64_t lowest[2], highest[2], inline_lowest[2], inline_highest[2];
+  double corners[4][2], cells[4][2];
+  bool bounded = gm_support_bounds(grid, point, lowest, highest);
+  bool inline_bounded = gm_cpdi_corners_2d(
+      grid, point->position[0], point->position[1], d[0], d[1], d[2], d[3],
+      half_x, half_y, corners, cells, inline_lowest, inline_highest);
+  REQUIRE(bounded == inline_bounded, "%s: bounds general %d, inline %d", label,
+          (int)bounded, (int)inline_bounded);
+  for (int k = 0; bounded && k < 2; k++)
+    REQUIRE(lowest[k] == inline_lowest[k] && highest[k] == inline_highest[k],
+            "%s: axis %d bounds %lld..%lld, inline %lld..%lld", label, k,
+            (long long)lowest[k], (long long)highest[k],
+            (long long)inline_lowest[k], (long long)inline_highest[k]);
+  if (!found)
+    return;
+  REQUIRE(inline_support.corner_count == 4 && general.corner_count == 4 &&
+              inline_support.share == general.share,
+          "%s: corner count or share", label);
+  for (int k = 0; k < 2; k++) {
+    REQUIRE(inline_support.lowest[k] == general.lowest[k],
+            "%s: lowest node of axis %d", label, k);
+    int64_t far = 0; /* gm_wide_point_support's reach */
+    for (int c = 0; c < 4; c++) {
+      int64_t node = general.cell[c][k] + 1 - general.lowest[k];
+      far = node > far ? node : far;
+    }
+    REQUIRE(reach[k] == far, "%s: reach %lld, expected %lld", label,
+            (long long)reach[k], (long long)far);
+  }
+  for (int c = 0; c < 4; c++)
+    for (int k = 0; k < 2; k++) {
+      REQUIRE(inline_support.cell[c][k] == general.cell[c][k],
+              "%s: corner %d cell", label, c);
+      /* memcmp: every bit, the signs of zeros included */
+      REQUIRE(memcmp(inline_support.axis[c][k], general.axis[c][k],
+                     sizeof general.axis[c][k]) == 0 &&
+                  memcmp(&inline_support.corner_gradient[c][k],
+                         &general.corner_gradient[c][k], sizeof(double)) == 0,
+              "%s: corner %d axis %d: fractions %.17g, %.17g against "
+              "%.17g, %.17g; gradient %.17g against %.17g",
+              label, c, k, inline_support.axis[c][k][0],
+              inline_support.axis[c][k][1], general.axis[c][k][0],
+              general.axis[c][k][1], inline_support.corner_gradient[c][k],
+              general.corner_gradient[c][k]);
+    }
+}
+
+START_TEST(test_cpdi_inline_support) {
+  lcg_state = 9157;
+  gm_shape_grid grid = make_grid(GM_SHAPE_CPDI, 2);
+  char label[64];
+  int accepted = 0, refused = 0;
+  for (int s = 0; s < 4 * SAMPLE_COUNT; s++) {
+    snprintf(label, sizeof label, "sample %d", s);
+    gm_point_domain point;
+    random_point(GM_SHAPE_CPDI, 2, &point);
+    double *d = point.deformation;
+    switch (s % 8) {
+    case 1: /* inverted: det D < 0 */
+      d[0] = -d[0];
+      d[2] = -d[2];
+      break;
+    case 2: /* degenerate: r1 parallel to r2, area 0 */
+      d[1] = d[0];
+      d[3] = d[2];
+      point.half_size[1] = point.half_size[0];
+      break;
+    case 3: /* stretched past the span limit along x, or nearly */
+      d[0] *= lcg_between(5.0, 40.0);
+      break;
+    case 4: /* centre anywhere up to two cells past the ghost layer */
+      for (int k = 0; k < 2; k++)
+        point.position[k] =
+            grid.origin[k] +
+            lcg_between(-2.0, (double)grid.last_node[k] + 2.0) * cell_size;
+      break;
+    case 5: /* a NaN entry */
+      d[s / 8 % 4] = NAN;
+      break;
+    default:
+      break;
+    }
+    compare_cpdi_support(&grid, &point, label);
+    gm_cpdi_support probe;
+    if (gm_cpdi_support_map(&grid, point.position[0], point.position[1], d,
+                            point.half_size[0], point.half_size[1], &probe))
+      accepted++;
+    else
+      refused++;
+  }
+  /* Both outcomes must have been exercised. */
+  REQUIRE(accepted > SAMPLE_COUNT && refused > SAMPLE_COUNT / 4,
+          "accepted %d, refused %d", accepted, refused);
+}
+END_TEST
+
 static Suite *shape_variants_suite(void) {
   Suite *suite = suite_create("shape_variants");
   TCase *random = tcase_create("random_points");
@@ -930,6 +1055,7 @@ static Suite *shape_variants_suite(void) {
   tcase_add_test(random, test_ugimp_closed_form);
   tcase_add_test(random, test_gimp_short_domain_form);
   tcase_add_test(random, test_ugimp_small_domain_limit);
+  tcase_add_test(random, test_cpdi_inline_support);
   suite_add_tcase(suite, random);
   TCase *bounds = tcase_create("bounds");
   tcase_add_loop_test(bounds, test_bounds_at_ghost_layer, 0, 8);

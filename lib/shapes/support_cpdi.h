@@ -1,0 +1,126 @@
+/*
+ * support_cpdi.h - the CPDI1 support of a 2D point (Sadeghirad, Brannon &
+ * Burghardt 2011; support.c says how the corners give the weights and
+ * gradients) inline and straight-line: the corners x_c = x -+ r1 -+ r2 of
+ * the parallelogram r_i = D r_i0, each corner's cell and its bilinear
+ * fractions, and the corner gradients g_c = rot(x_{c+1} - x_{c-1}) / (2 V).
+ * The same expressions in the same order as gm_cpdi_support_map and
+ * gm_support_bounds (support.c) in 2D, the same tests in the same order,
+ * so every bit and every refusal is theirs.
+ *
+ * Why: the general support goes through an out-of-line call that loops
+ * over the dimension and the corner count and writes a structure read back
+ * by the kernels, about 420 instructions per support, four times per point
+ * and USL step (bench/results/2026-11-28-cpdi.md); here the dimension and
+ * the corner count are constants and the reach per axis comes with it.
+ */
+#ifndef GM_SUPPORT_CPDI_H
+#define GM_SUPPORT_CPDI_H
+
+#include "shapes/shape_gimp.h"
+#include "shapes/support.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+/* The corners (m) of the parallelogram of centre x, y, domain map D
+ * (D_xx, D_xy, D_yx, D_yy) and initial half edges half_x, half_y (m),
+ * counter-clockwise from the lower left (gm_point_domain_corners), and
+ * their positions in cells from node 0; the lowest and highest node per
+ * axis. False where gm_support_bounds refuses (a corner below the ghost
+ * layer or past the last node, NaN, a span over GM_SUPPORT_MAX_SPAN). */
+static inline bool gm_cpdi_corners_2d(const gm_shape_grid *grid, double x,
+                                      double y, double d_xx, double d_xy,
+                                      double d_yx, double d_yy, double half_x,
+                                      double half_y, double corners[4][2],
+                                      double cells[4][2], int64_t lowest[2],
+                                      int64_t highest[2]) {
+  double r1[2] = {d_xx * half_x, d_yx * half_x}; /* m, D r1_0 */
+  double r2[2] = {d_xy * half_y, d_yy * half_y}; /* m, D r2_0 */
+  double position[2] = {x, y};
+  for (int k = 0; k < 2; k++) { /* signs (-,-), (+,-), (+,+), (-,+) */
+    corners[0][k] = position[k] + -1.0 * r1[k] + -1.0 * r2[k];
+    corners[1][k] = position[k] + 1.0 * r1[k] + -1.0 * r2[k];
+    corners[2][k] = position[k] + 1.0 * r1[k] + 1.0 * r2[k];
+    corners[3][k] = position[k] + -1.0 * r1[k] + 1.0 * r2[k];
+  }
+  for (int k = 0; k < 2; k++) {
+    double origin = grid->origin[k], inv_cell = grid->inv_cell;
+    for (int c = 0; c < 4; c++)
+      cells[c][k] = (corners[c][k] - origin) * inv_cell;
+    /* Not fmin/fmax (see support.c); a NaN corner other than the first
+     * is skipped here as there. */
+    double low = cells[0][k], high = cells[0][k];
+    for (int c = 1; c < 4; c++) {
+      low = cells[c][k] < low ? cells[c][k] : low;
+      high = cells[c][k] > high ? cells[c][k] : high;
+    }
+    if (!(low >= -1.0 && high < (double)grid->last_node[k] + 1.0))
+      return false; /* also catches NaN; keeps the casts in range */
+    lowest[k] = gm_floor_index(low);
+    highest[k] = gm_floor_index(high) + 1;
+    if (lowest[k] < 0 || highest[k] > grid->last_node[k] ||
+        highest[k] - lowest[k] + 1 > GM_SUPPORT_MAX_SPAN)
+      return false; /* as bounds_valid */
+  }
+  return true;
+}
+
+/* The whole support of such a point (gm_cpdi_support, corner_count 4,
+ * share 1/4), and the reach per axis (the farthest node past lowest that
+ * a corner's cell touches, as gm_wide_point_support takes it). False
+ * where gm_cpdi_support_map refuses (the bounds above, or an area that is
+ * not positive). */
+static inline bool gm_cpdi_support_2d(const gm_shape_grid *grid, double x,
+                                      double y, double d_xx, double d_xy,
+                                      double d_yx, double d_yy, double half_x,
+                                      double half_y, gm_cpdi_support *out,
+                                      int64_t reach[2]) {
+  double corners[4][2], cells[4][2];
+  int64_t highest[2];
+  if (!gm_cpdi_corners_2d(grid, x, y, d_xx, d_xy, d_yx, d_yy, half_x, half_y,
+                          corners, cells, out->lowest, highest))
+    return false;
+  double e1[2] = {corners[1][0] - corners[0][0], corners[1][1] - corners[0][1]};
+  double e2[2] = {corners[3][0] - corners[0][0], corners[3][1] - corners[0][1]};
+  double area = e1[0] * e2[1] - e1[1] * e2[0]; /* m^2 */
+  if (!(area > 0.0))
+    return false;
+  double inverse = 0.5 / area; /* 1 / (2 V), 1/m^2 */
+  for (int c = 0; c < 4; c++) {
+    const double *next = corners[(c + 1) & 3], *prev = corners[(c + 3) & 3];
+    out->corner_gradient[c][0] = (next[1] - prev[1]) * inverse;
+    out->corner_gradient[c][1] = -(next[0] - prev[0]) * inverse;
+  }
+  out->corner_count = 4;
+  out->share = 0.25;
+  for (int c = 0; c < 4; c++) {
+    for (int k = 0; k < 2; k++) {
+      int64_t cell = gm_floor_index(cells[c][k]);
+      double fraction = cells[c][k] - (double)cell;
+      out->cell[c][k] = cell;
+      out->axis[c][k][0] = 1.0 - fraction;
+      out->axis[c][k][1] = fraction;
+    }
+  }
+  /* The farthest corner cell's upper node: floor is monotonic, so the
+   * largest floor of the corners is the floor of the largest, highest - 1. */
+  reach[0] = highest[0] - out->lowest[0];
+  reach[1] = highest[1] - out->lowest[1];
+  return true;
+}
+
+/* The support of point p from SoA arrays (map: the domain map D), as
+ * gm_wide_cpdi_support in 2D. */
+static inline bool gm_cpdi_point_support_2d(const gm_shape_grid *grid,
+                                            const double *const position[2],
+                                            const double *const map[4],
+                                            const double *const domain_size[2],
+                                            size_t p, gm_cpdi_support *out,
+                                            int64_t reach[2]) {
+  return gm_cpdi_support_2d(
+      grid, position[0][p], position[1][p], map[0][p], map[1][p], map[2][p],
+      map[3][p], 0.5 * domain_size[0][p], 0.5 * domain_size[1][p], out, reach);
+}
+
+#endif
