@@ -16,7 +16,11 @@
  *   SHAPE: gm_shape number (0 linear, 1 uGIMP, 3 CPDI, ...); a library
  *   given as LIB.so@SHAPE runs that shape instead, so one process can
  *   alternate, say, linear and uGIMP steps of one build (their ratio
- *   from one patch of load; the same file may be given twice).
+ *   from one patch of load; the same file may be given twice). A letter
+ *   after the shape number changes the block's material: LIB.so@0m the
+ *   built-in Mohr-Coulomb model, LIB.so@0d Drucker-Prager (friction angle
+ *   30 degrees, no dilation, no rate term: granmpm-bench's plastic cases),
+ *   so a material's cost over the elastic step comes from one process too.
  * Prints per library the median, lower quartile and mean CPU time of a
  * step, in ns per point-step. All domains are alive together: at 1e6
  * points each holds about 300 MB.
@@ -37,6 +41,12 @@ typedef gm_status init_fn(void *out, size_t struct_size);
 typedef gm_status create_fn(const gm_domain_def *def, gm_domain **out);
 typedef gm_status add_elastic_fn(gm_domain *domain, const gm_elastic_def *def,
                                  int *material_id);
+typedef gm_status add_mohr_coulomb_fn(gm_domain *domain,
+                                      const gm_mohr_coulomb_def *def,
+                                      int *material_id);
+typedef gm_status add_drucker_prager_fn(gm_domain *domain,
+                                        const gm_drucker_prager_def *def,
+                                        int *material_id);
 typedef gm_status fill_fn(gm_domain *domain, const gm_fill_def *def,
                           int64_t *first_id, size_t *count);
 typedef gm_status step_fn(gm_domain *domain, double dt);
@@ -47,6 +57,7 @@ typedef struct library {
   const char *path; /* as given, with any @SHAPE */
   char file[4096];  /* the file to load */
   int shape;        /* gm_shape of its scene */
+  char material;    /* 'e' elastic, 'm' Mohr-Coulomb, 'd' Drucker-Prager */
   step_fn *step;
   error_fn *last_error;
   destroy_fn *destroy;
@@ -76,21 +87,59 @@ static int compare_doubles(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
+/* The block's material, with the elastic block's constants. */
+static gm_status add_material(void *handle, library *lib, int *material) {
+  const double friction_angle = 30.0 * 3.14159265358979323846 / 180.0;
+  init_fn *init;
+  if (lib->material == 'm') {
+    add_mohr_coulomb_fn *add;
+    symbol(handle, "gm_mohr_coulomb_def_init", sizeof init, &init);
+    symbol(handle, "gm_domain_add_mohr_coulomb", sizeof add, &add);
+    gm_mohr_coulomb_def def;
+    init(&def, sizeof def);
+    def.youngs_modulus = 1e7;
+    def.poisson_ratio = 0.3;
+    def.density = 1800.0;
+    def.friction_angle = friction_angle;
+    def.dilation_angle = 0.0;
+    def.bagnold_viscosity = 0.0;
+    return add(lib->domain, &def, material);
+  }
+  if (lib->material == 'd') {
+    add_drucker_prager_fn *add;
+    symbol(handle, "gm_drucker_prager_def_init", sizeof init, &init);
+    symbol(handle, "gm_domain_add_drucker_prager", sizeof add, &add);
+    gm_drucker_prager_def def;
+    init(&def, sizeof def);
+    def.youngs_modulus = 1e7;
+    def.poisson_ratio = 0.3;
+    def.density = 1800.0;
+    def.friction_angle = friction_angle;
+    return add(lib->domain, &def, material);
+  }
+  add_elastic_fn *add;
+  symbol(handle, "gm_elastic_def_init", sizeof init, &init);
+  symbol(handle, "gm_domain_add_elastic", sizeof add, &add);
+  gm_elastic_def elastic;
+  init(&elastic, sizeof elastic);
+  elastic.youngs_modulus = 1e7;
+  elastic.poisson_ratio = 0.3;
+  elastic.density = 1800.0;
+  return add(lib->domain, &elastic, material);
+}
+
 static size_t open_scene(library *lib, int cells, int shape) {
   void *handle = dlopen(lib->file, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
   if (!handle) {
     fprintf(stderr, "granmpm-alternate: %s\n", dlerror());
     exit(1);
   }
-  init_fn *def_init, *elastic_init, *fill_init;
+  init_fn *def_init, *fill_init;
   create_fn *create;
-  add_elastic_fn *add_elastic;
   fill_fn *fill;
   symbol(handle, "gm_domain_def_init", sizeof def_init, &def_init);
-  symbol(handle, "gm_elastic_def_init", sizeof elastic_init, &elastic_init);
   symbol(handle, "gm_fill_def_init", sizeof fill_init, &fill_init);
   symbol(handle, "gm_domain_create", sizeof create, &create);
-  symbol(handle, "gm_domain_add_elastic", sizeof add_elastic, &add_elastic);
   symbol(handle, "gm_domain_fill_box", sizeof fill, &fill);
   symbol(handle, "gm_domain_step", sizeof lib->step, &lib->step);
   symbol(handle, "gm_domain_last_error", sizeof lib->last_error,
@@ -110,17 +159,12 @@ static size_t open_scene(library *lib, int cells, int shape) {
     fprintf(stderr, "granmpm-alternate: %s: create failed\n", lib->path);
     exit(1);
   }
-  gm_elastic_def elastic;
-  elastic_init(&elastic, sizeof elastic);
-  elastic.youngs_modulus = 1e7;
-  elastic.poisson_ratio = 0.3;
-  elastic.density = 1800.0;
   int material = -1;
   gm_fill_def box;
   fill_init(&box, sizeof box);
   int64_t first = 0;
   size_t count = 0;
-  if (add_elastic(lib->domain, &elastic, &material) == GM_OK) {
+  if (add_material(handle, lib, &material) == GM_OK) {
     box.material = material;
     box.lower[0] = 4 * h;
     box.upper[0] = (4 + cells) * h;
@@ -137,8 +181,9 @@ static size_t open_scene(library *lib, int cells, int shape) {
 
 int main(int argc, char **argv) {
   if (argc < 5 || argc - 4 > MAX_LIBRARIES) {
-    fprintf(stderr, "usage: granmpm-alternate CELLS STEPS SHAPE LIB.so[@SHAPE] "
-                    "[LIB.so[@SHAPE] ...] (at most 8)\n");
+    fprintf(stderr, "usage: granmpm-alternate CELLS STEPS SHAPE "
+                    "LIB.so[@SHAPE[m|d]] [LIB.so[@SHAPE[m|d]] ...] (at most "
+                    "8)\n");
     return 2;
   }
   int cells = atoi(argv[1]), steps = atoi(argv[2]), shape = atoi(argv[3]);
@@ -151,10 +196,14 @@ int main(int argc, char **argv) {
     libs[l].path = argv[4 + l];
     snprintf(libs[l].file, sizeof libs[l].file, "%s", argv[4 + l]);
     libs[l].shape = shape;
+    libs[l].material = 'e';
     char *at = strrchr(libs[l].file, '@');
-    if (at) { /* LIB.so@SHAPE */
+    if (at) { /* LIB.so@SHAPE, LIB.so@SHAPEm, LIB.so@SHAPEd */
       *at = '\0';
-      libs[l].shape = atoi(at + 1);
+      char *end = at + 1;
+      libs[l].shape = (int)strtol(at + 1, &end, 10);
+      if (*end == 'm' || *end == 'd')
+        libs[l].material = *end;
     }
     points = open_scene(&libs[l], cells, libs[l].shape);
   }

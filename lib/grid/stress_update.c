@@ -85,6 +85,14 @@ static void prepare_rows_3d(gm_domain *domain, gm_worker_scratch *scratch,
   }
 }
 
+/* target[r * target_stride] = source[r * source_stride], r < count. */
+static void copy_strided(double *restrict target, size_t target_stride,
+                         const double *restrict source, size_t source_stride,
+                         size_t count) {
+  for (size_t r = 0; r < count; r++)
+    target[r * target_stride] = source[r * source_stride];
+}
+
 /* Calls material m on `count` rows; rows map to points first + row[r].
  * Returns the callback's code. */
 static int call_material(gm_domain *domain, gm_worker_scratch *scratch,
@@ -99,10 +107,18 @@ static int call_material(gm_domain *domain, gm_worker_scratch *scratch,
   /* In place is safe: the state goes through the scratch columns. */
   const gm_point_buffers *from = in_place ? to : &points->buffer[points->cur];
   size_t stride = points->state_stride, nstate = material->state_count;
-  for (size_t r = 0; r < count; r++)
+  /* A uniform chunk's rows are its points in order: one strided column
+   * copy per state variable, without the row map (the same values). */
+  bool identity = row_point == scratch->identity_rows;
+  if (identity)
     for (size_t k = 0; k < nstate; k++)
-      scratch->state_columns[k][r] =
-          from->state[(first + row_point[r]) * stride + k];
+      copy_strided(scratch->state_columns[k], 1,
+                   from->state + first * stride + k, stride, count);
+  else
+    for (size_t r = 0; r < count; r++)
+      for (size_t k = 0; k < nstate; k++)
+        scratch->state_columns[k][r] =
+            from->state[(first + row_point[r]) * stride + k];
   gm_material_batch batch;
   memset(&batch, 0, sizeof batch);
   batch.struct_size = sizeof batch;
@@ -134,10 +150,15 @@ static int call_material(gm_domain *domain, gm_worker_scratch *scratch,
       scratch->callback_result = result < 0 ? result : 1;
     return result;
   }
-  for (size_t r = 0; r < count; r++)
+  if (identity)
     for (size_t k = 0; k < nstate; k++)
-      to->state[(first + row_point[r]) * stride + k] =
-          scratch->state_columns[k][r];
+      copy_strided(to->state + first * stride + k, stride,
+                   scratch->state_columns[k], 1, count);
+  else
+    for (size_t r = 0; r < count; r++)
+      for (size_t k = 0; k < nstate; k++)
+        to->state[(first + row_point[r]) * stride + k] =
+            scratch->state_columns[k][r];
   return 0;
 }
 

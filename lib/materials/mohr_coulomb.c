@@ -22,7 +22,10 @@
  * the principal directions are those of the trial stress.
  *
  * Cost: the elastic predictor runs as one vectorised loop per chunk of
- * points; the corrector then decides each point. 1D, plane-strain and
+ * points, then a vectorised screen (screen_chunk) takes each plane point's
+ * yield value from its Mohr circle and lists the points that are not
+ * clearly elastic; the corrector visits only those, so an elastic point
+ * costs no scalar work and no unpredictable branch. 1D, plane-strain and
  * axisymmetric points (yz = zx = 0) take a closed form (return_planar: a
  * Mohr circle, no eigen-solver, no eigenvectors). General 3D stresses
  * (any of yz, zx non-zero) are first decided from their principal values
@@ -44,8 +47,12 @@
 #include <float.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 /* Constants of one update call. */
 typedef struct mc_constants {
@@ -377,6 +384,87 @@ static mc_outcome return_point(const mc_constants *k, const mc_planes *planes,
   return MC_PLASTIC;
 }
 
+/* values[j] = sqrt(values[j]) for j < count: two at a time with SSE2's
+ * correctly rounded square root (the same bits as sqrt, without the errno
+ * branch), one at a time elsewhere. */
+static void sqrt_rows(double *values, size_t count) {
+  size_t j = 0;
+#ifdef __SSE2__
+  for (; j + 2 <= count; j += 2)
+    _mm_storeu_pd(values + j, _mm_sqrt_pd(_mm_loadu_pd(values + j)));
+#endif
+  for (; j < count; j++)
+    values[j] = sqrt(values[j]);
+}
+
+/* The screen of a chunk [begin, end) of trial stresses (Pa): the yield
+ * value of a plane point from its Mohr circle, the same expressions as
+ * return_planar's test (so the same bits decide), in one loop over the
+ * chunk that the compiler vectorises, then the rows that are not clearly
+ * elastic (outside the surface, general 3D, or not finite: (sum) * 0 is
+ * NaN exactly when a component is not finite or the sum overflows, and
+ * NaN fails every test) compacted without a branch, so the corrector's
+ * loop visits only them and the elastic points cost no scalar work nor a
+ * mispredicted branch. With the rate term (`rated`, eta in Pa s^2) each
+ * point's 2 c cos(phi) (eq 16) goes to `offset`, as the corrector reads it;
+ * without it `offset` is 0. Returns the number of rows written to `row`
+ * (offsets from begin). */
+static GM_ALWAYS_INLINE size_t screen_chunk(const mc_constants *k,
+                                            const mc_planes *planes,
+                                            const gm_material_batch *batch,
+                                            size_t begin, size_t end,
+                                            double eta, const bool rated,
+                                            double *offset, uint16_t *row) {
+  size_t count = end - begin;
+  for (size_t j = 0; j < count; j++)
+    offset[j] = 0.0;
+  if (rated)
+    for (size_t j = 0; j < count; j++) {
+      double increment[6];
+      for (int c = 0; c < 6; c++)
+        increment[c] = batch->strain_increment[c][begin + j];
+      double rate = shear_rate(increment, batch->dt);
+      offset[j] = 2.0 * eta * rate * rate * k->cos_friction; /* eq 16 */
+    }
+  const double *restrict xx = batch->stress[GM_XX] + begin;
+  const double *restrict yy = batch->stress[GM_YY] + begin;
+  const double *restrict zz = batch->stress[GM_ZZ] + begin;
+  const double *restrict xy = batch->stress[GM_XY] + begin;
+  const double *restrict yz = batch->stress[GM_YZ] + begin;
+  const double *restrict zx = batch->stress[GM_ZX] + begin;
+  const double n0 = planes->main.normal[0], n1 = planes->main.normal[1];
+  const double n2 = planes->main.normal[2];
+  /* Three loops, so that the two without a square root vectorise: GCC
+   * keeps a branch to set errno around sqrt (-fmath-errno, the ISO
+   * default), which stops the vectoriser; sqrt_rows takes the roots. */
+  double radius[MC_CHUNK]; /* Mohr circle: squared, then its radius, Pa */
+  for (size_t j = 0; j < count; j++) {
+    double half_difference = 0.5 * (xx[j] - yy[j]); /* gm_principal_in_plane */
+    radius[j] = half_difference * half_difference + xy[j] * xy[j];
+  }
+  sqrt_rows(radius, count);
+  double yield[MC_CHUNK]; /* the yield value, +inf or NaN: corrector */
+  for (size_t j = 0; j < count; j++) {
+    double screen = (xx[j] + yy[j] + zz[j] + xy[j] + yz[j] + zx[j]) * 0.0;
+    double centre = 0.5 * (xx[j] + yy[j]);
+    double major = centre + radius[j], minor = centre - radius[j];
+    double high = major > zz[j] ? major : zz[j];
+    double low = minor < zz[j] ? minor : zz[j];
+    /* plane_value(&planes->main, k, {high, 0, low}) */
+    double value = n0 * high + n1 * 0.0 + n2 * low - offset[j];
+    /* A general 3D stress (yz or zx not 0) goes to the corrector: +inf
+     * (or NaN) added, selected without a branch */
+    double general = yz[j] == 0.0 && zx[j] == 0.0 ? 0.0 : INFINITY;
+    yield[j] = value + screen + general;
+  }
+  size_t rows = 0;
+  for (size_t j = 0; j < count; j++) {
+    row[rows] = (uint16_t)j;
+    rows += !(yield[j] <= 0.0);
+  }
+  return rows;
+}
+
 int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
                            char *message, size_t message_size) {
   const gm_mohr_coulomb_def *def = user;
@@ -405,32 +493,35 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
       1.0 / dot3(planes.main.normal, planes.main.elastic_flow);
   planes.compression = make_edge(&planes.main, make_plane(&k, 1, 2));
   planes.extension = make_edge(&planes.main, make_plane(&k, 0, 1));
-  for (size_t i = 0; i < batch->count; i++) {
-    if (i % MC_CHUNK == 0) /* predictor of the next chunk */
-      elastic_trials(&k, batch, i,
-                     batch->count - i < MC_CHUNK ? batch->count : i + MC_CHUNK);
-    double stress[6];
-    for (int c = 0; c < 6; c++)
-      stress[c] = batch->stress[c][i];
-    if (eta > 0.0) {
-      double increment[6];
+  for (size_t begin = 0; begin < batch->count; begin += MC_CHUNK) {
+    size_t end =
+        batch->count - begin < MC_CHUNK ? batch->count : begin + MC_CHUNK;
+    elastic_trials(&k, batch, begin, end);
+    double offset[MC_CHUNK]; /* 2 c cos(phi) of each point, Pa */
+    uint16_t row[MC_CHUNK];  /* the rows the screen leaves, ascending */
+    size_t rows = eta > 0.0 ? screen_chunk(&k, &planes, batch, begin, end, eta,
+                                           true, offset, row)
+                            : screen_chunk(&k, &planes, batch, begin, end, 0.0,
+                                           false, offset, row);
+    for (size_t r = 0; r < rows; r++) {
+      size_t i = begin + row[r];
+      double stress[6];
       for (int c = 0; c < 6; c++)
-        increment[c] = batch->strain_increment[c][i];
-      double rate = shear_rate(increment, batch->dt);
-      k.yield_offset = 2.0 * eta * rate * rate * k.cos_friction; /* eq 16 */
+        stress[c] = batch->stress[c][i];
+      k.yield_offset = offset[row[r]];
+      mc_outcome outcome = return_point(&k, &planes, stress, &plastic_shear[i]);
+      if (outcome == MC_NOT_FINITE) {
+        if (message && message_size > 0)
+          snprintf(message, message_size,
+                   "mohr_coulomb: point %lld: trial stress is not finite",
+                   batch->point_id ? (long long)batch->point_id[i]
+                                   : (long long)i);
+        return -1;
+      }
+      if (outcome == MC_PLASTIC)
+        for (int c = 0; c < 6; c++)
+          batch->stress[c][i] = stress[c];
     }
-    mc_outcome outcome = return_point(&k, &planes, stress, &plastic_shear[i]);
-    if (outcome == MC_NOT_FINITE) {
-      if (message && message_size > 0)
-        snprintf(message, message_size,
-                 "mohr_coulomb: point %lld: trial stress is not finite",
-                 batch->point_id ? (long long)batch->point_id[i]
-                                 : (long long)i);
-      return -1;
-    }
-    if (outcome == MC_PLASTIC)
-      for (int c = 0; c < 6; c++)
-        batch->stress[c][i] = stress[c];
   }
   return 0;
 }

@@ -823,6 +823,95 @@ START_TEST(test_return_onto_edge_is_not_apex) {
 }
 END_TEST
 
+/* The screen (mohr_coulomb.c, screen_chunk) decides per chunk of 256 which
+ * points the corrector visits: a point's update must not depend on where it
+ * lies in the batch. 600 random states (plane and general 3D, inside and
+ * outside the surface, with the rate term), updated in one batch across
+ * three chunks, must give every point's stress and plastic shear strain
+ * bit for bit as the same point updated alone. Guards the screen's row
+ * compaction and offsets (an off-by-one there mixes up points). */
+START_TEST(test_batch_position) {
+  const size_t count = 600;
+  gm_mohr_coulomb_def def = make_def(30.0 * DEG, 10.0 * DEG, SWEEP_ETA);
+  test_lcg lcg = {20261128u};
+  test_points all = points_create(count);
+  test_points alone = points_create(1);
+  test_points lone = points_create(count); /* each point's lone result */
+  for (size_t i = 0; i < count; i++) {
+    double stress[6], e[6];
+    /* mostly plane points, as the library passes them; every fifth 3D */
+    random_state(&lcg, i % 5 != 0, stress, e);
+    if (i % 3 == 0) /* a third with a small increment: mostly elastic */
+      for (int c = 0; c < 6; c++)
+        e[c] *= 1e-3;
+    for (int c = 0; c < 6; c++) {
+      all.stress[c][i] = stress[c];
+      all.increment[c][i] = e[c];
+    }
+  }
+  char message[256] = "";
+  size_t plastic = 0;
+  for (size_t i = 0; i < count; i++) {
+    for (int c = 0; c < 6; c++) {
+      alone.stress[c][0] = all.stress[c][i];
+      alone.increment[c][0] = all.increment[c][i];
+    }
+    alone.state_rows[0][0] = 0.0;
+    gm_material_batch one = points_batch(&alone, SWEEP_DT);
+    ck_assert_int_eq(
+        gm_mohr_coulomb_update(&one, &def, message, sizeof message), 0);
+    for (int c = 0; c < 6; c++)
+      lone.stress[c][i] = alone.stress[c][0];
+    lone.state_rows[0][i] = alone.state_rows[0][0];
+    plastic += alone.state_rows[0][0] > 0.0;
+  }
+  gm_material_batch batch = points_batch(&all, SWEEP_DT);
+  ck_assert_int_eq(
+      gm_mohr_coulomb_update(&batch, &def, message, sizeof message), 0);
+  for (size_t i = 0; i < count; i++) {
+    for (int c = 0; c < 6; c++)
+      ck_assert_msg(
+          memcmp(&all.stress[c][i], &lone.stress[c][i], sizeof(double)) == 0,
+          "point %zu component %d: %.17g in the batch, %.17g alone", i, c,
+          all.stress[c][i], lone.stress[c][i]);
+    ck_assert_msg(memcmp(&all.state_rows[0][i], &lone.state_rows[0][i],
+                         sizeof(double)) == 0,
+                  "point %zu: plastic shear %.17g in the batch, %.17g alone", i,
+                  all.state_rows[0][i], lone.state_rows[0][i]);
+  }
+  /* both outcomes occur, in every chunk */
+  ck_assert_uint_gt(plastic, count / 10);
+  ck_assert_uint_lt(plastic, count - count / 10);
+  points_free(&all);
+  points_free(&alone);
+  points_free(&lone);
+}
+END_TEST
+
+/* A non-finite component among elastic points at rest is reported with its
+ * point, whichever component and chunk it is in: the screen must send it to
+ * the corrector (a NaN in xx, yy or xy makes the Mohr circle NaN, whose
+ * yield value alone could pass as elastic). */
+START_TEST(test_non_finite_in_any_component) {
+  gm_mohr_coulomb_def def = make_def(30.0 * DEG, 0.0, 0.0);
+  const double bad[3] = {NAN, INFINITY, -INFINITY};
+  for (int c = 0; c < 6; c++)
+    for (int v = 0; v < 3; v++) {
+      test_points p = points_create(520);  /* three chunks of 256 */
+      for (size_t i = 0; i < p.count; i++) /* compressed, at rest */
+        p.stress[GM_XX][i] = p.stress[GM_YY][i] = p.stress[GM_ZZ][i] = -1e4;
+      p.stress[c][300] = bad[v]; /* point id 400, second chunk */
+      gm_material_batch batch = points_batch(&p, 1e-3);
+      char message[256] = "";
+      ck_assert_int_lt(
+          gm_mohr_coulomb_update(&batch, &def, message, sizeof message), 0);
+      ck_assert_msg(strstr(message, "400") != NULL, "component %d: %s", c,
+                    message);
+      points_free(&p);
+    }
+}
+END_TEST
+
 START_TEST(test_update_failures) {
   gm_mohr_coulomb_def def = make_def(30.0 * DEG, 0.0, 0.0);
   test_points p = points_create(2);
@@ -851,6 +940,8 @@ static Suite *mohr_coulomb_suite(void) {
   tcase_add_test(tc, test_bagnold_strength);
   tcase_add_loop_test(tc, test_simple_shear_flows_at_sin_phi, 0, 3);
   tcase_add_test(tc, test_update_failures);
+  tcase_add_test(tc, test_batch_position);
+  tcase_add_test(tc, test_non_finite_in_any_component);
   tcase_add_loop_test(tc, test_return_onto_edge_is_not_apex, 0, 2);
   suite_add_tcase(suite, tc);
   return suite;
