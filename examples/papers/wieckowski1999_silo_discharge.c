@@ -96,6 +96,7 @@ typedef struct silo {
   double fluidity;     /* 1/s, > 0: the Perzyna rate term; 0: rate-free */
   double reference;    /* Pa, sigma_ref of the Perzyna normaliser */
   const char *profile; /* path of the steady profiles' CSV; "" = none */
+  double cfl;          /* -, Courant number of the stable dt */
 } silo;
 
 /* Time-averaged loads of one sampling interval (step hook). */
@@ -137,6 +138,7 @@ static gm_status create_domain(const silo *s, double damping,
   def.walls[GM_FACE_XMIN] = GM_WALL_SLIP; /* the symmetry axis */
   def.walls[GM_FACE_XMAX] = GM_WALL_SLIP;
   def.damping = damping;
+  def.cfl = s->cfl;
   def.worker_count = s->options.workers;
   return gm_domain_create(&def, domain);
 }
@@ -813,8 +815,9 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
 /* Parses --geometry, --hopper, --orifice and sizes the silo. */
 static int configure(silo *s, int argc, char **argv) {
   const char *geometry = "plane", *hopper = "flat", *profile = "";
-  double orifice = 0.3, sample = 0.01;    /* m, s */
-  double fluidity = 0.0, reference = 0.0; /* 1/s, Pa */
+  double orifice = 0.3, sample = 0.01;      /* m, s */
+  double fluidity = 0.0, reference = 0.0;   /* 1/s, Pa */
+  double cfl = gm_domain_def_default().cfl; /* - */
   example_extra extras[] = {
       {"orifice", "orifice width (slot) or diameter D, m", &orifice, NULL},
       {"geometry", "plane|axisym", NULL, &geometry},
@@ -831,11 +834,13 @@ static int configure(silo *s, int argc, char **argv) {
        "CSV path: steady profiles across the orifice and above it (density, "
        "v_y, flux by x)",
        NULL, &profile},
+      {"cfl", "Courant number of the stable time step (library default 0.5)",
+       &cfl, NULL},
   };
   int parsed = example_parse(argc, argv,
                              "Silo discharge through a bottom orifice "
                              "against Beverloo (002 sec 5, 001 sec 5.1.1).",
-                             &s->options, extras, 7);
+                             &s->options, extras, 8);
   if (parsed != 0)
     return parsed;
   s->geometry = strcmp(geometry, "axisym") == 0 ? GM_GEOMETRY_AXISYMMETRIC
@@ -874,6 +879,11 @@ static int configure(silo *s, int argc, char **argv) {
   s->fluidity = fluidity;
   s->reference = reference;
   s->profile = profile;
+  if (!(cfl > 0.0 && cfl <= 1.0)) {
+    fprintf(stderr, "--cfl must be in (0, 1]\n");
+    return 2;
+  }
+  s->cfl = cfl;
   return 0;
 }
 
