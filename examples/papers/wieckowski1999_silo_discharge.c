@@ -50,7 +50,10 @@
  * Prints: a table of the discharge, then
  *   RESULT wall_pressure_mid=... (Janssen, at rest; hopper: not printed)
  *   RESULT flow_rate=... reference=Beverloo (kg/(m s), or kg/s axisym)
- * Writes <out>/discharge.csv, <out>/rest_wall.csv and <out>/silo.pvd.
+ *   rate by window: the same fit over 10-25 % and 25-40 % of the fill
+ * Writes <out>/discharge.csv, <out>/rest_wall.csv and <out>/silo.pvd, and
+ * with --profile PATH the steady profiles across and above the orifice
+ * (PATH, PATH_axis.csv; docs/convergence.md sec. 14).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -92,6 +95,8 @@ typedef struct silo {
   double mass;         /* kg (per m, or full ring), the fill's mass */
   double fluidity;     /* 1/s, > 0: the Perzyna rate term; 0: rate-free */
   double reference;    /* Pa, sigma_ref of the Perzyna normaliser */
+  const char *profile; /* path of the steady profiles' CSV; "" = none */
+  double cfl;          /* -, Courant number of the stable dt */
 } silo;
 
 /* Time-averaged loads of one sampling interval (step hook). */
@@ -133,6 +138,7 @@ static gm_status create_domain(const silo *s, double damping,
   def.walls[GM_FACE_XMIN] = GM_WALL_SLIP; /* the symmetry axis */
   def.walls[GM_FACE_XMAX] = GM_WALL_SLIP;
   def.damping = damping;
+  def.cfl = s->cfl;
   def.worker_count = s->options.workers;
   return gm_domain_create(&def, domain);
 }
@@ -478,6 +484,18 @@ static double fitted_rate(const double *time, const double *mass, size_t first,
   return denominator > 0.0 ? (n * stm - st * sm) / denominator : 0.0;
 }
 
+/* The fitted rate over the samples between the fractions `from` and `to`
+ * of the full fill `total` (kg) discharged; 0 when fewer than 3 samples. */
+static double window_rate(const double *time, const double *mass, size_t taken,
+                          double total, double from, double to) {
+  size_t first = 0, last = 0;
+  while (first < taken && mass[first] < from * total)
+    first++;
+  while (last < taken && mass[last] < to * total)
+    last++;
+  return last > first + 2 ? fitted_rate(time, mass, first, last) : 0.0;
+}
+
 /* Whether sampling can stop: the steady window is over (a little more
  * than WINDOW_END of the fill has left), or the flow has jammed (nothing
  * left in the last 0.5 s). */
@@ -499,16 +517,147 @@ static double beverloo(const silo *s, double offset) {
   return BEVERLOO_SI * sqrt(2.0) * DENSITY * sqrt(GRAVITY) * pow(width, 1.5);
 }
 
+/* Steady profiles (--profile): the points in horizontal bands
+ * [y0, y0 + PROFILE_BAND) at y0 = 0 (the orifice), D/2, D and 2D, binned in
+ * x, summed over every sample of the steady window (docs/convergence.md
+ * sec. 14, the rate's non-convergence). Per bin: mass, vertical momentum,
+ * current and initial volume; the mass flux density through the band is
+ * sum(m v_y) / (band area), the same on every grid where the flow is. */
+enum { PROFILE_HEIGHTS = 4, PROFILE_BINS = 256, AXIS_BINS = 96 };
+static const double PROFILE_BAND = 0.025; /* m, band height */
+static const double AXIS_BIN = 0.0125;    /* m, height of an axis bin */
+
+typedef struct profile_sums {
+  double bin;     /* m, bin width: max(D/24, point spacing) */
+  double samples; /* samples summed */
+  double mass[PROFILE_HEIGHTS][PROFILE_BINS];     /* kg (per m) */
+  double momentum[PROFILE_HEIGHTS][PROFILE_BINS]; /* kg m/s, m v_y */
+  double volume[PROFILE_HEIGHTS][PROFILE_BINS];   /* m^2, current */
+  double initial[PROFILE_HEIGHTS][PROFILE_BINS];  /* m^2, at creation */
+  /* The column x < D/12 above the orifice, by height (the free-fall arch):
+   * mass, vertical momentum and mass times pressure. */
+  double axis_mass[AXIS_BINS];     /* kg */
+  double axis_momentum[AXIS_BINS]; /* kg m/s */
+  double axis_pressure[AXIS_BINS]; /* kg Pa, m p, p = -tr(sigma)/3 */
+} profile_sums;
+
+static double profile_height(const silo *s, int k) {
+  static const double share[PROFILE_HEIGHTS] = {0.0, 0.5, 1.0, 2.0};
+  return share[k] * s->orifice; /* m */
+}
+
+/* Adds the granular points of one sample to the bins. */
+static gm_status add_profile(const gm_domain *domain, const silo *s,
+                             profile_sums *sums) {
+  size_t count = gm_domain_point_count(domain);
+  double *fields = malloc(14 * (count + 1) * sizeof *fields);
+  if (!fields)
+    return GM_ERR_NO_MEMORY;
+  double *position = fields, *velocity = fields + 2 * count;
+  double *mass = fields + 4 * count, *volume = fields + 5 * count;
+  double *initial = fields + 6 * count, *material = fields + 7 * count;
+  double *stress = fields + 8 * count;
+  gm_status status =
+      gm_domain_get_field(domain, GM_FIELD_POSITION, position, 2 * count);
+  if (status == GM_OK)
+    status =
+        gm_domain_get_field(domain, GM_FIELD_VELOCITY, velocity, 2 * count);
+  if (status == GM_OK)
+    status = gm_domain_get_field(domain, GM_FIELD_MASS, mass, count);
+  if (status == GM_OK)
+    status = gm_domain_get_field(domain, GM_FIELD_VOLUME, volume, count);
+  if (status == GM_OK)
+    status =
+        gm_domain_get_field(domain, GM_FIELD_INITIAL_VOLUME, initial, count);
+  if (status == GM_OK)
+    status = gm_domain_get_field(domain, GM_FIELD_MATERIAL, material, count);
+  if (status == GM_OK)
+    status = gm_domain_get_field(domain, GM_FIELD_STRESS, stress, 6 * count);
+  for (size_t i = 0; status == GM_OK && i < count; i++) {
+    long bin = (long)floor(position[2 * i] / sums->bin);
+    if (material[i] != 0.0 || bin < 0 || bin >= PROFILE_BINS)
+      continue; /* material 0 is the fill (added first) */
+    long row = (long)floor(position[2 * i + 1] / AXIS_BIN);
+    if (position[2 * i] < s->orifice / 12.0 && row >= 0 && row < AXIS_BINS) {
+      const double *sigma = stress + 6 * i; /* Pa */
+      double pressure = -(sigma[GM_XX] + sigma[GM_YY] + sigma[GM_ZZ]) / 3.0;
+      sums->axis_mass[row] += mass[i];
+      sums->axis_momentum[row] += mass[i] * velocity[2 * i + 1];
+      sums->axis_pressure[row] += mass[i] * pressure;
+    }
+    for (int k = 0; k < PROFILE_HEIGHTS; k++) {
+      double above = position[2 * i + 1] - profile_height(s, k); /* m */
+      if (above < 0.0 || above >= PROFILE_BAND)
+        continue;
+      sums->mass[k][bin] += mass[i];
+      sums->momentum[k][bin] += mass[i] * velocity[2 * i + 1];
+      sums->volume[k][bin] += volume[i];
+      sums->initial[k][bin] += initial[i];
+    }
+  }
+  sums->samples += 1.0;
+  free(fields);
+  return status;
+}
+
+/* Writes the profiles: per height and bin, the mean areal density
+ * (kg/m^3, mass over the bin's area), the mean v_y (m/s, mass-weighted),
+ * the flux density (kg/(m^2 s)), the points' volume over the bin's area
+ * and their mean volume ratio J = V / V0. */
+static void write_profile(const silo *s, const profile_sums *sums) {
+  FILE *csv = fopen(s->profile, "w");
+  if (!csv) {
+    fprintf(stderr, "--profile: cannot write %s\n", s->profile);
+    return;
+  }
+  fprintf(csv, "# cell %g m, ppc %d, D %g m, %g samples, band %g m\n",
+          s->options.cell, s->options.ppc, s->orifice, sums->samples,
+          PROFILE_BAND);
+  fprintf(csv, "height_m,x_m,x_over_D,areal_density_kg_m3,vy_m_s,flux_kg_m2_"
+               "s,filled,volume_ratio\n");
+  double area = sums->bin * PROFILE_BAND * fmax(sums->samples, 1.0); /* m^2 */
+  for (int k = 0; k < PROFILE_HEIGHTS; k++)
+    for (int b = 0; b < PROFILE_BINS && (b + 0.5) * sums->bin < s->half_width;
+         b++) {
+      double m = sums->mass[k][b], x = (b + 0.5) * sums->bin; /* kg, m */
+      fprintf(csv, "%g,%g,%g,%g,%g,%g,%g,%g\n", profile_height(s, k), x,
+              x / s->orifice, m / area, m > 0 ? sums->momentum[k][b] / m : 0.0,
+              sums->momentum[k][b] / area, sums->volume[k][b] / area,
+              sums->initial[k][b] > 0 ? sums->volume[k][b] / sums->initial[k][b]
+                                      : 0.0);
+    }
+  fclose(csv);
+  /* The axis column, in PROFILE_axis.csv: by height, the areal density,
+   * v_y (mass-weighted), the flux density and the mean pressure. */
+  char path[1200];
+  snprintf(path, sizeof path, "%s_axis.csv", s->profile);
+  csv = fopen(path, "w");
+  if (!csv)
+    return;
+  fprintf(csv, "y_m,y_over_D,areal_density_kg_m3,vy_m_s,flux_kg_m2_s,"
+               "pressure_Pa\n");
+  double column = s->orifice / 12.0 * AXIS_BIN * fmax(sums->samples, 1.0);
+  for (int b = 0; b < AXIS_BINS; b++) {
+    double m = sums->axis_mass[b], y = (b + 0.5) * AXIS_BIN; /* kg, m */
+    fprintf(csv, "%g,%g,%g,%g,%g,%g\n", y, y / s->orifice, m / column,
+            m > 0 ? sums->axis_momentum[b] / m : 0.0,
+            sums->axis_momentum[b] / column,
+            m > 0 ? sums->axis_pressure[b] / m : 0.0);
+  }
+  fclose(csv);
+}
+
 /* The discharge's samples, filled by sample_discharge. */
 typedef struct discharge_record {
   const silo *s;
   wall_loads *loads;
   int sinks[2];
-  double symmetry; /* full silo over the model: 2 in plane strain */
-  double *time;    /* s, of each sample */
-  double *mass;    /* kg, discharged by then (full silo) */
-  size_t taken;    /* samples the fit may use */
-  FILE *csv;       /* NULL: none */
+  double symmetry;       /* full silo over the model: 2 in plane strain */
+  double *time;          /* s, of each sample */
+  double *mass;          /* kg, discharged by then (full silo) */
+  size_t taken;          /* samples the fit may use */
+  FILE *csv;             /* NULL: none */
+  profile_sums *profile; /* NULL: none */
 } discharge_record;
 
 /* example_run_fn: the loads are averaged over each sampling interval. */
@@ -536,6 +685,13 @@ static gm_status sample_discharge(const gm_domain *domain,
   time[taken] = target;
   mass[taken] = record->symmetry * discharged_mass(domain, record->sinks);
   double flow = taken > 0 ? (mass[taken] - mass[taken - 1]) / s->sample : 0;
+  double total = record->symmetry * s->mass; /* kg, the full fill */
+  if (record->profile && mass[taken] >= WINDOW_START * total &&
+      mass[taken] < WINDOW_END * total) {
+    status = add_profile(domain, s, record->profile);
+    if (status != GM_OK)
+      return status;
+  }
   double span = loads->span > 0.0 ? loads->span : 1.0; /* s */
   if (record->csv) {
     fprintf(record->csv, "%g,%g,%g,%g,%zu,%g,%g,%g,%g", target, mass[taken],
@@ -567,7 +723,15 @@ static int discharge_done(const gm_domain *domain,
  * the steady rate (full silo: twice the half model's in plane strain). */
 static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
                      double *rate) {
-  discharge_record record = {s, loads, {-1, -1}, 0.0, NULL, NULL, 0, NULL};
+  discharge_record record = {s,    loads, {-1, -1}, 0.0, NULL,
+                             NULL, 0,     NULL,     NULL};
+  if (s->profile[0]) {
+    record.profile = calloc(1, sizeof *record.profile);
+    if (!record.profile)
+      return example_fail(domain, "calloc", GM_ERR_NO_MEMORY);
+    record.profile->bin =
+        fmax(s->orifice / 24.0, s->options.cell / s->options.ppc);
+  }
   EXAMPLE_CHECK(domain, add_sinks(domain, s, record.sinks));
   double symmetry = s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 1.0 : 2.0;
   size_t samples = MAX_SAMPLES;
@@ -614,6 +778,9 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
   if (csv)
     fclose(csv);
   gm_series_destroy(series);
+  if (record.profile)
+    write_profile(s, record.profile);
+  free(record.profile);
   if (status != GM_OK) {
     free(time);
     return example_fail(domain, "example_run_loop", status);
@@ -629,6 +796,12 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
          first < taken ? time[first] : -1.0, last < taken ? time[last] : -1.0,
          100 * WINDOW_START, 100 * WINDOW_END);
   *rate = last > first + 2 ? fitted_rate(time, mass, first, last) : 0.0;
+  /* The same fit over parts of the window: a rate that drifts within it
+   * (a start-up not over, or the falling head) shows here. */
+  printf("rate by window: 10-25 %%: %g, 25-40 %%: %g, 5-45 %%: %g\n",
+         window_rate(time, mass, taken, total, 0.10, 0.25),
+         window_rate(time, mass, taken, total, 0.25, 0.40),
+         window_rate(time, mass, taken, total, 0.05, 0.45));
   if (last >= taken)
     printf("warning: less than %.0f %% discharged (the flow jammed?); the "
            "rate is fitted up to the end of the run\n",
@@ -641,9 +814,10 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
 
 /* Parses --geometry, --hopper, --orifice and sizes the silo. */
 static int configure(silo *s, int argc, char **argv) {
-  const char *geometry = "plane", *hopper = "flat";
-  double orifice = 0.3, sample = 0.01;    /* m, s */
-  double fluidity = 0.0, reference = 0.0; /* 1/s, Pa */
+  const char *geometry = "plane", *hopper = "flat", *profile = "";
+  double orifice = 0.3, sample = 0.01;      /* m, s */
+  double fluidity = 0.0, reference = 0.0;   /* 1/s, Pa */
+  double cfl = gm_domain_def_default().cfl; /* - */
   example_extra extras[] = {
       {"orifice", "orifice width (slot) or diameter D, m", &orifice, NULL},
       {"geometry", "plane|axisym", NULL, &geometry},
@@ -656,11 +830,17 @@ static int configure(silo *s, int argc, char **argv) {
       {"reference-stress",
        "Perzyna normaliser sigma_n = max(m p, this), Pa (with --fluidity)",
        &reference, NULL},
+      {"profile",
+       "CSV path: steady profiles across the orifice and above it (density, "
+       "v_y, flux by x)",
+       NULL, &profile},
+      {"cfl", "Courant number of the stable time step (library default 0.5)",
+       &cfl, NULL},
   };
   int parsed = example_parse(argc, argv,
                              "Silo discharge through a bottom orifice "
                              "against Beverloo (002 sec 5, 001 sec 5.1.1).",
-                             &s->options, extras, 6);
+                             &s->options, extras, 8);
   if (parsed != 0)
     return parsed;
   s->geometry = strcmp(geometry, "axisym") == 0 ? GM_GEOMETRY_AXISYMMETRIC
@@ -698,6 +878,12 @@ static int configure(silo *s, int argc, char **argv) {
   }
   s->fluidity = fluidity;
   s->reference = reference;
+  s->profile = profile;
+  if (!(cfl > 0.0 && cfl <= 1.0)) {
+    fprintf(stderr, "--cfl must be in (0, 1]\n");
+    return 2;
+  }
+  s->cfl = cfl;
   return 0;
 }
 
