@@ -3,7 +3,7 @@
 # Planar granular column collapse against Lube et al. (2005).
 noinst_PROGRAMS += examples/column_collapse
 examples_column_collapse_SOURCES = examples/column_collapse.c \
-	examples/collapse_laws.h $(EXAMPLE_COMMON)
+	examples/collapse_laws.h examples/collapse_material.h $(EXAMPLE_COMMON)
 examples_column_collapse_LDADD = lib/libgranmpm.la -lm
 examples_column_collapse_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
 
@@ -11,7 +11,7 @@ examples_column_collapse_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/exam
 # al. (2004) and the axisymmetric run of the same column.
 noinst_PROGRAMS += examples/column_collapse_3d
 examples_column_collapse_3d_SOURCES = examples/column_collapse_3d.c \
-	examples/collapse_laws.h $(EXAMPLE_COMMON)
+	examples/collapse_laws.h examples/collapse_material.h $(EXAMPLE_COMMON)
 examples_column_collapse_3d_LDADD = lib/libgranmpm.la -lm
 examples_column_collapse_3d_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
 # Its run-out against the axisymmetric run of the same column, within 5 %

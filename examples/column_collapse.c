@@ -75,6 +75,7 @@
 #include <granmpm.h>
 
 #include "collapse_laws.h"
+#include "collapse_material.h"
 #include "common.h"
 
 #include <math.h>
@@ -189,32 +190,18 @@ static double seconds_now(void) {
   return (double)now.tv_sec + 1e-9 * (double)now.tv_nsec;
 }
 
-/* The friction angle (rad) of the Drucker-Prager cone with psi = 0 that
- * flows in plane strain at the friction of Mohr-Coulomb phi with psi = 0:
- * once the elastic strain rate vanishes, g = q makes s_zz = 0, so the cone
- * q = m p reads R = (m / sqrt 3) p on Mohr's circle, and Mohr-Coulomb flows
- * at R = sin(phi) p (docs/convergence.md sec. 10). So m = sqrt(3) sin(phi),
- * and with m = 18 s / (9 - s^2) (granmpm/perzyna.h), s = sin(phi_dp) is the
- * positive root of m s^2 + 18 s - 9 m = 0. phi = 37 deg: m = 1.0424.
- * In axisymmetry the same cone is kept (one material for both geometries;
- * there it is not matched to Mohr-Coulomb's flow). */
-static double matched_cone_friction(double phi) {
-  if (!(phi > 0.0))
-    return phi; /* gm_domain_add_perzyna names the bad angle */
-  double slope = sqrt(3.0) * sin(phi);
-  return asin((-18.0 + sqrt(324.0 + 36.0 * slope * slope)) / (2.0 * slope));
-}
-
 /* --material perzyna: the Perzyna Drucker-Prager material of 001 sec 5.1.1
- * (gm_perzyna), psi = 0, N = 1, its cone matched to --friction as above;
- * docs/convergence.md sec. 20. gm_domain_add_perzyna checks the values. */
+ * (gm_perzyna), psi = 0, N = 1, its cone matched to --friction
+ * (collapse_material.h); docs/convergence.md sec. 20. gm_domain_add_perzyna
+ * checks the values. */
 static gm_status add_perzyna(gm_domain *domain, const collapse_scene *scene,
                              int *material) {
   gm_perzyna_def def = gm_perzyna_def_default();
   def.youngs_modulus = scene->youngs_modulus;
   def.poisson_ratio = POISSON_RATIO;
   def.density = DENSITY;
-  def.friction_angle = matched_cone_friction(scene->friction_deg * PI / 180.0);
+  def.friction_angle =
+      collapse_matched_cone_friction(scene->friction_deg * PI / 180.0);
   def.exponent = 1.0;
   def.fluidity = scene->perzyna.fluidity;
   def.reference_stress = scene->perzyna.reference_stress;

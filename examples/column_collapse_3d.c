@@ -55,6 +55,7 @@
 #include <granmpm.h>
 
 #include "collapse_laws.h"
+#include "collapse_material.h"
 #include "common.h"
 
 #include <math.h>
@@ -119,18 +120,6 @@ static double seconds_now(void) {
   return (double)now.tv_sec + 1e-9 * (double)now.tv_nsec;
 }
 
-/* column_collapse.c's matched_cone_friction, the same cone in both drivers
- * so that the 3D and axisymmetric runs share one material: the
- * Drucker-Prager friction angle (rad) whose cone flows in plane strain at
- * Mohr-Coulomb's phi (docs/convergence.md sec. 10): m = sqrt(3) sin(phi),
- * s = sin(phi_dp) the positive root of m s^2 + 18 s - 9 m = 0. */
-static double matched_cone_friction(double phi) {
-  if (!(phi > 0.0))
-    return phi; /* gm_domain_add_perzyna names the bad angle */
-  double slope = sqrt(3.0) * sin(phi);
-  return asin((-18.0 + sqrt(324.0 + 36.0 * slope * slope)) / (2.0 * slope));
-}
-
 /* Registers the material; returns its id or -1. */
 static int add_material(gm_domain *domain, const scene3d *scene) {
   int material = -1;
@@ -141,7 +130,7 @@ static int add_material(gm_domain *domain, const scene3d *scene) {
     def.youngs_modulus = scene->youngs_modulus;
     def.poisson_ratio = POISSON_RATIO;
     def.density = DENSITY;
-    def.friction_angle = matched_cone_friction(phi);
+    def.friction_angle = collapse_matched_cone_friction(phi);
     def.exponent = 1.0;
     def.fluidity = scene->fluidity;
     def.reference_stress = scene->reference;

@@ -7,6 +7,7 @@
 #include "collapse_scene.h"
 
 #include "collapse_laws.h"
+#include "collapse_material.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -127,17 +128,10 @@ double collapse_scene_front(const collapse_scene *scene,
   return front;
 }
 
-/* Drucker-Prager with g = q (psi = 0; gm_drucker_prager, gm_perzyna) flows
- * in plane strain with s_zz = 0 once the elastic strain rate vanishes, so
- * its yield q = m p reads R = (m / sqrt 3) p on Mohr's circle (R its radius,
- * p its centre); Mohr-Coulomb with psi = 0 flows at R = sin(phi) p
- * (docs/convergence.md sec. 10). The same flowing friction therefore needs
- * m = 18 sin(phi_dp) / (9 - sin^2(phi_dp)) = sqrt(3) sin(phi) (the cone of
- * include/granmpm/drucker_prager.h), solved for s = sin(phi_dp) as the
- * positive root of m s^2 + 18 s - 9 m = 0. */
+/* The cone matched to Mohr-Coulomb's flowing friction in plane strain:
+ * examples/collapse_material.h (docs/convergence.md sec. 10). */
 double collapse_scene_dp_friction(double friction) {
-  double slope = sqrt(3.0) * sin(friction);
-  return asin((-18.0 + sqrt(324.0 + 36.0 * slope * slope)) / (2.0 * slope));
+  return collapse_matched_cone_friction(friction);
 }
 
 int collapse_scene_fail(const gm_domain *domain, const char *what,
