@@ -120,6 +120,7 @@ typedef struct collapse_scene {
   double youngs_modulus;   /* E, Pa */
   double dilation_deg;     /* psi of Mohr-Coulomb, degrees */
   double floor_friction;   /* mu of the floor; < 0: tan(phi) */
+  double back_friction;    /* mu of the back wall (0: the symmetry plane) */
   const char *floor;       /* wall | face | rigid */
   const char *transfer;    /* flip | apic */
   double pic_fraction;     /* FLIP-PIC blend, 0 = FLIP */
@@ -337,8 +338,8 @@ static int build_scene(collapse_run *run) {
                   add_wall(domain, 0.0, 0.0, 1.0, floor_mu, &run->floor_wall));
   run->back_wall = -1;
   if (!scene->axisymmetric)
-    EXAMPLE_CHECK(domain,
-                  add_wall(domain, 0.0, 1.0, 0.0, 0.0, &run->back_wall));
+    EXAMPLE_CHECK(domain, add_wall(domain, 0.0, 1.0, 0.0, scene->back_friction,
+                                   &run->back_wall));
   gm_fill_def fill = gm_fill_def_default();
   fill.material = material;
   fill.upper[0] = scene->length;
@@ -813,6 +814,10 @@ int main(int argc, char **argv) {
        NULL, &scene.floor},
       {"floor-mu", "friction of the floor wall (< 0: tan phi)",
        &scene.floor_friction, NULL},
+      {"back-mu",
+       "friction of the back wall, planar only (0: the symmetry plane of a "
+       "column 2 L0 wide; > 0: a column against a tank's end wall)",
+       &scene.back_friction, NULL},
       {"transfer", "flip | apic", NULL, &scene.transfer},
       {"pic", "PIC share of the FLIP-PIC blend, 0..1", &scene.pic_fraction,
        NULL},
