@@ -54,6 +54,9 @@
  * Writes <out>/discharge.csv, <out>/rest_wall.csv and <out>/silo.pvd, and
  * with --profile PATH the steady profiles across and above the orifice
  * (PATH, PATH_axis.csv; docs/convergence.md sec. 14).
+ * --grain D replaces Drucker-Prager by mu(I) with grain diameter D on the
+ * same cone (docs/convergence.md sec. 14: the rate's growth under
+ * refinement is the same).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -95,6 +98,7 @@ typedef struct silo {
   double mass;         /* kg (per m, or full ring), the fill's mass */
   double fluidity;     /* 1/s, > 0: the Perzyna rate term; 0: rate-free */
   double reference;    /* Pa, sigma_ref of the Perzyna normaliser */
+  double grain;        /* m, > 0: mu(I) with this grain diameter */
   const char *profile; /* path of the steady profiles' CSV; "" = none */
   double cfl;          /* -, Courant number of the stable dt */
 } silo;
@@ -154,7 +158,22 @@ static gm_status add_material(gm_domain *domain, const silo *s, int *material) {
   dp.poisson_ratio = POISSON_RATIO;
   dp.friction_angle = FRICTION_ANGLE * PI / 180.0;
   gm_status status;
-  if (s->fluidity > 0.0) {
+  if (s->grain > 0.0) {
+    /* mu(I) (Jop et al. 2006) on the same cone: mu_s = sin(phi), the
+     * plane-strain match of tau = sqrt(s:s/2) = mu p to Coulomb with no
+     * plastic volume change (as examples/column_collapse.c), mu_2 - mu_s
+     * and I_0 of Jop's glass beads. Its grain diameter is the length scale
+     * Drucker-Prager lacks (docs/convergence.md sec. 14). */
+    gm_mu_i_def def = gm_mu_i_def_default();
+    def.youngs_modulus = dp.youngs_modulus;
+    def.poisson_ratio = dp.poisson_ratio;
+    def.density = dp.density;
+    def.grain_density = 2650.0; /* kg/m^3, quartz */
+    def.grain_diameter = s->grain;
+    def.static_friction = sin(dp.friction_angle);
+    def.limit_friction = def.static_friction + (0.6435 - 0.3819);
+    status = gm_domain_add_mu_i(domain, &def, material);
+  } else if (s->fluidity > 0.0) {
     gm_perzyna_def viscoplastic = gm_perzyna_def_default();
     viscoplastic.youngs_modulus = dp.youngs_modulus;
     viscoplastic.poisson_ratio = dp.poisson_ratio;
@@ -817,6 +836,7 @@ static int configure(silo *s, int argc, char **argv) {
   const char *geometry = "plane", *hopper = "flat", *profile = "";
   double orifice = 0.3, sample = 0.01;      /* m, s */
   double fluidity = 0.0, reference = 0.0;   /* 1/s, Pa */
+  double grain = 0.0;                       /* m */
   double cfl = gm_domain_def_default().cfl; /* - */
   example_extra extras[] = {
       {"orifice", "orifice width (slot) or diameter D, m", &orifice, NULL},
@@ -836,11 +856,15 @@ static int configure(silo *s, int argc, char **argv) {
        NULL, &profile},
       {"cfl", "Courant number of the stable time step (library default 0.5)",
        &cfl, NULL},
+      {"grain",
+       "> 0: mu(I) with this grain diameter, m, on the same cone (0: "
+       "Drucker-Prager)",
+       &grain, NULL},
   };
   int parsed = example_parse(argc, argv,
                              "Silo discharge through a bottom orifice "
                              "against Beverloo (002 sec 5, 001 sec 5.1.1).",
-                             &s->options, extras, 8);
+                             &s->options, extras, 9);
   if (parsed != 0)
     return parsed;
   s->geometry = strcmp(geometry, "axisym") == 0 ? GM_GEOMETRY_AXISYMMETRIC
@@ -876,8 +900,13 @@ static int configure(silo *s, int argc, char **argv) {
     fprintf(stderr, "--fluidity and --reference-stress must be >= 0\n");
     return 2;
   }
+  if (!(grain >= 0.0) || (grain > 0.0 && fluidity > 0.0)) {
+    fprintf(stderr, "--grain must be >= 0 and not combined with --fluidity\n");
+    return 2;
+  }
   s->fluidity = fluidity;
   s->reference = reference;
+  s->grain = grain;
   s->profile = profile;
   if (!(cfl > 0.0 && cfl <= 1.0)) {
     fprintf(stderr, "--cfl must be in (0, 1]\n");
