@@ -89,10 +89,6 @@ bool gm_move_remap_wide_fits(const gm_domain *domain);
 void gm_move_remap_wide(gm_domain *domain, double dt);
 void gm_g2p_3d(gm_domain *domain, const gm_g2p_pass *pass);
 size_t gm_chunk_gather_3d_size(void); /* the same for g2p_3d.c */
-/* The same sweep in 3D with linear shapes (move_remap_3d.c), under the
- * conditions of gm_move_remap_fits. */
-bool gm_move_remap_3d_fits(const gm_domain *domain);
-void gm_move_remap_3d(gm_domain *domain, double dt);
 
 /* Stress update for one chunk of points (stress_update.c). */
 /* Jaumann rotation, material call and stress write-back for points

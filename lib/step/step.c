@@ -390,12 +390,9 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
   }
   case STAGE_MOVE_AND_REMAP: {
     bool linear = gm_move_remap_fits(domain);
-    bool linear_3d = gm_move_remap_3d_fits(domain);
-    if (linear || linear_3d || gm_move_remap_wide_fits(domain)) {
+    if (linear || gm_move_remap_wide_fits(domain)) {
       if (linear)
         gm_move_remap(domain, dt);
-      else if (linear_3d)
-        gm_move_remap_3d(domain, dt);
       else
         gm_move_remap_wide(domain, dt);
       gm_p2g_pass pass = {false, true, false, cur ^ 1, cur, false};
