@@ -29,9 +29,10 @@
 #                      Default: this=<source tree>/build
 #   --yardstick-dir D  where mpm2d.c and libblock.c are (default
 #                      $YARDSTICK_DIR, else <source tree>/../shared/yardstick)
-#   --quick            2D sizes 1e4 1e5 1e6, 3D size 1e5, 3 repetitions,
-#                      short runs (the default; 2D 64 s on the 2-core
-#                      machine at load 6, the 3D 1e5 runs about 40 s more)
+#   --quick            2D sizes 1e4 1e5 1e6, 3D sizes 1e5 1e6, 3
+#                      repetitions, short runs (the default; 2D 64 s on
+#                      the 2-core machine at load 6, 3D about 70 s more at
+#                      load 1.5)
 #   --full             2D sizes 1e4 1e5 1e6, 3D sizes 1e5 1e6, 7
 #                      repetitions, runs 7.5x longer (2D about 11 min on the
 #                      2-core machine at load 7-8; 3D several minutes more)
@@ -40,8 +41,7 @@
 #                      per side; 1e4, 1e5, 1e6 give 10 000, 99 856,
 #                      1 000 000)
 #   --sizes-3d "N ..." 3D points (a cube of round(cbrt(N/8)) cells per side;
-#                      1e5 and 1e6 give 97 336 and 1 000 000): --sizes-3d
-#                      "1e5 1e6" adds the 1e6 case to a quick run
+#                      1e5 and 1e6 give 97 336 and 1 000 000)
 #   --reps R           repetitions
 #   --workers "W ..."  worker counts of the library (default "1 2"; the
 #                      first is the base of the speed-up)
@@ -120,7 +120,7 @@ $2"
 done
 
 case $mode in
-quick) budget=4000000; : "${reps:=3}"; : "${sizes3:=1e5}" ;;
+quick) budget=4000000; : "${reps:=3}"; : "${sizes3:=1e5 1e6}" ;;
 full) budget=30000000; : "${reps:=7}"; : "${sizes3:=1e5 1e6}" ;;
 esac
 : "${sizes:=1e4 1e5 1e6}"
