@@ -31,8 +31,8 @@
 #                      $YARDSTICK_DIR, else <source tree>/../shared/yardstick)
 #   --quick            2D sizes 1e4 1e5 1e6, 3D sizes 1e5 1e6, 3
 #                      repetitions, short runs (the default; 2D 64 s on
-#                      the 2-core machine at load 6, 3D about 70 s more at
-#                      load 1.5)
+#                      the 2-core machine at load 6; 2D and 3D 47 s at
+#                      load 2)
 #   --full             2D sizes 1e4 1e5 1e6, 3D sizes 1e5 1e6, 7
 #                      repetitions, runs 7.5x longer (2D about 11 min on the
 #                      2-core machine at load 7-8; 3D several minutes more)

@@ -57,9 +57,8 @@ typedef struct g2p_3d_context {
 static void empty_gradient_3d(const gm_grid *grid, const uint32_t *links,
                               const int64_t local[3],
                               double (*w)[GM_SUPPORT_3D_MAX_SPAN],
-                              double (*d)[GM_SUPPORT_3D_MAX_SPAN],
-                              int span_x, int span_y, int span_z,
-                              double empty[3]) {
+                              double (*d)[GM_SUPPORT_3D_MAX_SPAN], int span_x,
+                              int span_y, int span_z, double empty[3]) {
   for (int c = 0; c < span_z; c++)
     for (int b = 0; b < span_y; b++)
       for (int a = 0; a < span_x; a++) {
@@ -125,7 +124,7 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
     double offset[3][GM_SUPPORT_3D_MAX_SPAN]; /* m, x_i - x_p per axis */
     double empty[3] = {0, 0, 0}; /* gradient sum of massless nodes, 1/m */
     bool any_empty = false;
-    if (!found) {                /* gathers nothing: the step fails */
+    if (!found) { /* gathers nothing: the step fails */
       gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
                       "step: the support of point id %lld cannot be "
                       "computed or does not fit the block it was binned "
