@@ -1,6 +1,7 @@
 #!/bin/sh
-# bench/yardstick.sh - the library against the speed yardstick of issue 15,
-# side by side in one run (make bench-yardstick; bench/README.md).
+# bench/yardstick.sh - the library against the speed yardsticks of issues 15
+# and 16 (2D, 3D), side by side in one run (make bench-yardstick;
+# bench/README.md).
 #
 # Compiles the plain serial C kernels YARDSTICK_DIR/mpm2d.c and mpm3d.c and
 # the driver YARDSTICK_DIR/libblock.c (the yardstick's scene through the
@@ -8,8 +9,8 @@
 # 2 points per cell per axis; its "2d" and "3d" cases, issues 15 and 16),
 # the driver once per library given with --lib, all with the same compiler
 # and flags. 2D: mpm2d.c against libblock 2d; 3D: mpm3d.c against libblock
-# 3d, each size in its own interleaved runs. Then runs them interleaved: for every size and
-# repetition, the yardstick and every (library, worker count) once each, the
+# 3d. Then runs them interleaved: for every size and repetition, the
+# yardstick and every (library, worker count) once each, the
 # order rotated by one from one repetition to the next, so that a slow patch
 # of a shared machine falls on all of them alike. Each program prints
 # ns_per_point_step over its timed steps only (set-up excluded; the driver
