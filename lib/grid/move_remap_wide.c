@@ -355,6 +355,7 @@ void gm_move_remap_wide(gm_domain *domain, double dt) {
     v->domain_size[k] = points->domain_size[k];
   }
   v->grid_mass = grid->mass;
+  v->shift = grid->shift; /* gather_product's node lookup (gm_block_node) */
   v->shape_grid = &domain->shape_grid;
   gm_support_tensor(domain, from, v->support_tensor);
   c.sum[0] = to->deformation[F_XX]; /* spare until DEFORM (move_remap.c) */

@@ -288,6 +288,20 @@ static GM_ALWAYS_INLINE void load_point(const scatter_view *v, size_t p,
     load->body[0] -= v->stress[2][p] * volume / v->position[0][p];
 }
 
+/* Clears the tile's rows up to `rows` (tile rows, y) the first time a point
+ * reaches them: a block's points reach the block's rows and one or two
+ * more (10 of the 16 rows with 8-node blocks and a short GIMP support), so
+ * clearing the whole tile up front cleared 256 nodes where 160 are read
+ * (flush_wide_tile reads only the rows and columns a point touched). */
+static GM_ALWAYS_INLINE void clear_tile_rows(wide_tile *tile, int64_t *cleared,
+                                             int64_t rows, int64_t tile_edge) {
+  if (rows <= *cleared)
+    return;
+  memset(&tile->node[*cleared * tile_edge], 0,
+         (size_t)((rows - *cleared) * tile_edge) * sizeof tile->node[0]);
+  *cleared = rows;
+}
+
 /* One block; do_* are compile-time constants in each specialisation
  * below, so each pass kind gets its own loop (as p2g.c), and the APIC
  * momentum goes through the entry table. */
@@ -302,6 +316,7 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
   int64_t base[2];
   gm_block_base(v->grid, v->grid->block_key[block], base);
   int64_t columns = 0, rows = 1; /* extent of the touched tile nodes */
+  int64_t cleared = 0; /* tile rows cleared so far (clear_tile_rows) */
   /* uGIMP and cpGIMP in 2D try the short support first (support_short.h);
    * a longer domain, or one the checks refuse, takes the general one. */
   gm_shape shape = v->shape_grid->shape;
@@ -332,6 +347,7 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
                                                       : columns;
           rows =
               sy + short_reach[1] + 1 > rows ? sy + short_reach[1] + 1 : rows;
+          clear_tile_rows(tile, &cleared, rows, tile_edge);
           point_load load;
           load_point(v, p, 2, &load);
           scatter_short_2d(tile, tile_edge, sx, sy, axis, inv_cell, &load,
@@ -350,6 +366,7 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
       if (gm_wide_support_fits(2, cx, cy, reach, tile_edge)) {
         columns = cx + reach[0] + 1 > columns ? cx + reach[0] + 1 : columns;
         rows = cy + reach[1] + 1 > rows ? cy + reach[1] + 1 : rows;
+        clear_tile_rows(tile, &cleared, rows, tile_edge);
         point_load load;
         load_point(v, p, 2, &load);
         scatter_cpdi(tile, tile_edge, 2, base, &support.cpdi, &load, do_mass,
@@ -373,6 +390,7 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
     }
     columns = x0 + reach[0] + 1 > columns ? x0 + reach[0] + 1 : columns;
     rows = y0 + reach[1] + 1 > rows ? y0 + reach[1] + 1 : rows;
+    clear_tile_rows(tile, &cleared, rows, tile_edge);
     point_load load;
     load_point(v, p, dim, &load);
     if (affine) {
@@ -398,8 +416,7 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
 void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
                            uint32_t block, const gm_domain *domain,
                            gm_worker_scratch *scratch) {
-  wide_tile tile;
-  memset(&tile, 0, sizeof tile);
+  wide_tile tile; /* cleared row by row as points reach it */
   if (pass->mass && pass->momentum && pass->forces)
     scatter_block_kind(v, pass, block, domain, scratch, &tile, true, true,
                        true);

@@ -152,12 +152,84 @@ START_TEST(test_mass_and_momentum) {
 }
 END_TEST
 
+/* cpGIMP, USL, a block pulled apart in x (v_x = 0.5/s (x - x_c)) in plane
+ * strain at 2 x 2 points per cell (enough points for the fused pass's
+ * spare node sums) and nearly no stiffness: F_xx grows past 2, so the
+ * domains' half edges 0.25 F_xx cells pass half a cell and every point
+ * takes the general support in the fused move and re-map
+ * (move_remap_wide.c), whose node lookup read the block shift of an
+ * unset view before 2026-11-28 (a crash or wrong nodes: this test ended
+ * in a segmentation fault there at the first long support). The momentum
+ * is conserved for the same reason as above (GIMP's weights are a
+ * partition of unity too); loop index: 1 or 2 workers. */
+START_TEST(test_stretched_cpgimp_usl) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_PLANE_STRAIN;
+  def.cell_size = BLOCK_CELL_SIZE;
+  def.scheme = GM_SCHEME_USL;
+  def.shape = GM_SHAPE_CPGIMP;
+  def.worker_count = _i + 1;
+  def.extent[0] = 16.0; /* m: the block spans 4 m -> 11 m */
+  def.extent[1] = 8.0;
+  gm_domain *domain = test_create_domain(&def);
+  /* E = 1 Pa: wave speed 0.03 m/s, the block flies apart nearly freely. */
+  int material = test_add_elastic(domain, 1.0, 0.3, BLOCK_DENSITY);
+  /* 32 x 32 cells, 4096 points: more than the block grid's nodes (the
+   * fused pass's condition, gm_move_remap_wide_fits) */
+  const double lower[3] = {6.0, 2.0, 0.0}, upper[3] = {10.0, 6.0, 0.0};
+  test_fill_box(domain, material, lower, upper, 2, NULL);
+  size_t count = gm_domain_point_count(domain);
+  const double *position = NULL;
+  double *velocity = NULL;
+  TEST_ASSERT_OK(domain,
+                 gm_domain_view_field(domain, GM_FIELD_POSITION, 0, &position));
+  TEST_ASSERT_OK(domain,
+                 gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 0, &velocity));
+  for (size_t i = 0; i < count; ++i)
+    velocity[i] = 0.5 * (position[i] - 8.0); /* m/s */
+  gm_summary initial = summary_of(domain);
+  double magnitude_sum = momentum_magnitude_sum(domain, 2);
+  double time = 0.0; /* s */
+  int steps = 0;
+  while (time < 3.5 && steps < 1000) { /* F_xx near 2.75 by then */
+    double dt = 0.0;
+    TEST_ASSERT_OK(domain, gm_domain_stable_dt(domain, &dt));
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, dt));
+    time += dt;
+    steps++;
+    gm_summary now = summary_of(domain);
+    /* The tolerance of the test above, per step. */
+    double tolerance = 1e-13 * steps * magnitude_sum;
+    for (int k = 0; k < 2; ++k)
+      ck_assert_msg(fabs(now.momentum[k] - initial.momentum[k]) <= tolerance,
+                    "cpGIMP USL step %d: momentum[%d] %.17g, initially %.17g "
+                    "(tolerance %.3g)",
+                    steps, k, now.momentum[k], initial.momentum[k], tolerance);
+  }
+  /* The supports were long: F_xx of the inner points past 2.2 (half
+   * edge 0.55 cells; the edge points stretch less). */
+  double *gradient = malloc(9 * count * sizeof *gradient);
+  ck_assert_ptr_nonnull(gradient);
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_DEFORMATION_GRADIENT,
+                                     gradient, 9 * count));
+  double largest = 0.0;
+  for (size_t i = 0; i < count; ++i)
+    largest = gradient[9 * i] > largest ? gradient[9 * i] : largest;
+  ck_assert_msg(largest > 2.2, "largest F_xx %g after %d steps", largest,
+                steps);
+  free(gradient);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 static Suite *conservation_suite(void) {
   Suite *suite = suite_create("conservation");
   TCase *tcase = tcase_create("elastic_block");
   tcase_set_timeout(tcase, 60);
   /* 0..2: 1D with USL, MUSL, USF; 3..5: plane strain with the same. */
   tcase_add_loop_test(tcase, test_mass_and_momentum, 0, 6);
+  tcase_add_loop_test(tcase, test_stretched_cpgimp_usl, 0, 2);
   suite_add_tcase(suite, tcase);
   return suite;
 }
