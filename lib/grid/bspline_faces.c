@@ -141,8 +141,7 @@ static void image_blocks(void *context, size_t begin, size_t end, int worker) {
 static size_t node_at_3d(const gm_grid *grid, int64_t layer_keys,
                          const int64_t at[3]) {
   uint32_t block = gm_grid_find(
-      grid,
-      layer_keys + gm_block_key_of_node_3d(grid, at[0], at[1], at[2]));
+      grid, layer_keys + gm_block_key_of_node_3d(grid, at[0], at[1], at[2]));
   if (block == GM_NO_BLOCK)
     return SIZE_MAX;
   const int64_t mask = GM_BLOCK_EDGE_3D - 1;

@@ -26,7 +26,9 @@
  *     layers differently), the velocities differ from the lone runs from
  *     that step on, and 30 steps later the cubes have rebounded; two node
  *     layers were used on every grid before the merge (the parallel-grid
- *     path, not only components that share no node);
+ *     path, not only components that share no node); the same with the
+ *     cubes on a slip face, whose ghost nodes the B-splines reach on both
+ *     layers;
  *  2. the same run on 1 and 2 workers: every field bitwise;
  *  3. two blobs at rest on two node layers, and the same pair merged: no
  *     allocation in a step after warm-up (1 and 2 workers);
@@ -34,7 +36,8 @@
  *     fresh domain and continued through the merge: bitwise the run that
  *     went on;
  *  5. a step that fails (a host-edited NaN velocity) leaves every field,
- *     the component labels and the states as they were.
+ *     the component labels and the states as they were;
+ *  6. the density control of 000 sec 3.2 on an expanding cube (below).
  *
  * On main every case fails at gm_domain_create ("gm_domain_def.family
  * GM_FAMILY_GRANULAR is not supported in GM_GEOMETRY_3D").
@@ -77,6 +80,12 @@ typedef struct scene {
   size_t count[2];
 } scene;
 
+/* The cubes rest on a slip zmin face (z from 0) instead of floating at
+ * z = 0.15 m: the B-splines then reach the ghost nodes below the face,
+ * which fold onto and mirror their image nodes in each node layer
+ * (bspline_faces.c). */
+static bool at_face = false;
+
 static gm_domain_def scene_def(gm_shape shape, double cell, int workers) {
   gm_domain_def def = gm_domain_def_default();
   def.geometry = GM_GEOMETRY_3D;
@@ -86,6 +95,8 @@ static gm_domain_def scene_def(gm_shape shape, double cell, int workers) {
   def.worker_count = workers;
   def.extent[0] = 1.0;
   def.extent[1] = def.extent[2] = 0.4;
+  if (at_face)
+    def.walls[GM_FACE_ZMIN] = GM_WALL_SLIP;
   return def;
 }
 
@@ -103,14 +114,15 @@ static scene build(gm_shape shape, double cell, int workers, int which,
     if (!(which & (1 << b)))
       continue;
     double x0 = b == 0 ? LOWER_A : LOWER_A + EDGE + gap; /* m */
-    const double lower[3] = {x0, 0.15, 0.15};
-    const double upper[3] = {x0 + EDGE, 0.15 + EDGE, 0.15 + EDGE};
+    double z0 = at_face ? 0.0 : 0.15;                    /* m */
+    const double lower[3] = {x0, 0.15, z0};
+    const double upper[3] = {x0 + EDGE, 0.15 + EDGE, z0 + EDGE};
     size_t before = gm_domain_point_count(s.domain);
     s.count[b] =
         test_fill_box(s.domain, material, lower, upper, 2, &s.first_id[b]);
     double *velocity = NULL;
-    TEST_ASSERT_OK(s.domain, gm_domain_edit_field(
-                                 s.domain, GM_FIELD_VELOCITY, 0, &velocity));
+    TEST_ASSERT_OK(s.domain, gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY,
+                                                  0, &velocity));
     for (size_t p = before; p < before + s.count[b]; p++)
       velocity[p] = b == 0 ? speed : -speed; /* m/s, towards each other */
   }
@@ -172,7 +184,8 @@ static int expected_merge_step(const scene *pair) {
     double *x = blob_field(pair, b, GM_FIELD_POSITION);
     double *size = blob_field(pair, b, GM_FIELD_DOMAIN_SIZE);
     for (size_t p = 0; p < pair->count[b]; p++) {
-      facing[b] = b == 0 ? fmax(facing[b], x[3 * p]) : fmin(facing[b], x[3 * p]);
+      facing[b] =
+          b == 0 ? fmax(facing[b], x[3 * p]) : fmin(facing[b], x[3 * p]);
       edge = size[3 * p]; /* one lattice: every edge the same */
     }
     free(x);
@@ -185,8 +198,11 @@ static int expected_merge_step(const scene *pair) {
 }
 
 START_TEST(test_blobs_merge_at_the_closed_form_time) {
-  gm_shape shape = SHAPES[_i / 3];
-  double cell = CELLS[_i % 3];
+  /* 0..14: shape _i / 3 on grid _i % 3; 15..19: shape _i - 15 with the
+   * cubes on a slip face, cell 0.05 m. */
+  at_face = _i >= 3 * SHAPE_COUNT;
+  gm_shape shape = at_face ? SHAPES[_i - 3 * SHAPE_COUNT] : SHAPES[_i / 3];
+  double cell = at_face ? CELLS[1] : CELLS[_i % 3];
   scene pair = build(shape, cell, 1, BOTH, SPEED, GAP);
   scene alone[2] = {build(shape, cell, 1, BLOB_A, SPEED, GAP),
                     build(shape, cell, 1, BLOB_B, SPEED, GAP)};
@@ -205,8 +221,8 @@ START_TEST(test_blobs_merge_at_the_closed_form_time) {
       merge_step = step;
     if (merge_step < 0) {
       ck_assert_uint_eq(summary.component_count, 2);
-      most_layers = summary.layer_count > most_layers ? summary.layer_count
-                                                      : most_layers;
+      most_layers =
+          summary.layer_count > most_layers ? summary.layer_count : most_layers;
       for (int b = 0; b < 2; b++)
         ck_assert_msg(same_blob(&pair, &alone[b], b, GM_FIELD_VELOCITY) &&
                           same_blob(&pair, &alone[b], b, GM_FIELD_POSITION),
@@ -214,8 +230,7 @@ START_TEST(test_blobs_merge_at_the_closed_form_time) {
                       "step %d, before the merge",
                       test_shape_name(shape), cell, b, step);
     }
-    if (change_step < 0 &&
-        !same_blob(&pair, &alone[0], 0, GM_FIELD_VELOCITY))
+    if (change_step < 0 && !same_blob(&pair, &alone[0], 0, GM_FIELD_VELOCITY))
       change_step = step;
     if (merge_step >= 0 && step == merge_step + 30)
       break;
@@ -227,10 +242,10 @@ START_TEST(test_blobs_merge_at_the_closed_form_time) {
   for (size_t p = 0; p < pair.count[0]; p++)
     mean += velocity[3 * p] / (double)pair.count[0];
   free(velocity);
-  printf("%s cell %g m: merge at step %d (closed form %d), velocity change "
+  printf("%s%s cell %g m: merge at step %d (closed form %d), velocity change "
          "at step %d, layers %zu, A's mean v_x 30 steps on %.4f m/s\n",
-         test_shape_name(shape), cell, merge_step, expected, change_step,
-         most_layers, mean);
+         test_shape_name(shape), at_face ? " on a face" : "", cell, merge_step,
+         expected, change_step, most_layers, mean);
   /* Within one step: the positions are x0 + v t to round-off (the blobs
    * are stress-free and uniform), and t* / dt is 0.2-0.4 away from an
    * integer on these grids, so the merge is expected exactly there. */
@@ -263,18 +278,18 @@ END_TEST
 static void assert_same_fields(const scene *a, const scene *b,
                                const char *what) {
   static const gm_field fields[] = {
-      GM_FIELD_POSITION,  GM_FIELD_VELOCITY, GM_FIELD_STRESS,
-      GM_FIELD_DEFORMATION_GRADIENT, GM_FIELD_VOLUME, GM_FIELD_STATE,
+      GM_FIELD_POSITION, GM_FIELD_VELOCITY,
+      GM_FIELD_STRESS,   GM_FIELD_DEFORMATION_GRADIENT,
+      GM_FIELD_VOLUME,   GM_FIELD_STATE,
       GM_FIELD_COMPONENT};
   for (size_t f = 0; f < sizeof fields / sizeof fields[0]; f++)
     for (int blob = 0; blob < 2; blob++) {
       size_t components = 0;
-      TEST_ASSERT_OK(a->domain, gm_domain_field_components(
-                                    a->domain, fields[f], &components));
+      TEST_ASSERT_OK(a->domain, gm_domain_field_components(a->domain, fields[f],
+                                                           &components));
       double *x = blob_field(a, blob, fields[f]);
       double *y = blob_field(b, blob, fields[f]);
-      ck_assert_msg(memcmp(x, y, a->count[blob] * components * sizeof *x) ==
-                        0,
+      ck_assert_msg(memcmp(x, y, a->count[blob] * components * sizeof *x) == 0,
                     "%s: field %d of blob %d differs", what, (int)fields[f],
                     blob);
       free(x);
@@ -413,18 +428,118 @@ START_TEST(test_failed_step_changes_nothing) {
 }
 END_TEST
 
+/* ------------------------------------------------------ density control */
+
+/* An expanding cube (v = k (x - c), k = 3 1/s along every axis, so
+ * J grows as exp(3 k t) until the tension slows it): in 3D the rules of
+ * 000 sec 3.2 after each stress update (density_control.c), _i:
+ *  0 plain: the density falls below rho_cr - TOL (the case the rules are
+ *    for: without them nothing stops it);
+ *  1 stress_free: every point below rho_cr carries no stress (all six
+ *    components exactly 0);
+ *  2 granular, eqs 13-15 (F returned): no point below rho_cr - TOL (but
+ *    for the slack of m / V's rounding), stress 0 on the moderate ones;
+ *  3 granular, eq 18 (F scaled to V_cr): the same, and the scaled points
+ *    at V = V_cr, i.e. m / V = rho_cr to round-off (1e-12 relative;
+ *    measured below 1e-15), through the nine-component F and its
+ *    3 x 3 determinant. */
+START_TEST(test_density_control_3d) {
+  static const gm_family families[4] = {GM_FAMILY_PLAIN, GM_FAMILY_STRESS_FREE,
+                                        GM_FAMILY_GRANULAR, GM_FAMILY_GRANULAR};
+  const double critical = 1450.0, rate = 3.0; /* kg/m^3, 1/s */
+  gm_domain_def def = scene_def(GM_SHAPE_LINEAR, 0.05, 1);
+  def.family = families[_i];
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, YOUNGS_MODULUS, 0.3, DENSITY);
+  gm_granular_def granular = gm_granular_def_default();
+  granular.critical_density = critical;
+  granular.density_control =
+      _i == 3 ? GM_DENSITY_CONTROL_SCALE : GM_DENSITY_CONTROL_RETURN;
+  TEST_ASSERT_OK(domain, gm_domain_set_granular(domain, material, &granular));
+  const double lower[3] = {0.4, 0.1, 0.1}, upper[3] = {0.6, 0.3, 0.3};
+  size_t count = test_fill_box(domain, material, lower, upper, 2, NULL);
+  for (int k = 0; k < 3; k++) {
+    double *velocity = NULL, centre = 0.5 * (lower[k] + upper[k]); /* m */
+    const double *position = NULL;
+    TEST_ASSERT_OK(
+        domain, gm_domain_view_field(domain, GM_FIELD_POSITION, k, &position));
+    TEST_ASSERT_OK(
+        domain, gm_domain_edit_field(domain, GM_FIELD_VELOCITY, k, &velocity));
+    for (size_t p = 0; p < count; p++)
+      velocity[p] = rate * (position[p] - centre);
+  }
+  double lowest = INFINITY, worst_scaled = 0.0; /* kg/m^3, - */
+  size_t below = 0, moderate = 0;
+  double *density = malloc(count * sizeof *density);
+  double *stress = malloc(6 * count * sizeof *stress);
+  double *state = malloc(count * sizeof *state);
+  ck_assert(density && stress && state);
+  for (int step = 0; step < 40; step++) {
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, TIME_STEP));
+    TEST_ASSERT_OK(
+        domain, gm_domain_get_field(domain, GM_FIELD_DENSITY, density, count));
+    TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_STRESS, stress,
+                                               6 * count));
+    TEST_ASSERT_OK(domain,
+                   gm_domain_get_field(domain, GM_FIELD_STATE, state, count));
+    for (size_t p = 0; p < count; p++) {
+      lowest = fmin(lowest, density[p]);
+      bool loose = density[p] < critical;
+      below += loose;
+      bool free_of_stress = true;
+      for (int c = 0; c < 6; c++)
+        free_of_stress = free_of_stress && stress[6 * p + c] == 0.0;
+      if (_i == 1 && loose)
+        ck_assert_msg(free_of_stress,
+                      "step %d: point %zu at %.9g kg/m^3 "
+                      "carries stress",
+                      step, p, density[p]);
+      if (_i >= 2 && state[p] == GM_STATE_MODERATE &&
+          density[p] < critical - granular.tolerance) {
+        ck_assert(free_of_stress);
+      }
+      if (_i >= 2)
+        moderate += state[p] == GM_STATE_MODERATE;
+      if (_i == 3 && state[p] == GM_STATE_MODERATE && free_of_stress)
+        worst_scaled =
+            fmax(worst_scaled, fabs(density[p] - critical) / critical);
+    }
+  }
+  printf("density control 3D case %d: lowest density %.9g kg/m^3 (rho_cr "
+         "%g), %zu point-steps below rho_cr, %zu moderate, scaled points "
+         "off rho_cr by %.3g\n",
+         _i, lowest, critical, below, moderate, worst_scaled);
+  double slack = 4.0 * 2.2e-16 * critical; /* kg/m^3, m / V's rounding */
+  if (_i == 0)
+    ck_assert_msg(lowest < critical - 10.0, "plain: lowest %g", lowest);
+  if (_i == 1)
+    ck_assert_uint_gt(below, 0);
+  if (_i >= 2) {
+    ck_assert_msg(lowest >= critical - granular.tolerance - slack,
+                  "granular: lowest density %.12g kg/m^3", lowest);
+    ck_assert_uint_gt(moderate, 0);
+  }
+  if (_i == 3)
+    ck_assert_msg(worst_scaled < 1e-12, "scaled: %g", worst_scaled);
+  free(density);
+  free(stress);
+  free(state);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 int main(void) {
   Suite *suite = suite_create("granular_3d");
   TCase *tcase = tcase_create("granular_3d");
   tcase_set_timeout(tcase, 120);
   tcase_add_loop_test(tcase, test_blobs_merge_at_the_closed_form_time, 0,
-                      3 * SHAPE_COUNT);
+                      4 * SHAPE_COUNT);
   tcase_add_loop_test(tcase, test_workers_bitwise, 0, SHAPE_COUNT);
   tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0,
                       4 * SHAPE_COUNT);
   tcase_add_loop_test(tcase, test_restart_bitwise, 0, SHAPE_COUNT);
-  tcase_add_loop_test(tcase, test_failed_step_changes_nothing, 0,
-                      SHAPE_COUNT);
+  tcase_add_loop_test(tcase, test_failed_step_changes_nothing, 0, SHAPE_COUNT);
+  tcase_add_loop_test(tcase, test_density_control_3d, 0, 4);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
