@@ -11,6 +11,11 @@
  *   empty-1e5                         the 1e5 block in a box 10x larger
  *                                     per axis (100x the area): checks that
  *                                     empty grid space costs nothing
+ *   block3d-1e5, ugimp3d-1e5,         GM_GEOMETRY_3D: a cube of 2x2x2
+ *   block3d-1e6                       points per cell (97 336 and 1 000 000
+ *                                     points), linear and uGIMP (issue 16
+ *                                     item 5; the granular families are
+ *                                     not 3D yet)
  *
  * each with 1 and 2 workers (the built-in pool). Every case runs in its own
  * forked process, so peak_rss_mb is that case's peak (not the peak of all
@@ -65,11 +70,15 @@ typedef struct bench_case {
   /* Granular cases: share of all points that are disconnected, placed as
    * a sparse cloud above the block (0 = none). */
   double disconnected_share;
+  /* GM_GEOMETRY_3D: a cube of 2 x 2 x 2 points per cell (issue 16 item 5;
+   * no cloud); false: the plane-strain square. */
+  bool three_d;
 } bench_case;
 
 /* In increasing size order. */
 static const bench_case bench_cases[] = {
-#define PLAIN GM_FAMILY_PLAIN, 0.0
+#define PLAIN   GM_FAMILY_PLAIN, 0.0, false
+#define PLAIN3D GM_FAMILY_PLAIN, 0.0, true
     {"block-1e4", 1e4, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
     {"block-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
     {"ugimp-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_UGIMP, PLAIN},
@@ -80,20 +89,25 @@ static const bench_case bench_cases[] = {
     {"bspline3-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_BSPLINE3,
      PLAIN},
     {"granular-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
-     GM_FAMILY_GRANULAR, 0.0},
+     GM_FAMILY_GRANULAR, 0.0, false},
     {"plain-cloud-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
-     GM_FAMILY_PLAIN, 0.3},
+     GM_FAMILY_PLAIN, 0.3, false},
     {"granular-cloud-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
-     GM_FAMILY_GRANULAR, 0.3},
+     GM_FAMILY_GRANULAR, 0.3, false},
     {"granular-cpdi-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_CPDI,
-     GM_FAMILY_GRANULAR, 0.0},
+     GM_FAMILY_GRANULAR, 0.0, false},
     {"empty-1e5", 1e5, 10.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
     {"mohr-coulomb-1e5", 1e5, 1.0, true, MATERIAL_MOHR_COULOMB, GM_SHAPE_LINEAR,
      PLAIN},
     {"drucker-prager-1e5", 1e5, 1.0, true, MATERIAL_DRUCKER_PRAGER,
      GM_SHAPE_LINEAR, PLAIN},
+    {"block3d-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN3D},
+    {"ugimp3d-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_UGIMP, PLAIN3D},
     {"block-1e6", 1e6, 1.0, false, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
+    {"block3d-1e6", 1e6, 1.0, false, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
+     PLAIN3D},
 #undef PLAIN
+#undef PLAIN3D
 };
 enum { CASE_COUNT = sizeof bench_cases / sizeof bench_cases[0] };
 static const int worker_counts[] = {1, 2};
@@ -246,15 +260,21 @@ static gm_transfer bench_transfer = GM_TRANSFER_FLIP;
 /* Creates the domain and the block for one case. */
 static int build_scene(const bench_case *scene, int workers,
                        gm_domain **domain) {
-  /* n^2 cells of 4 points each give target_points (block and cloud). */
+  /* n^2 cells of 4 points each give target_points (block and cloud); in
+   * 3D n^3 cells of 8. */
   double block_points =
       scene->target_points * (1.0 - scene->disconnected_share);
-  int cells_per_side = (int)lround(sqrt(block_points / 4.0));
+  int cells_per_side = scene->three_d ? (int)lround(cbrt(block_points / 8.0))
+                                      : (int)lround(sqrt(block_points / 4.0));
   double cell_size = block_side / cells_per_side; /* m */
   double margin = margin_cells * cell_size;       /* m */
   gm_domain_def def = gm_domain_def_default();
-  def.geometry = GM_GEOMETRY_PLANE_STRAIN;
+  def.geometry = scene->three_d ? GM_GEOMETRY_3D : GM_GEOMETRY_PLANE_STRAIN;
   def.origin[0] = -margin;
+  if (scene->three_d) { /* z as x: margins on both sides */
+    def.origin[2] = -margin;
+    def.extent[2] = scene->box_scale * (block_side + 2 * margin);
+  }
   def.origin[1] = 0.0; /* the bottom wall carries the block */
   def.extent[0] = scene->box_scale * (block_side + 2 * margin);
   def.extent[1] = scene->box_scale * (block_side + margin);
@@ -281,6 +301,8 @@ static int build_scene(const bench_case *scene, int workers,
   fill.material = material;
   fill.upper[0] = block_side;
   fill.upper[1] = block_side;
+  if (scene->three_d)
+    fill.upper[2] = block_side;
   fill.points_per_cell_axis = 2;
   CHECK(*domain, gm_domain_fill_box(*domain, &fill, NULL, NULL));
   if (scene->family != GM_FAMILY_PLAIN || scene->disconnected_share > 0.0) {

@@ -33,7 +33,11 @@ static inline double lube2005_runout(double aspect) {
 }
 
 /* Lube et al. 2005 planar final height: a while the collapse does not
- * reach the column's top (a <= 1.15), then a^0.4. */
+ * reach the column's top (a <= 1.15), then a^0.4. The exponent 0.4 is
+ * Balmforth & Kerswell's (2005, abstract) and a tertiary quotation's; the
+ * switch at 1.15 was found in no source read (docs/references.md), and the
+ * two branches do not meet there (1.15 against 1.057), so a value near
+ * a = 1.15 is indicative only. */
 static inline double lube2005_final_height(double aspect) {
   return aspect <= 1.15 ? aspect : pow(aspect, 0.4);
 }
@@ -42,16 +46,19 @@ static inline double lube2005_final_height(double aspect) {
  * run-out: 1.24 a for a <= 1.7, 1.6 a^(1/2) above. The form, linear for low
  * columns and a^(1/2) for tall ones, is confirmed by a secondary source
  * (Trepanier & Franklin 2010, arXiv:1005.0319, abstract); the coefficients
- * and the switch at 1.7 are recalled, not checked against the paper. The
+ * and the switch at 1.7 by a garbled secondary quotation (Kumar's thesis,
+ * chapter 2) and tertiary ones, not by the paper (docs/references.md). The
  * two branches meet within 1.1 % at 1.7. */
 static inline double lube2004_runout(double aspect) {
   return aspect <= 1.7 ? 1.24 * aspect : 1.6 * sqrt(aspect);
 }
 
 /* Lube et al. 2004 axisymmetric final height: a while the collapse does
- * not reach the top, then 0.88 a^(1/6); both recalled, not checked against
- * the paper. The lower of the two, which switch at a = 0.86, so a value
- * near there is indicative only. */
+ * not reach the top, then 0.88 a^(1/6); both recalled, found in no source
+ * read, and in doubt: a published paraphrase of the paper keeps the final
+ * height at the initial one up to a = 1.7 (docs/references.md,
+ * docs/convergence.md sec. 24). The lower of the two, which switch at
+ * a = 0.86, so a value near there is indicative only. */
 static inline double lube2004_final_height(double aspect) {
   return fmin(aspect, 0.88 * pow(aspect, 1.0 / 6.0));
 }

@@ -272,8 +272,11 @@ void gm_sinks_remove(gm_domain *domain) {
   gm_points *points = &domain->points;
   const gm_point_buffers *buffer = &points->buffer[points->cur];
   int dim = domain->dim;
-  /* point_block is free after a committed step: it holds the flags. */
+  /* point_block is free after a committed step: it holds the flags. The
+   * next binning must then rebuild it, even where no point is removed
+   * (a kept binning, bins.c, would read the flags as blocks). */
   uint32_t *flags = points->point_block;
+  points->blocks_kept = false;
   bool any = false;
   for (size_t i = 0; i < points->count; i++) {
     /* A missing axis reads 0, inside the sink's infinite extent there. */

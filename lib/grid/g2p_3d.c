@@ -47,7 +47,30 @@ size_t gm_chunk_gather_3d_size(void) {
 typedef struct g2p_3d_context {
   gm_domain *domain;
   const gm_g2p_pass *pass;
+  bool left_block[256]; /* per worker (domain.c: at most 256): a point
+                           keyed this pass left the block it was binned in */
 } g2p_3d_context;
+
+/* The sum of grad N_i (1/m) over the massless nodes of a support, node
+ * by node in the order of the gather (the same products, so the same
+ * bits as summing it there). */
+static void empty_gradient_3d(const gm_grid *grid, const uint32_t *links,
+                              const int64_t local[3],
+                              double (*w)[GM_SUPPORT_3D_MAX_SPAN],
+                              double (*d)[GM_SUPPORT_3D_MAX_SPAN], int span_x,
+                              int span_y, int span_z, double empty[3]) {
+  for (int c = 0; c < span_z; c++)
+    for (int b = 0; b < span_y; b++)
+      for (int a = 0; a < span_x; a++) {
+        size_t node =
+            gm_block_node_3d(links, local[0] + a, local[1] + b, local[2] + c);
+        if (grid->mass[node] != 0.0)
+          continue;
+        empty[0] += d[0][a] * w[1][b] * w[2][c];
+        empty[1] += w[0][a] * d[1][b] * w[2][c];
+        empty[2] += w[0][a] * w[1][b] * d[2][c];
+      }
+}
 
 /* Interpolates a, v and L at the chunk's committed positions (and, for
  * GIMP, the committed F: the support the scatter used); the acceleration
@@ -100,7 +123,8 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
     double affine[9] = {0};                   /* m^2/s, B_p */
     double offset[3][GM_SUPPORT_3D_MAX_SPAN]; /* m, x_i - x_p per axis */
     double empty[3] = {0, 0, 0}; /* gradient sum of massless nodes, 1/m */
-    if (!found) {                /* gathers nothing: the step fails */
+    bool any_empty = false;
+    if (!found) { /* gathers nothing: the step fails */
       gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
                       "step: the support of point id %lld cannot be "
                       "computed or does not fit the block it was binned "
@@ -126,7 +150,7 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
           double grad[3] = {d[0][a_x] * w[1][b] * w[2][c],
                             w[0][a_x] * d[1][b] * w[2][c],
                             w[0][a_x] * w[1][b] * d[2][c]}; /* 1/m */
-          double is_empty = grid->mass[node] == 0.0 ? 1.0 : 0.0;
+          any_empty |= with_gradient && grid->mass[node] == 0.0;
           for (int i = 0; i < 3; i++) {
             double nodal = grid->momentum[i][node]; /* velocity by now */
             if (with_acceleration)
@@ -141,11 +165,16 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
               continue;
             for (int k = 0; k < 3; k++)
               l[3 * i + k] += nodal * grad[k];
-            empty[i] += is_empty * grad[i];
           }
         }
       }
     }
+    /* Massless nodes are rare (a point on a cell face, a box edge on a
+     * node plane): their gradient sum is taken in a second loop over the
+     * support only when one was seen, not node by node for every point. */
+    if (with_gradient && any_empty)
+      empty_gradient_3d(grid, links, local, w, d, span_x, span_y, span_z,
+                        empty);
     /* As in 2D (g2p.c): a massless node (a point exactly on a cell face,
      * or a GIMP box edge on a node plane) takes the point's own
      * interpolated velocity, which removes the spurious gradient of its
@@ -155,7 +184,8 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
         out->acceleration[i][j] = a[i];
       out->velocity[i][j] = v[i];
       for (int k = 0; with_gradient && k < 3; k++)
-        out->gradient[3 * i + k][j] = l[3 * i + k] + v[i] * empty[k];
+        out->gradient[3 * i + k][j] =
+            any_empty ? l[3 * i + k] + v[i] * empty[k] : l[3 * i + k];
       for (int k = 0; with_affine && k < 3; k++)
         out->affine[3 * i + k][j] = affine[3 * i + k];
     }
@@ -382,12 +412,14 @@ static void flip_chunk_3d(gm_domain *domain, size_t first, size_t count,
  * is keyed by keys_chunk_3d once F is final). */
 static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
                           size_t first, size_t count, const chunk_gather_3d *g,
-                          double dt) {
+                          double dt, bool *left_block) {
   gm_points *points = &domain->points;
   const gm_point_buffers *from = &points->buffer[points->cur];
   gm_point_buffers *to = &points->buffer[points->cur ^ 1];
   const double *origin = domain->shape_grid.origin;
   bool periodic = gm_periodic_x(domain);
+  const int64_t *binned = domain->grid.block_key; /* keys of this binning */
+  bool left = false;
   for (size_t j = 0; j < count; j++) {
     size_t p = first + j;
     bool inside = true;
@@ -408,6 +440,7 @@ static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
       points->block_key[p] =
           gm_block_key_inside_3d(&domain->grid, moved[0], moved[1], moved[2],
                                  origin, domain->inv_cell);
+      left |= points->block_key[p] != binned[points->point_block[p]];
       continue;
     }
     bool finite =
@@ -420,6 +453,7 @@ static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
                            : "got a non-finite position",
                     moved[0], moved[1], moved[2], domain->time + dt);
   }
+  *left_block |= left;
 }
 
 /* F <- (I + L dt) F with nine components and V = det F V0 (004 eq 3.23);
@@ -478,9 +512,11 @@ static bool deform_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
  * that leaves the grid's nodes or grows past GM_SUPPORT_3D_MAX_SPAN nodes
  * (cpGIMP stretched) fails the step. */
 static void keys_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
-                          size_t first, size_t count) {
+                          size_t first, size_t count, bool *left_block) {
   gm_points *points = &domain->points;
   const gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const int64_t *binned = domain->grid.block_key; /* keys of this binning */
+  bool left = false;
   for (size_t p = first; p < first + count; p++) {
     double x[3] = {to->position[0][p], to->position[1][p],
                    to->position[2][p]}; /* m */
@@ -492,6 +528,7 @@ static void keys_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
     if (gm_box_support_lowest_3d(&domain->shape_grid, x, half, lowest)) {
       points->block_key[p] = gm_block_key_of_node_3d(&domain->grid, lowest[0],
                                                      lowest[1], lowest[2]);
+      left |= points->block_key[p] != binned[points->point_block[p]];
       continue;
     }
     gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
@@ -504,6 +541,7 @@ static void keys_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
                     x[1], x[2], domain->time + domain->current_dt,
                     GM_SUPPORT_3D_MAX_SPAN - 1);
   }
+  *left_block |= left;
 }
 
 /* Largest c_p^2 and |v_p|^2 of the chunk's new state (stable_dt.c). */
@@ -535,7 +573,7 @@ static void signal_speed_3d(gm_domain *domain, gm_worker_scratch *scratch,
 }
 
 static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
-  const g2p_3d_context *ctx = context;
+  g2p_3d_context *ctx = context;
   gm_domain *domain = ctx->domain;
   const gm_g2p_pass *pass = ctx->pass;
   gm_worker_scratch *scratch = &domain->scratch[worker];
@@ -551,7 +589,8 @@ static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
       flip_chunk_3d(domain, first, count, g, pass->dt);
     if (pass->move_points)
       move_chunk_3d(domain, scratch, first, count, g,
-                    pass->move_dt > 0.0 ? pass->move_dt : pass->dt);
+                    pass->move_dt > 0.0 ? pass->move_dt : pass->dt,
+                    &ctx->left_block[worker]);
     /* A chunk with an inverted point skips its material call: the step
      * fails anyway. */
     bool deformed = true;
@@ -575,14 +614,37 @@ static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
     }
     /* GIMP keys need the final F (cpGIMP); an inverted F fails anyway. */
     if (pass->finish && deformed && domain->shape_grid.shape != GM_SHAPE_LINEAR)
-      keys_chunk_3d(domain, scratch, first, count);
+      keys_chunk_3d(domain, scratch, first, count, &ctx->left_block[worker]);
     if (pass->finish)
       signal_speed_3d(domain, scratch, first, count);
   }
 }
 
+/* Whether the points keyed by this pass all stayed in the blocks they
+ * were binned in, so that the next binning may keep the grid, order and
+ * point blocks (bins.c; as the fused 2D sweep, move_remap.c). Only in
+ * the plain family without periodic faces: the granular layers key their
+ * points to other blocks (step.c, prepare_granular), and periodic images
+ * are left to the full binning, as in 2D. */
+static void note_blocks_kept(gm_domain *domain, const gm_g2p_pass *pass,
+                             const g2p_3d_context *ctx) {
+  bool linear = domain->shape_grid.shape == GM_SHAPE_LINEAR;
+  bool keyed = linear ? pass->move_points : pass->finish;
+  if (!keyed)
+    return;
+  bool kept = domain->def.family == GM_FAMILY_PLAIN && !gm_periodic_x(domain);
+  for (int w = 0; w < domain->worker_count; w++)
+    kept = kept && !ctx->left_block[w];
+  domain->points.blocks_kept = kept; /* read by the next binning */
+}
+
 void gm_g2p_3d(gm_domain *domain, const gm_g2p_pass *pass) {
-  g2p_3d_context ctx = {domain, pass};
+  g2p_3d_context ctx;
+  ctx.domain = domain;
+  ctx.pass = pass;
+  for (int w = 0; w < domain->worker_count; w++)
+    ctx.left_block[w] = false;
   size_t chunks = (domain->points.count + GM_BATCH_SIZE - 1) / GM_BATCH_SIZE;
   gm_parallel_for(&domain->pool, chunks, g2p_chunks_3d, &ctx);
+  note_blocks_kept(domain, pass, &ctx);
 }

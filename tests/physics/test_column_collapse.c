@@ -29,7 +29,8 @@
  * (a cylinder of radius R0 about the axis x = r = 0, which replaces the
  * back wall) is checked the same way against Lube, Huppert, Sparks &
  * Hallworth (2004, JFM 508:175): (r_inf - R0)/R0 ~ 1.6 a^(1/2) at a = 3
- * (form confirmed, coefficient recalled: docs/references.md). Measured
+ * (form confirmed, coefficient only in secondary quotations:
+ * docs/references.md). Measured
  * when added: 2.734 against 2.771 (-1.3 %) at R0/10. With the example's
  * defaults at a = 3 every run of docs/convergence.md sec. 16 lies within
  * -1 ... +12 % of the fit (2.805, 2.923, 3.038 on R0/10, R0/20, R0/40;
