@@ -108,10 +108,17 @@ typedef struct gm_grid {
 static inline int gm_block_colour(const gm_grid *grid, int64_t key) {
   int64_t blocks_x = grid->blocks_per_axis[0];
   int colour = (int)((key % blocks_x) & 1) | (int)(((key / blocks_x) & 1) << 1);
-  if (grid->dim == 3) /* the y parity of the row within its z layer */
+  /* 3D: the y parity of the row within its z plane, and the z parity
+   * within the node layer (granular family, gm_grid_layer_stride), so a
+   * block of layer L has the colour of the same block of layer 0 and a
+   * component's sums are added in the same order on any layer. */
+  if (grid->dim == 3)
     colour = (int)((key % blocks_x) & 1) |
              (int)((((key / blocks_x) % grid->blocks_per_axis[1]) & 1) << 1) |
-             (int)(((key / (blocks_x * grid->blocks_per_axis[1])) & 1) << 2);
+             (int)((((key / (blocks_x * grid->blocks_per_axis[1])) %
+                     grid->blocks_per_axis[2]) &
+                    1)
+                   << 2);
   return colour;
 }
 
@@ -194,7 +201,9 @@ static inline void gm_block_coordinates_3d(const gm_grid *grid, int64_t key,
   int64_t blocks_y = grid->blocks_per_axis[1];
   block[0] = key % blocks_x;
   block[1] = (key / blocks_x) % blocks_y;
-  block[2] = key / (blocks_x * blocks_y);
+  /* Modulo the blocks along z: a key of node layer L (granular family,
+   * gm_grid_layer_stride) is L * stride + key of layer 0. */
+  block[2] = (key / (blocks_x * blocks_y)) % grid->blocks_per_axis[2];
 }
 
 /* Key of the block holding node (node_x, node_y) (node_y ignored in 1D). */
@@ -211,6 +220,9 @@ static inline int64_t gm_block_key_of_node(const gm_grid *grid, int64_t node_x,
  * blocks are distinct from every other layer's (parallel grids, 000 sec
  * 3.3) while the position of a node follows from key modulo stride. */
 static inline int64_t gm_grid_layer_stride(const gm_grid *grid) {
+  if (grid->dim == 3) /* every block of the 3D box */
+    return grid->blocks_per_axis[0] * grid->blocks_per_axis[1] *
+           grid->blocks_per_axis[2];
   return grid->blocks_per_axis[0] *
          (grid->dim == 1 ? 1 : grid->blocks_per_axis[1]);
 }

@@ -21,11 +21,11 @@ typedef struct gm_granular_work {
    * most 1e9 cells per axis (domain.c), so node indices stay below
    * 1e9 + 2 ghost layers + 1 < INT32_MAX; half the bytes of int64_t
    * (16 B per point). */
-  int32_t *support_low[2];
+  int32_t *support_low[3]; /* z: 3D only */
   /* Highest node, stored only for the variants whose span varies (GIMP,
    * CPDI); NULL for linear MPM and the B-splines, whose support always
    * spans support_reach + 1 nodes per axis (8 B per point fewer). */
-  int32_t *support_high[2];
+  int32_t *support_high[3];
   int32_t support_reach; /* nodes past the lowest: 1 linear, 2 or 3 B-spline;
                             0 with support_high stored */
   gm_interaction_domain *interaction; /* per point; CPDI only (NULL
@@ -33,8 +33,8 @@ typedef struct gm_granular_work {
   /* The same for the rectangle variants, SoA for the pair search: centre
    * (the committed positions, not owned) and half edges (m; not CPDI:
    * NULL there); and whether the point's material is granular. */
-  const double *box_centre[2];
-  double *box_half[2];
+  const double *box_centre[3];
+  double *box_half[3]; /* z: 3D only */
   uint8_t *granular;
   uint32_t *parent; /* union-find */
   uint32_t *set_size;

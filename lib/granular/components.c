@@ -117,11 +117,82 @@ static void rectangle_geometry(gm_domain *domain, size_t p,
     work->box_half[k][p] = half[k] * scale;
 }
 
+/* The same in 3D (linear MPM, uGIMP, cpGIMP, the B-splines; CPDI is not
+ * in 3D): per axis the support of the 3D kernels (support_3d.c: the
+ * point's cell, gm_gimp_axis_bounds of the box, the B-spline's lowest
+ * node), and the box half edges scaled alike along the three axes so the
+ * box's volume is `measure` (000 Fig. 4a, concentric and proportional). */
+static void box_geometry_3d(gm_domain *domain, size_t p, const double x[3],
+                            const double half[3], double measure) {
+  gm_granular_work *work = &domain->granular;
+  const gm_shape_grid *grid = &domain->shape_grid;
+  for (int k = 0; k < 3; k++) {
+    double s = (x[k] - grid->origin[k]) * grid->inv_cell;
+    int span = 2;
+    int64_t low;
+    if (grid->shape == GM_SHAPE_LINEAR) {
+      low = (int64_t)s; /* s >= 0 inside the grid */
+    } else if (grid->shape == GM_SHAPE_BSPLINE2) {
+      low = gm_bspline2_lowest(s);
+      span = 3;
+    } else if (grid->shape == GM_SHAPE_BSPLINE3) {
+      low = gm_bspline3_lowest(s);
+      span = 4;
+    } else {
+      low = gm_gimp_axis_bounds(s, half[k] * grid->inv_cell, &span);
+    }
+    work->support_low[k][p] = (int32_t)low; /* range: domain_granular.h */
+    if (work->support_high[k]) /* else span - 1 is work->support_reach */
+      work->support_high[k][p] = (int32_t)(low + span - 1);
+  }
+  if (work->boxes_valid) /* constant but for cpGIMP, as in 2D */
+    return;
+  double scale = 1.0;
+  double current = 8.0 * half[0] * half[1] * half[2]; /* m^3 */
+  if (measure > 0.0 && current > 0.0)
+    scale = cbrt(measure / current);
+  for (int k = 0; k < 3; k++)
+    work->box_half[k][p] = half[k] * scale;
+}
+
+/* Support box and domain of interaction of every point in 3D (committed
+ * state): the domain is the point's box (the initial one, stretched by
+ * |F_kk| for cpGIMP: gm_box_half_edges_3d) scaled to the volume
+ * l_x l_y l_z V_cr / V0 (000 sec 3.3, Table A2, with the volume in place
+ * of the area). */
+static void point_geometry_3d(void *context, size_t begin, size_t end,
+                              int worker) {
+  (void)worker;
+  gm_domain *domain = context;
+  gm_points *points = &domain->points;
+  gm_granular_work *work = &domain->granular;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  const double *const *size = (const double *const *)points->domain_size;
+  for (size_t p = begin; p < end; p++) {
+    double x[3] = {current->position[0][p], current->position[1][p],
+                   current->position[2][p]}; /* m */
+    double half[3];                          /* m */
+    gm_box_half_edges_3d(domain->shape_grid.shape, size,
+                         (const double *const *)current->deformation, p, half);
+    const gm_material *material = &domain->materials[points->material[p]];
+    double measure = 0.0; /* non-granular: its own domain */
+    if (material->granular && !work->boxes_valid)
+      measure = size[0][p] * size[1][p] * size[2][p] * points->mass[p] /
+                points->initial_volume[p] / material->critical_density;
+    work->granular[p] = material->granular;
+    box_geometry_3d(domain, p, x, half, measure);
+  }
+}
+
 /* Support box and domain of interaction of every point (committed state). */
 static void point_geometry(void *context, size_t begin, size_t end,
                            int worker) {
   (void)worker;
   gm_domain *domain = context;
+  if (domain->dim == 3) {
+    point_geometry_3d(context, begin, end, worker);
+    return;
+  }
   gm_points *points = &domain->points;
   gm_granular_work *work = &domain->granular;
   const gm_point_buffers *current = &points->buffer[points->cur];
@@ -216,9 +287,9 @@ void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch) {
 
 /* The widest support of the step, in nodes per axis (2 for linear MPM,
  * whose support is always the cell's nodes). */
-static void widest_support(const gm_domain *domain, int max_span[2]) {
+static void widest_support(const gm_domain *domain, int max_span[3]) {
   const gm_granular_work *work = &domain->granular;
-  max_span[0] = max_span[1] =
+  max_span[0] = max_span[1] = max_span[2] =
       domain->shape_grid.shape == GM_SHAPE_LINEAR ? 2 : 1;
   if (max_span[0] == 2)
     return;
@@ -308,7 +379,7 @@ static size_t mark_outside_largest(gm_domain *domain) {
 
 /* Task 1 and the union-find: the sets of interacting points, and the
  * forest that produced them. */
-static gm_status join_interacting(gm_domain *domain, const int max_span[2]) {
+static gm_status join_interacting(gm_domain *domain, const int max_span[3]) {
   gm_granular_work *work = &domain->granular;
   size_t count = domain->points.count;
   work->conflict_count = 0; /* the candidates of this search */
@@ -376,7 +447,7 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   work->label = points->buffer[points->cur ^ 1].component;
   double start = gm_monotonic_seconds();
   const gm_point_buffers *current = &points->buffer[points->cur];
-  for (int k = 0; k < 2; k++) /* box centres are the points' positions */
+  for (int k = 0; k < 3; k++) /* box centres are the points' positions */
     work->box_centre[k] = current->position[k < domain->dim ? k : 0];
   gm_shape shape = domain->shape_grid.shape;
   gm_parallel_for(&domain->pool, count,
@@ -387,7 +458,7 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   work->boxes_valid = shape == GM_SHAPE_LINEAR || shape == GM_SHAPE_UGIMP ||
                       gm_shape_is_bspline(shape);
   work->cells_sorted = false; /* sorted on the first search (pair_search.c) */
-  int max_span[2];
+  int max_span[3];
   widest_support(domain, max_span);
   double geometry_done = gm_monotonic_seconds();
   size_t components = 1;

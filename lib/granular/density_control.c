@@ -16,16 +16,17 @@
 
 #include <math.h>
 
-/* sigma = 0 (eq 13). */
+/* sigma = 0 (eq 13): every stored component (six in 3D). */
 static void clear_stress(gm_point_buffers *to, size_t p) {
-  for (int k = 0; k < GM_STRESS_STORED; k++)
-    to->stress[k][p] = 0.0;
+  for (int k = 0; k < GM_STRESS_SLOTS; k++)
+    if (to->stress[k])
+      to->stress[k][p] = 0.0;
 }
 
 /* F and V of the previous step (eq 14 with the exact inverse). */
 static void keep_previous_deformation(const gm_point_buffers *from,
                                       gm_point_buffers *to, size_t p) {
-  for (int k = 0; k < GM_F_STORED; k++)
+  for (int k = 0; k < GM_F_SLOTS; k++) /* nine in 3D */
     if (to->deformation[k])
       to->deformation[k][p] = from->deformation[k][p];
   for (int k = 0; k < 4; k++) /* CPDI: the domain goes back with F */
@@ -39,6 +40,23 @@ static void keep_previous_deformation(const gm_point_buffers *from,
 static void scale_to_critical(const gm_domain *domain, gm_point_buffers *to,
                               size_t p, double critical_volume) {
   const gm_points *points = &domain->points;
+  if (domain->dim == 3) {
+    /* All nine components, then V = det F V0 (eq 15) with the 3 x 3
+     * determinant in g2p_3d.c's order. */
+    double factor = cbrt(critical_volume / to->volume[p]);
+    static const int slot[9] = {F_XX, F_XY, F_XZ, F_YX, F_YY,
+                                F_YZ, F_ZX, F_ZY, F_ZZ};
+    double f[9];
+    for (int c = 0; c < 9; c++) {
+      to->deformation[slot[c]][p] *= factor;
+      f[c] = to->deformation[slot[c]][p];
+    }
+    double jacobian = f[0] * (f[4] * f[8] - f[5] * f[7]) -
+                      f[1] * (f[3] * f[8] - f[5] * f[6]) +
+                      f[2] * (f[3] * f[7] - f[4] * f[6]);
+    to->volume[p] = jacobian * points->initial_volume[p];
+    return;
+  }
   int dimension = domain->axisymmetric ? 3 : domain->dim;
   double factor = pow(critical_volume / to->volume[p], 1.0 / dimension);
   int components = domain->dim == 1 ? 1 : 4;

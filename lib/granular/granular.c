@@ -131,7 +131,8 @@ gm_status gm_granular_reserve(gm_domain *domain) {
   if (capacity > old_capacity) {
     /* The highest node only where the span varies (domain_granular.h). */
     work->support_reach = gm_fixed_support_reach(domain->shape_grid.shape);
-    for (int k = 0; k < 2; k++) {
+    int axes = domain->dim == 3 ? 3 : 2; /* as before 3D below it */
+    for (int k = 0; k < axes; k++) {
       GROW_WORK(work->support_low[k], sizeof(int32_t));
       if (work->support_reach == 0)
         GROW_WORK(work->support_high[k], sizeof(int32_t));
@@ -142,7 +143,7 @@ gm_status gm_granular_reserve(gm_domain *domain) {
     if (domain->shape_grid.shape == GM_SHAPE_CPDI) {
       GROW_WORK(work->interaction, sizeof(gm_interaction_domain));
     } else {
-      for (int k = 0; k < 2; k++)
+      for (int k = 0; k < axes; k++)
         GROW_WORK(work->box_half[k], sizeof(double));
     }
     GROW_WORK(work->granular, sizeof(uint8_t));
@@ -180,12 +181,12 @@ gm_status gm_granular_reserve(gm_domain *domain) {
 
 void gm_granular_free(gm_domain *domain) {
   gm_granular_work *work = &domain->granular;
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < 3; k++) {
     gm_free(work->support_low[k]);
     gm_free(work->support_high[k]);
   }
   gm_free(work->interaction);
-  for (int k = 0; k < 2; k++)
+  for (int k = 0; k < 3; k++)
     gm_free(work->box_half[k]);
   gm_free(work->granular);
   gm_free(work->visit);

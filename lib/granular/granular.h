@@ -32,7 +32,7 @@ typedef enum gm_pair_pass { GM_PASS_JOIN, GM_PASS_CONFLICTS } gm_pair_pass;
  * work->conflict (point indices p << 32 | q: the candidates for the
  * conflicts of the layers, kept by components.c). CONFLICTS appends the
  * pairs of components that share a node (label low << 32 | high). */
-gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
+gm_status gm_pair_search(gm_domain *domain, const int max_span[3],
                          gm_pair_pass pass, const uint8_t *subset);
 gm_status gm_assign_layers(gm_domain *domain, size_t components,
                            size_t *layer_count);

@@ -17,8 +17,21 @@
 #include <math.h>
 #include <string.h>
 
-/* Number of local cells of a block (64 in 1D and 2D). */
+/* Number of local cells of a block (64 in every dimension: 64, 8 x 8,
+ * 4 x 4 x 4). */
 #define BLOCK_CELLS GM_BLOCK_NODES
+
+/* Local cell of point p's lowest node in its block: x + y << shift (+ z
+ * << 2 shift in 3D). */
+static int64_t local_cell(const gm_granular_work *work, int dim, int shift,
+                          uint32_t p) {
+  int64_t mask = ((int64_t)1 << shift) - 1;
+  int64_t cell = (work->support_low[0][p] & mask) +
+                 ((work->support_low[1][p] & mask) << shift);
+  if (dim == 3)
+    cell += (work->support_low[2][p] & mask) << (2 * shift);
+  return cell;
+}
 
 /* Groups each block's points by the local cell of their support's lowest
  * node (a counting sort per block). */
@@ -29,17 +42,14 @@ static void sort_block_cells(void *context, size_t begin, size_t end,
   gm_grid *grid = &domain->grid;
   gm_points *points = &domain->points;
   gm_granular_work *work = &domain->granular;
-  int shift = grid->shift;
-  int64_t mask = ((int64_t)1 << shift) - 1;
+  int shift = grid->shift, dim = domain->dim;
   for (size_t b = begin; b < end; b++) {
     uint32_t *start = work->cell_start + b * (BLOCK_CELLS + 1);
     memset(start, 0, (BLOCK_CELLS + 1) * sizeof(uint32_t));
     uint32_t first = grid->point_start[b], last = grid->point_start[b + 1];
     for (uint32_t k = first; k < last; k++) {
       uint32_t p = points->order[k];
-      int64_t cell = (work->support_low[0][p] & mask) +
-                     ((work->support_low[1][p] & mask) << shift);
-      start[cell + 1]++;
+      start[local_cell(work, dim, shift, p) + 1]++;
     }
     start[0] = first;
     for (int c = 0; c < BLOCK_CELLS; c++)
@@ -48,17 +58,21 @@ static void sort_block_cells(void *context, size_t begin, size_t end,
     memcpy(fill, start, sizeof fill);
     for (uint32_t k = first; k < last; k++) {
       uint32_t p = points->order[k];
-      int64_t cell = (work->support_low[0][p] & mask) +
-                     ((work->support_low[1][p] & mask) << shift);
-      work->cell_order[fill[cell]++] = p;
+      work->cell_order[fill[local_cell(work, dim, shift, p)]++] = p;
     }
   }
 }
 
 /* Each pair sharing a node lies in both points' candidate windows, so it
- * is visited only from its first point in (lowest node y, x, index) order. */
-static bool later_in_raster(const gm_granular_work *work, uint32_t p,
+ * is visited only from its first point in (lowest node z, y, x, index)
+ * order (z in 3D only). */
+static bool later_in_raster(const gm_granular_work *work, int dim, uint32_t p,
                             uint32_t q) {
+  if (dim == 3) {
+    int64_t pz = work->support_low[2][p], qz = work->support_low[2][q];
+    if (pz != qz)
+      return qz > pz;
+  }
   int64_t py = work->support_low[1][p], qy = work->support_low[1][q];
   if (py != qy)
     return qy > py;
@@ -112,26 +126,60 @@ static gm_status handle_pair(gm_domain *domain, gm_pair_pass pass, uint32_t p,
  * in the window [from, to] (node indices per axis). */
 static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
                              uint32_t *root_p, bool half, uint32_t block,
-                             const int64_t base[2], const int64_t from[2],
-                             const int64_t to[2]) {
+                             const int64_t base[3], const int64_t from[3],
+                             const int64_t to[3]) {
   gm_granular_work *work = &domain->granular;
   int dim = domain->dim, shift = domain->grid.shift;
   int64_t last = ((int64_t)1 << shift) - 1; /* local index of a block edge */
   const uint32_t *start = work->cell_start + block * (BLOCK_CELLS + 1);
-  int64_t low[2] = {0, 0}, high[2] = {0, 0};
+  int64_t low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
   for (int k = 0; k < dim; k++) {
     low[k] = from[k] > base[k] ? from[k] - base[k] : 0;
     high[k] = to[k] - base[k] < last ? to[k] - base[k] : last;
   }
-  for (int64_t y = low[1]; y <= high[1]; y++) {
-    for (int64_t x = low[0]; x <= high[0]; x++) {
-      int64_t cell = x + (y << shift);
-      for (uint32_t k = start[cell]; k < start[cell + 1]; k++) {
-        uint32_t q = work->cell_order[k];
-        if ((half && !later_in_raster(work, p, q)) || q == p ||
-            !gm_supports_share_node(work, dim, p, q))
+  for (int64_t z = low[2]; z <= high[2]; z++) {
+    for (int64_t y = low[1]; y <= high[1]; y++) {
+      for (int64_t x = low[0]; x <= high[0]; x++) {
+        int64_t cell = x + (y << shift) + (z << (2 * shift));
+        for (uint32_t k = start[cell]; k < start[cell + 1]; k++) {
+          uint32_t q = work->cell_order[k];
+          if ((half && !later_in_raster(work, dim, p, q)) || q == p ||
+              !gm_supports_share_node(work, dim, p, q))
+            continue;
+          gm_status status = handle_pair(domain, pass, p, q, root_p, !half);
+          if (status != GM_OK)
+            return status;
+        }
+      }
+    }
+  }
+  return GM_OK;
+}
+
+/* The blocks (of the plain binning) holding p's candidate window
+ * [from, to], each searched by visit_block. */
+static gm_status visit_window(gm_domain *domain, gm_pair_pass pass, uint32_t p,
+                              uint32_t *root_p, bool half,
+                              const int64_t from[3], const int64_t to[3]) {
+  const gm_grid *grid = &domain->grid;
+  int dim = domain->dim, shift = grid->shift;
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  int64_t blocks_y = dim > 1 ? grid->blocks_per_axis[1] : 1;
+  for (int64_t bz = from[2] >> shift; bz <= to[2] >> shift; bz++) {
+    if (dim == 3 && bz >= grid->blocks_per_axis[2])
+      continue;
+    for (int64_t by = from[1] >> shift; by <= to[1] >> shift; by++) {
+      for (int64_t bx = from[0] >> shift; bx <= to[0] >> shift; bx++) {
+        if (bx >= blocks_x || (dim > 1 && by >= blocks_y))
           continue;
-        gm_status status = handle_pair(domain, pass, p, q, root_p, !half);
+        uint32_t block =
+            gm_grid_find(grid, (bz * blocks_y + by) * blocks_x + bx);
+        if (block == GM_NO_BLOCK)
+          continue;
+        int64_t base[3] = {bx << shift, dim > 1 ? by << shift : 0,
+                           dim == 3 ? bz << shift : 0};
+        gm_status status =
+            visit_block(domain, pass, p, root_p, half, block, base, from, to);
         if (status != GM_OK)
           return status;
       }
@@ -140,12 +188,11 @@ static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
   return GM_OK;
 }
 
-gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
+gm_status gm_pair_search(gm_domain *domain, const int max_span[3],
                          gm_pair_pass pass, const uint8_t *subset) {
   gm_grid *grid = &domain->grid;
   gm_granular_work *work = &domain->granular;
-  int dim = domain->dim, shift = grid->shift;
-  int64_t blocks_x = grid->blocks_per_axis[0];
+  int dim = domain->dim;
   bool half = subset == NULL; /* every pair from its first point only */
   for (size_t p = 0; p < domain->points.count; p++) {
     if (subset && !subset[p])
@@ -156,31 +203,21 @@ gm_status gm_pair_search(gm_domain *domain, const int max_span[2],
       work->cells_sorted = true;
     }
     /* A partner's lowest node lies in [low - span + 1, high] per axis;
-     * with half windows, rows below p's hold no partner later in raster
-     * order. */
-    int64_t from[2] = {0, 0}, to[2] = {0, 0};
+     * with half windows, rows (2D) or planes (3D) below p's hold no
+     * partner later in raster order. */
+    int64_t from[3] = {0, 0, 0}, to[3] = {0, 0, 0};
     for (int k = 0; k < dim; k++) {
       from[k] = work->support_low[k][p] - max_span[k] + 1;
       from[k] = from[k] < 0 ? 0 : from[k];
       to[k] = gm_support_high(work, k, p);
     }
     if (half && dim > 1)
-      from[1] = work->support_low[1][p];
+      from[dim - 1] = work->support_low[dim - 1][p];
     uint32_t root_p = gm_union_find_root(work->parent, (uint32_t)p);
-    for (int64_t by = from[1] >> shift; by <= to[1] >> shift; by++) {
-      for (int64_t bx = from[0] >> shift; bx <= to[0] >> shift; bx++) {
-        if (bx >= blocks_x || (dim > 1 && by >= grid->blocks_per_axis[1]))
-          continue;
-        uint32_t block = gm_grid_find(grid, by * blocks_x + bx);
-        if (block == GM_NO_BLOCK)
-          continue;
-        int64_t base[2] = {bx << shift, dim > 1 ? by << shift : 0};
-        gm_status status = visit_block(domain, pass, (uint32_t)p, &root_p, half,
-                                       block, base, from, to);
-        if (status != GM_OK)
-          return status;
-      }
-    }
+    gm_status status =
+        visit_window(domain, pass, (uint32_t)p, &root_p, half, from, to);
+    if (status != GM_OK)
+      return status;
   }
   return GM_OK;
 }

@@ -135,11 +135,13 @@ static void image_blocks(void *context, size_t begin, size_t end, int worker) {
   }
 }
 
-/* Field index of node (x, y, z) of a 3D grid, or SIZE_MAX if its block
- * does not exist this step. */
-static size_t node_at_3d(const gm_grid *grid, const int64_t at[3]) {
-  uint32_t block =
-      gm_grid_find(grid, gm_block_key_of_node_3d(grid, at[0], at[1], at[2]));
+/* Field index of node (x, y, z) of a 3D grid in the blocks of the layer
+ * of `layer_keys` (granular node layers, as node_at), or SIZE_MAX if its
+ * block does not exist this step. */
+static size_t node_at_3d(const gm_grid *grid, int64_t layer_keys,
+                         const int64_t at[3]) {
+  uint32_t block = gm_grid_find(
+      grid, layer_keys + gm_block_key_of_node_3d(grid, at[0], at[1], at[2]));
   if (block == GM_NO_BLOCK)
     return SIZE_MAX;
   const int64_t mask = GM_BLOCK_EDGE_3D - 1;
@@ -167,8 +169,10 @@ static void image_blocks_3d(void *context, size_t begin, size_t end,
   /* The two axes along the face. */
   int first = axis == 0 ? 1 : 0, second = axis == 2 ? 1 : 2;
   const gm_p2g_pass *scatter = ctx->scatter;
+  int64_t stride = gm_grid_layer_stride(grid);
   for (size_t b = begin; b < end; b++) {
     int64_t base[3];
+    int64_t layer_keys = grid->block_key[b] - grid->block_key[b] % stride;
     gm_block_coordinates_3d(grid, grid->block_key[b], base);
     for (int k = 0; k < 3; k++)
       base[k] <<= GM_BLOCK_SHIFT_3D;
@@ -180,11 +184,11 @@ static void image_blocks_3d(void *context, size_t begin, size_t end,
         at[axis] = ghost;
         at[first] = base[first] + t;
         at[second] = base[second] + u;
-        size_t node = node_at_3d(grid, at);
+        size_t node = node_at_3d(grid, layer_keys, at);
         if (grid->mass[node] == 0.0)
           continue; /* no point reaches it (nor, then, its mirror's image) */
         at[axis] = mirror;
-        size_t image = node_at_3d(grid, at);
+        size_t image = node_at_3d(grid, layer_keys, at);
         if (image == SIZE_MAX)
           continue; /* cannot happen: a point reaching the ghost reaches it */
         for (int k = 0; k < 3; k++) {

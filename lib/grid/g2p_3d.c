@@ -601,6 +601,14 @@ static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
         gradient[c] = g->gradient[c];
       gm_stress_update_chunk_3d(domain, scratch, first, count, pass->dt,
                                 gradient, pass->in_place);
+      /* The stress_free and granular rules (000 eqs 13-15, 18) on the
+       * updated state, before the keys read the final F (cpGIMP), as in
+       * 2D (g2p.c). */
+      if (domain->def.family != GM_FAMILY_PLAIN) {
+        double start = gm_monotonic_seconds();
+        gm_density_control_chunk(domain, first, count);
+        scratch->density_control_seconds += gm_monotonic_seconds() - start;
+      }
     } else if (pass->deform) {
       deformed = false;
     }

@@ -21,7 +21,8 @@ static const char *face_name(int face) {
 }
 
 /* What GM_GEOMETRY_3D runs in this version (docs/3d.md): linear, uGIMP,
- * cpGIMP and the B-spline shapes, the plain family, FLIP/PIC/APIC, open, slip,
+ * cpGIMP and the B-spline shapes, every family (plain, stress_free,
+ * granular: granular/components.c in 3D), FLIP/PIC/APIC, open, slip,
  * fixed and periodic x box faces; every scheme, gravity, damping, host forces.
  * The rest is refused by name here (or by the call that would add it: planar
  * walls with GIMP shapes, walls and rigid materials beside periodic faces). */
@@ -35,12 +36,6 @@ static gm_status validate_3d(const gm_domain_def *def) {
                 "in this version (only GM_SHAPE_LINEAR, GM_SHAPE_UGIMP, "
                 "GM_SHAPE_CPGIMP, GM_SHAPE_BSPLINE2 and GM_SHAPE_BSPLINE3)",
                 shapes[def->shape]);
-  if (def->family != GM_FAMILY_PLAIN)
-    CREATE_FAIL(GM_ERR_UNSUPPORTED,
-                "gm_domain_def.family %s is not supported in GM_GEOMETRY_3D "
-                "in this version (only GM_FAMILY_PLAIN)",
-                def->family == GM_FAMILY_GRANULAR ? "GM_FAMILY_GRANULAR"
-                                                  : "GM_FAMILY_STRESS_FREE");
   return GM_OK;
 }
 

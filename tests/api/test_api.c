@@ -304,16 +304,12 @@ static const bad_domain_case bad_domain_cases[] = {
     {"geometry 0", DOMAIN_GEOMETRY, 0, INVALID, "geometry"},
     {"geometry 99", DOMAIN_GEOMETRY, 99, INVALID, "geometry"},
     /* GM_GEOMETRY_3D runs linear MPM, uGIMP, cpGIMP and the B-splines
-     * (test_bspline_3d.c), the plain
-     * family, FLIP and APIC, closed and periodic x faces (docs/3d.md); the
-     * rest (periodic y and z faces as in 2D: test_periodic.c) is refused by
-     * name. */
+     * (test_bspline_3d.c), every family (test_granular_3d.c), FLIP and
+     * APIC, closed and periodic x faces (docs/3d.md); the rest (periodic y
+     * and z faces as in 2D: test_periodic.c) is refused by name. */
     {"3D CPDI", DOMAIN_3D_SHAPE, GM_SHAPE_CPDI, ONLY(GM_ERR_UNSUPPORTED),
      "GM_SHAPE_CPDI"},
-    {"3D granular", DOMAIN_3D_FAMILY, GM_FAMILY_GRANULAR,
-     ONLY(GM_ERR_UNSUPPORTED), "GM_FAMILY_GRANULAR"},
-    {"3D stress-free", DOMAIN_3D_FAMILY, GM_FAMILY_STRESS_FREE,
-     ONLY(GM_ERR_UNSUPPORTED), "GM_FAMILY_STRESS_FREE"},
+    {"3D family 99", DOMAIN_3D_FAMILY, 99, INVALID, "family"},
     {"cfl 0", DOMAIN_CFL, 0.0, INVALID, "cfl"},
     {"cfl < 0", DOMAIN_CFL, -0.5, INVALID, "cfl"},
     {"cfl > 1", DOMAIN_CFL, 1.0 + 1e-9, INVALID, "cfl"},
