@@ -58,6 +58,20 @@
  * same cone (docs/convergence.md sec. 14: the rate's growth under
  * refinement is the same).
  *
+ * --geometry 3d (issue 16 items 3-4): a square silo of side 2B with a
+ * circular orifice of diameter D in its flat floor, y up. Only the quarter
+ * x, z >= 0 is modelled: the grid faces x = 0 and z = 0 are slip symmetry
+ * planes, the side walls x = B and z = B planar Coulomb walls, the floor
+ * a rigid layer with a quarter-circle hole centred on the corner (a point
+ * of the layer is kept where its centre lies outside the circle). The
+ * rate is 4 times the quarter's, against Beverloo's circular law (eq 20)
+ * and, printed as a second RESULT, against the axisymmetric silo of the
+ * same D, B, H, cell and points per cell, run in the same process (a
+ * cylinder of radius B: the same hydraulic radius B/2 as the square, and
+ * Beverloo's rate does not depend on the silo's width beyond 2.5 D). No
+ * wall-traction profile in 3D (gm_domain_get_wall_tractions), so no
+ * Janssen line; no --hopper or --profile. Measured in docs/3d.md.
+ *
  * SPDX-License-Identifier: BSD-2-Clause
  */
 #include <granmpm.h>
@@ -101,7 +115,16 @@ typedef struct silo {
   double grain;        /* m, > 0: mu(I) with this grain diameter */
   const char *profile; /* path of the steady profiles' CSV; "" = none */
   double cfl;          /* -, Courant number of the stable dt */
+  int dim;             /* 2, or 3 with --geometry 3d */
 } silo;
+
+/* The full silo over the model: the half in plane strain, the whole ring
+ * in axisymmetry, the quarter in 3D. */
+static double symmetry_factor(const silo *s) {
+  if (s->geometry == GM_GEOMETRY_AXISYMMETRIC)
+    return 1.0;
+  return s->dim == 3 ? 4.0 : 2.0;
+}
 
 /* Time-averaged loads of one sampling interval (step hook). */
 typedef struct wall_loads {
@@ -123,6 +146,8 @@ static double wall_x(const silo *s, double y) {
 /* Volume of a point of edge `spacing` at radius r (see gm_points_def). */
 static double point_volume(const silo *s, double r, double spacing) {
   double area = spacing * spacing; /* m^2 */
+  if (s->dim == 3)
+    return area * spacing; /* m^3 */
   return s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 2.0 * PI * r * area : area;
 }
 
@@ -141,6 +166,11 @@ static gm_status create_domain(const silo *s, double damping,
   def.gravity[1] = -GRAVITY;
   def.walls[GM_FACE_XMIN] = GM_WALL_SLIP; /* the symmetry axis */
   def.walls[GM_FACE_XMAX] = GM_WALL_SLIP;
+  if (s->dim == 3) { /* the quarter: z = 0 is the second symmetry plane */
+    def.extent[2] = s->half_width + 2.0 * cell;
+    def.walls[GM_FACE_ZMIN] = GM_WALL_SLIP;
+    def.walls[GM_FACE_ZMAX] = GM_WALL_SLIP;
+  }
   def.damping = damping;
   def.cfl = s->cfl;
   def.worker_count = s->options.workers;
@@ -191,20 +221,21 @@ static gm_status add_material(gm_domain *domain, const silo *s, int *material) {
   return gm_domain_set_granular(domain, *material, &granular);
 }
 
-static gm_status add_wall(gm_domain *domain, const double point[2],
-                          const double normal[2], int *id) {
+static gm_status add_wall(gm_domain *domain, const double point[3],
+                          const double normal[3], int *id) {
   double friction = tan(WALL_ANGLE * PI / 180.0); /* mu_w = tan(phi_w) */
   gm_wall_def wall = gm_wall_def_default();
-  wall.point[0] = point[0];
-  wall.point[1] = point[1];
-  wall.normal[0] = normal[0];
-  wall.normal[1] = normal[1];
+  for (int k = 0; k < 3; k++) {
+    wall.point[k] = point[k];
+    wall.normal[k] = normal[k];
+  }
   wall.friction_static = wall.friction_kinetic = friction;
   return gm_domain_add_wall(domain, &wall, id);
 }
 
 /* The vertical silo wall and, for a hopper, the inclined wall through the
- * orifice edge (normal pointing up and towards the axis). */
+ * orifice edge (normal pointing up and towards the axis); in 3D the second
+ * side wall z = B instead (its loads in the CSV's hopper columns). */
 static gm_status add_walls(gm_domain *domain, const silo *s,
                            wall_loads *loads) {
   /* The wall is meant to lie on the node line x = B. The library decides
@@ -213,21 +244,64 @@ static gm_status add_walls(gm_domain *domain, const silo *s,
    * the last place: the node line then counts as in front of the wall and
    * the material runs one cell into it (seen with D = 0.5, cell 0.05). A
    * shift of 1e-9 cells towards the material keeps the node line behind. */
-  const double side_point[2] = {s->half_width - 1e-9 * s->options.cell, 0.0};
-  const double side_normal[2] = {-1, 0};
+  const double inset = s->half_width - 1e-9 * s->options.cell; /* m */
+  const double side_point[3] = {inset, 0.0, 0.0};
+  const double side_normal[3] = {-1, 0, 0};
   loads->wall_count = 1;
   gm_status status =
       add_wall(domain, side_point, side_normal, &loads->walls[0]);
+  if (status == GM_OK && s->dim == 3) {
+    const double back_point[3] = {0.0, 0.0, inset};
+    const double back_normal[3] = {0, 0, -1};
+    loads->wall_count = 2;
+    return add_wall(domain, back_point, back_normal, &loads->walls[1]);
+  }
   if (status != GM_OK || s->hopper_angle <= 0.0)
     return status;
-  const double edge[2] = {0.5 * s->orifice, 0.0};
-  const double normal[2] = {-cos(s->hopper_angle), sin(s->hopper_angle)};
+  const double edge[3] = {0.5 * s->orifice, 0.0, 0.0};
+  const double normal[3] = {-cos(s->hopper_angle), sin(s->hopper_angle), 0};
   loads->wall_count = 2;
   return add_wall(domain, edge, normal, &loads->walls[1]);
 }
 
+/* The 3D floor layer, on the lattice of fill_box: every point whose
+ * centre lies at least `radius` (m) from the corner axis x = z = 0, out to
+ * x, z < `edge` (m). */
+static gm_status add_floor_3d(gm_domain *domain, const silo *s, int material,
+                              double radius, double edge) {
+  int n = s->options.ppc;
+  double spacing = s->options.cell / n; /* m */
+  size_t side = (size_t)llround(edge / spacing), count = 0;
+  double *position = malloc(3 * side * side * n * sizeof *position);
+  double *volume = malloc(side * side * n * sizeof *volume);
+  for (size_t i = 0; position && volume && i < side; i++)
+    for (size_t k = 0; k < side; k++)
+      for (int j = 0; j < n; j++) {
+        double x = (i + 0.5) * spacing, z = (k + 0.5) * spacing; /* m */
+        if (x * x + z * z < radius * radius)
+          continue; /* the orifice */
+        position[3 * count] = x;
+        position[3 * count + 1] = -s->options.cell + (j + 0.5) * spacing;
+        position[3 * count + 2] = z;
+        volume[count++] = spacing * spacing * spacing;
+      }
+  gm_status status = GM_ERR_NO_MEMORY;
+  if (position && volume) {
+    gm_points_def points = gm_points_def_default();
+    points.count = count;
+    points.material = material;
+    points.position = position;
+    points.volume = volume;
+    status = gm_domain_add_points(domain, &points, NULL);
+  }
+  free(position);
+  free(volume);
+  return status;
+}
+
 /* A rigid layer one cell thick under the floor, from x0 to the grid edge:
- * the flat bottom (x0 = D/2) or the gate closing the orifice (x0 = 0). */
+ * the flat bottom (x0 = D/2) or the gate closing the orifice (x0 = 0); in
+ * 3D x0 is the radius of the quarter-circle hole. */
 static gm_status add_floor(gm_domain *domain, const silo *s, double x0,
                            double x1) {
   gm_rigid_def rigid = gm_rigid_def_default();
@@ -237,6 +311,8 @@ static gm_status add_floor(gm_domain *domain, const silo *s, double x0,
   gm_status status = gm_domain_add_rigid(domain, &rigid, &material);
   if (status != GM_OK)
     return status;
+  if (s->dim == 3)
+    return add_floor_3d(domain, s, material, x0, x1);
   gm_fill_def fill = gm_fill_def_default();
   fill.material = material;
   fill.lower[0] = x0;
@@ -255,26 +331,32 @@ static gm_status fill_silo(gm_domain *domain, silo *s, int material) {
   double spacing = s->options.cell / n; /* m */
   size_t columns = (size_t)ceil(s->half_width / spacing);
   size_t rows = (size_t)llround(s->fill_height / spacing);
-  double *position = malloc(2 * columns * rows * sizeof *position);
-  double *volume = malloc(columns * rows * sizeof *volume);
-  double *stress = calloc(6 * columns * rows, sizeof *stress);
+  size_t layers = s->dim == 3 ? columns : 1; /* along z */
+  size_t capacity = columns * rows * layers, dim = (size_t)s->dim;
+  double *position = malloc(dim * capacity * sizeof *position);
+  double *volume = malloc(capacity * sizeof *volume);
+  double *stress = calloc(6 * capacity, sizeof *stress);
   double k0 = POISSON_RATIO / (1.0 - POISSON_RATIO);
   size_t count = 0;
   s->mass = 0.0;
-  for (size_t row = 0; position && volume && stress && row < rows; row++)
-    for (size_t column = 0; column < columns; column++) {
-      double x = (column + 0.5) * spacing, y = (row + 0.5) * spacing; /* m */
-      if (x >= wall_x(s, y))
-        continue;
-      double vertical = -DENSITY * GRAVITY * (s->fill_height - y); /* Pa */
-      position[2 * count] = x;
-      position[2 * count + 1] = y;
-      volume[count] = point_volume(s, x, spacing);
-      stress[6 * count + GM_XX] = stress[6 * count + GM_ZZ] = k0 * vertical;
-      stress[6 * count + GM_YY] = vertical;
-      s->mass += DENSITY * volume[count];
-      count++;
-    }
+  for (size_t cell = 0; position && volume && stress && cell < capacity;
+       cell++) {
+    size_t column = cell % columns, row = cell / columns % rows;
+    double x = (column + 0.5) * spacing, y = (row + 0.5) * spacing; /* m */
+    double z = (cell / columns / rows + 0.5) * spacing; /* m, 3D only */
+    if (x >= wall_x(s, y) || (dim == 3 && z >= s->half_width))
+      continue;
+    double vertical = -DENSITY * GRAVITY * (s->fill_height - y); /* Pa */
+    position[dim * count] = x;
+    position[dim * count + 1] = y;
+    if (dim == 3)
+      position[dim * count + 2] = z;
+    volume[count] = point_volume(s, x, spacing);
+    stress[6 * count + GM_XX] = stress[6 * count + GM_ZZ] = k0 * vertical;
+    stress[6 * count + GM_YY] = vertical;
+    s->mass += DENSITY * volume[count];
+    count++;
+  }
   gm_status status = GM_ERR_NO_MEMORY;
   if (position && volume && stress) {
     gm_points_def points = gm_points_def_default();
@@ -416,13 +498,13 @@ static gm_status settle(gm_domain *domain, silo *s, const wall_loads *loads,
 /* Copies the settled granular points (not the rigid ones) into a new
  * domain, at rest, with their stress and current volume. */
 static gm_status copy_points(const gm_domain *from, int material, gm_domain *to,
-                             int to_material) {
-  size_t count = gm_domain_point_count(from), dim = 2;
+                             int to_material, size_t dim) {
+  size_t count = gm_domain_point_count(from);
   double *fields = malloc(count * 12 * sizeof *fields);
   if (!fields)
     return GM_ERR_NO_MEMORY;
-  double *position = fields, *volume = fields + 2 * count;
-  double *mass = fields + 3 * count, *id = fields + 4 * count;
+  double *position = fields, *volume = fields + 3 * count;
+  double *mass = fields + 4 * count, *id = fields + 5 * count;
   double *stress = fields + 6 * count;
   gm_status status =
       gm_domain_get_field(from, GM_FIELD_POSITION, position, dim * count);
@@ -438,8 +520,7 @@ static gm_status copy_points(const gm_domain *from, int material, gm_domain *to,
   for (size_t i = 0; status == GM_OK && i < count; i++) {
     if ((int)id[i] != material)
       continue;
-    position[2 * kept] = position[2 * i];
-    position[2 * kept + 1] = position[2 * i + 1];
+    memmove(position + dim * kept, position + dim * i, dim * sizeof *position);
     volume[kept] = volume[i];
     mass[kept] = mass[i];
     memmove(stress + 6 * kept, stress + 6 * i, 6 * sizeof *stress);
@@ -459,9 +540,19 @@ static gm_status copy_points(const gm_domain *from, int material, gm_domain *to,
   return status;
 }
 
-/* Sink just below the orifice, and a catch-all under the floor layer. */
+/* Sink just below the orifice, and a catch-all under the floor layer. In
+ * 3D the catch-all only (a sink removes rigid points too, and a box just
+ * below a round hole would take the floor's corner): points are counted
+ * once they fall below the floor layer. */
 static gm_status add_sinks(gm_domain *domain, const silo *s, int sinks[2]) {
   double cell = s->options.cell; /* m */
+  if (s->dim == 3) {
+    gm_sink_def below = gm_sink_def_default();
+    below.upper[0] = below.upper[2] = s->half_width + 2.0 * cell;
+    below.lower[1] = -3.0 * cell;
+    below.upper[1] = -cell;
+    return gm_domain_add_sink(domain, &below, &sinks[0]);
+  }
   gm_sink_def orifice = gm_sink_def_default();
   orifice.lower[0] = 0.0;
   orifice.upper[0] = 0.5 * s->orifice;
@@ -520,7 +611,7 @@ static double window_rate(const double *time, const double *mass, size_t taken,
  * left in the last 0.5 s). */
 static int past_window(const silo *s, const double *time, const double *mass,
                        size_t last) {
-  double symmetry = s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 1.0 : 2.0;
+  double symmetry = symmetry_factor(s);
   if (mass[last] > (WINDOW_END + 0.05) * symmetry * s->mass)
     return 1;
   size_t back = (size_t)ceil(0.5 / s->sample);
@@ -531,7 +622,7 @@ static int past_window(const silo *s, const double *time, const double *mass,
  * orifice shortened by `offset` = k d (m). */
 static double beverloo(const silo *s, double offset) {
   double width = s->orifice - offset; /* m */
-  if (s->geometry == GM_GEOMETRY_AXISYMMETRIC)
+  if (s->geometry == GM_GEOMETRY_AXISYMMETRIC || s->dim == 3)
     return BEVERLOO_SI * PI / 4.0 * DENSITY * sqrt(GRAVITY) * pow(width, 2.5);
   return BEVERLOO_SI * sqrt(2.0) * DENSITY * sqrt(GRAVITY) * pow(width, 1.5);
 }
@@ -739,7 +830,8 @@ static int discharge_done(const gm_domain *domain,
 }
 
 /* Phase 2: discharge; samples the sinks, writes CSV and VTU, and returns
- * the steady rate (full silo: twice the half model's in plane strain). */
+ * the steady rate (full silo: twice the half model's in plane strain, 4
+ * times the quarter's in 3D). */
 static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
                      double *rate) {
   discharge_record record = {s,    loads, {-1, -1}, 0.0, NULL,
@@ -752,7 +844,7 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
         fmax(s->orifice / 24.0, s->options.cell / s->options.ppc);
   }
   EXAMPLE_CHECK(domain, add_sinks(domain, s, record.sinks));
-  double symmetry = s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 1.0 : 2.0;
+  double symmetry = symmetry_factor(s);
   size_t samples = MAX_SAMPLES;
   double *time = calloc(2 * samples, sizeof *time), *mass = time + samples;
   if (!time)
@@ -840,7 +932,8 @@ static int configure(silo *s, int argc, char **argv) {
   double cfl = gm_domain_def_default().cfl; /* - */
   example_extra extras[] = {
       {"orifice", "orifice width (slot) or diameter D, m", &orifice, NULL},
-      {"geometry", "plane|axisym", NULL, &geometry},
+      {"geometry", "plane|axisym|3d (3d: a quarter square silo)", NULL,
+       &geometry},
       {"hopper", "flat or the hopper wall angle from the vertical, deg", NULL,
        &hopper},
       {"sample", "sampling interval of the discharged mass, s", &sample, NULL},
@@ -868,9 +961,16 @@ static int configure(silo *s, int argc, char **argv) {
   if (parsed != 0)
     return parsed;
   s->geometry = strcmp(geometry, "axisym") == 0 ? GM_GEOMETRY_AXISYMMETRIC
+                : strcmp(geometry, "3d") == 0   ? GM_GEOMETRY_3D
                                                 : GM_GEOMETRY_PLANE_STRAIN;
-  if (strcmp(geometry, "plane") != 0 && strcmp(geometry, "axisym") != 0) {
-    fprintf(stderr, "--geometry: '%s' is not plane or axisym\n", geometry);
+  s->dim = s->geometry == GM_GEOMETRY_3D ? 3 : 2;
+  if (strcmp(geometry, "plane") != 0 && strcmp(geometry, "axisym") != 0 &&
+      strcmp(geometry, "3d") != 0) {
+    fprintf(stderr, "--geometry: '%s' is not plane, axisym or 3d\n", geometry);
+    return 2;
+  }
+  if (s->dim == 3 && (strcmp(hopper, "flat") != 0 || profile[0])) {
+    fprintf(stderr, "--geometry 3d: no --hopper or --profile (flat floor)\n");
     return 2;
   }
   s->hopper_angle = 0.0;
@@ -916,6 +1016,38 @@ static int configure(silo *s, int argc, char **argv) {
   return 0;
 }
 
+/* Both phases for one silo: its steady rate (kg/(m s) or kg/s) and the
+ * mid-depth wall pressure at rest (Pa, 0 in 3D) at mid_depth (m). */
+static int simulate(silo *s, double *rate, double *mid_pressure,
+                    double *mid_depth) {
+  gm_domain *rest = NULL, *flow = NULL;
+  int material = -1, flow_material = -1;
+  wall_loads rest_loads = {0}, loads = {0};
+  EXAMPLE_CHECK(NULL, create_domain(s, SETTLE_DAMPING, &rest));
+  EXAMPLE_CHECK(rest, add_material(rest, s, &material));
+  EXAMPLE_CHECK(rest, add_walls(rest, s, &rest_loads));
+  EXAMPLE_CHECK(rest,
+                add_floor(rest, s, 0.0, s->half_width + 2 * s->options.cell));
+  EXAMPLE_CHECK(rest, fill_silo(rest, s, material));
+  EXAMPLE_CHECK(rest, settle(rest, s, &rest_loads, mid_pressure));
+  *mid_depth =
+      s->fill_height -
+      s->options.cell * lround(0.5 * s->fill_height / s->options.cell); /* m */
+
+  EXAMPLE_CHECK(NULL, create_domain(s, 0.0, &flow));
+  EXAMPLE_CHECK(flow, add_material(flow, s, &flow_material));
+  EXAMPLE_CHECK(flow, add_walls(flow, s, &loads));
+  if (s->hopper_angle <= 0.0)
+    EXAMPLE_CHECK(flow, add_floor(flow, s, 0.5 * s->orifice,
+                                  s->half_width + 2 * s->options.cell));
+  EXAMPLE_CHECK(
+      flow, copy_points(rest, material, flow, flow_material, (size_t)s->dim));
+  gm_domain_destroy(rest);
+  int failed = discharge(flow, s, &loads, rate);
+  gm_domain_destroy(flow);
+  return failed;
+}
+
 int main(int argc, char **argv) {
   silo s = {0};
   s.options = (example_options){GM_SHAPE_LINEAR,
@@ -932,49 +1064,42 @@ int main(int argc, char **argv) {
   if (example_make_output(&s.options) != 0)
     return 2;
   printf("%s silo, %s, D = %g m, B = %g m, H = %g m, cell %g m, %s/%s\n",
-         s.geometry == GM_GEOMETRY_AXISYMMETRIC ? "axisymmetric" : "planar",
+         s.dim == 3                               ? "3D quarter square"
+         : s.geometry == GM_GEOMETRY_AXISYMMETRIC ? "axisymmetric"
+                                                  : "planar",
          s.hopper_angle > 0 ? "hopper" : "flat bottom", s.orifice, s.half_width,
          s.fill_height, s.options.cell, example_shape_name(s.options.shape),
          example_family_name(s.options.family));
 
-  gm_domain *rest = NULL, *flow = NULL;
-  int material = -1, flow_material = -1;
-  wall_loads rest_loads = {0}, loads = {0};
-  EXAMPLE_CHECK(NULL, create_domain(&s, SETTLE_DAMPING, &rest));
-  EXAMPLE_CHECK(rest, add_material(rest, &s, &material));
-  EXAMPLE_CHECK(rest, add_walls(rest, &s, &rest_loads));
-  EXAMPLE_CHECK(rest,
-                add_floor(rest, &s, 0.0, s.half_width + 2 * s.options.cell));
-  EXAMPLE_CHECK(rest, fill_silo(rest, &s, material));
-  double mid_pressure = 0.0; /* Pa */
-  EXAMPLE_CHECK(rest, settle(rest, &s, &rest_loads, &mid_pressure));
-  double mid_depth =
-      s.fill_height -
-      s.options.cell * lround(0.5 * s.fill_height / s.options.cell); /* m */
-
-  EXAMPLE_CHECK(NULL, create_domain(&s, 0.0, &flow));
-  EXAMPLE_CHECK(flow, add_material(flow, &s, &flow_material));
-  EXAMPLE_CHECK(flow, add_walls(flow, &s, &loads));
-  if (s.hopper_angle <= 0.0)
-    EXAMPLE_CHECK(flow, add_floor(flow, &s, 0.5 * s.orifice,
-                                  s.half_width + 2 * s.options.cell));
-  EXAMPLE_CHECK(flow, copy_points(rest, material, flow, flow_material));
-  gm_domain_destroy(rest);
-  double rate = 0.0; /* kg/(m s) or kg/s */
-  int failed = discharge(flow, &s, &loads, &rate);
-  gm_domain_destroy(flow);
+  double rate = 0.0, mid_pressure = 0.0, mid_depth = 0.0; /* kg/s, Pa, m */
+  int failed = simulate(&s, &rate, &mid_pressure, &mid_depth);
   if (failed)
     return failed;
+  double axisym = 0.0; /* kg/s, the axisymmetric silo's rate (3D only) */
+  if (s.dim == 3) {
+    silo ring = s; /* the same D, B, H, cell and points, no output */
+    ring.geometry = GM_GEOMETRY_AXISYMMETRIC;
+    ring.dim = 2;
+    ring.options.out = "";
+    ring.options.quiet = 1;
+    printf("the axisymmetric silo of the same D, B, H and cell:\n");
+    double unused[2];
+    failed = simulate(&ring, &axisym, &unused[0], &unused[1]);
+    if (failed)
+      return failed;
+  }
   double k = 1.0 - sin(FRICTION_ANGLE * PI / 180.0);
   printf("Beverloo with d = 0: %g; with the mesh as grain (k d = %g h, see "
          "tests/physics/test_beverloo.c): %g\n",
          beverloo(&s, 0.0), MESH_GRAIN,
          beverloo(&s, MESH_GRAIN * s.options.cell));
-  if (s.hopper_angle <= 0.0)
+  if (s.hopper_angle <= 0.0 && s.dim == 2)
     example_result("wall_pressure_mid_Pa", mid_pressure,
                    janssen_pressure(&s, k, mid_depth));
-  example_result(s.geometry == GM_GEOMETRY_AXISYMMETRIC ? "flow_rate_kg_s"
-                                                        : "flow_rate_kg_m_s",
+  example_result(s.geometry == GM_GEOMETRY_PLANE_STRAIN ? "flow_rate_kg_m_s"
+                                                        : "flow_rate_kg_s",
                  rate, beverloo(&s, 0.0));
+  if (s.dim == 3)
+    example_result("flow_rate_3d_vs_axisym_kg_s", rate, axisym);
   return 0;
 }
