@@ -75,6 +75,32 @@ static void cpdi_geometry_2d(gm_domain *domain, size_t p,
                                      &work->interaction[p]);
 }
 
+/* The support of point p along axis k at grid coordinate s (cells from the
+ * origin) with box half edge `half` (m, GIMP only): the lowest node and,
+ * where the span varies, the highest, as the 2D and 3D kernels take them
+ * (the point's cell for linear MPM, the B-spline's lowest node,
+ * gm_gimp_axis_bounds of the box). */
+static void store_axis_support(gm_granular_work *work,
+                               const gm_shape_grid *grid, size_t p, int k,
+                               double s, double half) {
+  int span = 2;
+  int64_t low;
+  if (grid->shape == GM_SHAPE_LINEAR) {
+    low = (int64_t)s; /* s >= 0 inside the grid */
+  } else if (grid->shape == GM_SHAPE_BSPLINE2) {
+    low = gm_bspline2_lowest(s);
+    span = 3;
+  } else if (grid->shape == GM_SHAPE_BSPLINE3) {
+    low = gm_bspline3_lowest(s);
+    span = 4;
+  } else {
+    low = gm_gimp_axis_bounds(s, half * grid->inv_cell, &span);
+  }
+  work->support_low[k][p] = (int32_t)low; /* range: domain_granular.h */
+  if (work->support_high[k]) /* else span - 1 is work->support_reach */
+    work->support_high[k][p] = (int32_t)(low + span - 1);
+}
+
 /* The same for the rectangle variants, directly: the support as in
  * gm_support_bounds, the box half edges scaled to `measure`. */
 static void rectangle_geometry(gm_domain *domain, size_t p,
@@ -87,23 +113,9 @@ static void rectangle_geometry(gm_domain *domain, size_t p,
     half[k] = point->half_size[k];
     if (grid->shape == GM_SHAPE_CPGIMP)
       half[k] *= fabs(point->deformation[3 * k]);
-    double s = (point->position[k] - grid->origin[k]) * grid->inv_cell;
-    int span = 2;
-    int64_t low;
-    if (grid->shape == GM_SHAPE_LINEAR) {
-      low = (int64_t)s; /* s >= 0 inside the grid */
-    } else if (grid->shape == GM_SHAPE_BSPLINE2) {
-      low = gm_bspline2_lowest(s);
-      span = 3;
-    } else if (grid->shape == GM_SHAPE_BSPLINE3) {
-      low = gm_bspline3_lowest(s);
-      span = 4;
-    } else {
-      low = gm_gimp_axis_bounds(s, half[k] * grid->inv_cell, &span);
-    }
-    work->support_low[k][p] = (int32_t)low; /* range: domain_granular.h */
-    if (work->support_high[k]) /* else span - 1 is work->support_reach */
-      work->support_high[k][p] = (int32_t)(low + span - 1);
+    store_axis_support(work, grid, p, k,
+                       (point->position[k] - grid->origin[k]) * grid->inv_cell,
+                       half[k]);
   }
   /* Constant: linear MPM, uGIMP and the B-splines (whose domain is the
    * initial rectangle, as uGIMP's). */
@@ -127,23 +139,8 @@ static void box_geometry_3d(gm_domain *domain, size_t p, const double x[3],
   gm_granular_work *work = &domain->granular;
   const gm_shape_grid *grid = &domain->shape_grid;
   for (int k = 0; k < 3; k++) {
-    double s = (x[k] - grid->origin[k]) * grid->inv_cell;
-    int span = 2;
-    int64_t low;
-    if (grid->shape == GM_SHAPE_LINEAR) {
-      low = (int64_t)s; /* s >= 0 inside the grid */
-    } else if (grid->shape == GM_SHAPE_BSPLINE2) {
-      low = gm_bspline2_lowest(s);
-      span = 3;
-    } else if (grid->shape == GM_SHAPE_BSPLINE3) {
-      low = gm_bspline3_lowest(s);
-      span = 4;
-    } else {
-      low = gm_gimp_axis_bounds(s, half[k] * grid->inv_cell, &span);
-    }
-    work->support_low[k][p] = (int32_t)low; /* range: domain_granular.h */
-    if (work->support_high[k]) /* else span - 1 is work->support_reach */
-      work->support_high[k][p] = (int32_t)(low + span - 1);
+    store_axis_support(work, grid, p, k,
+                       (x[k] - grid->origin[k]) * grid->inv_cell, half[k]);
   }
   if (work->boxes_valid) /* constant but for cpGIMP, as in 2D */
     return;
