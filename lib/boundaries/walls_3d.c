@@ -1,6 +1,7 @@
 /*
  * walls_3d.c - planar walls of any normal with Coulomb friction in 3D
- * (GM_GEOMETRY_3D, linear shapes): the contact of walls.c on the nodes of
+ * (GM_GEOMETRY_3D; linear shapes, and uGIMP and cpGIMP on the planes of
+ * open box faces): the contact of walls.c on the nodes of
  * the 3D grid, and its friction pooled over patches of the plane one cell
  * by one cell instead of one-cell strips along a line.
  *
@@ -19,8 +20,11 @@
  * vector in the plane: the patch sticks when |T| <= mu_s N, otherwise
  * every node of it keeps the fraction 1 - mu_k N / |T| of its tangential
  * velocity, so the patch loses mu_k N against its sliding direction.
- * Only linear MPM exists in 3D, so the centre-gap rule of the wide shapes
- * (walls.c) has no 3D counterpart.
+ * The centre-gap rule of the wide shapes (walls.c) has no 3D counterpart
+ * yet: uGIMP and cpGIMP take walls on the planes of open box faces only
+ * (walls.c, check_wide_3d), where a point pushed through the plane leaves
+ * the grid and fails the step; their gaps are measured over their GIMP
+ * supports (wall_gaps_3d.c).
  *
  * Patches: a node at x has plane coordinates s = (x - p).t1 and
  * u = (x - p).t2 (t1, t2 an orthonormal basis of the plane,
