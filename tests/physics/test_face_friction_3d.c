@@ -22,8 +22,8 @@
  * that lost the direction, Coulomb's law on each component separately
  * (the z component, 0.4 m/s, stopping at 0.20 s, x at 0.31 s), gives
  * 0.055 m/s = 7.6 % of |v0| across at 0.1 s; the across velocity
- * measured is the elastic block's vibration, 1e-5 of |v0| at the test's
- * setting and up to 0.12 % on the refinements of docs/3d.md.
+ * measured is the elastic block's vibration, up to 0.07 % of |v0| at the
+ * test's setting and 0.14 % on the refinements of docs/3d.md.
  *
  * Stick: the same block at rest under gravity with a tangential component
  * 0.6 mu g along (0.6, 0, 0.4)/|.|: Coulomb's static friction holds it.
