@@ -45,9 +45,9 @@ static gm_status check_wide_3d(gm_domain *domain, const gm_wall_def *def) {
   if (shape != GM_SHAPE_UGIMP && shape != GM_SHAPE_CPGIMP)
     return gm_set_error(domain, GM_ERR_UNSUPPORTED,
                         "gm_domain_add_wall: planar walls in 3D are "
-                        "supported with GM_SHAPE_LINEAR, GM_SHAPE_UGIMP and "
-                        "GM_SHAPE_CPGIMP only in this version "
-                        "(gm_domain_def.shape is %d)",
+                        "supported with GM_SHAPE_LINEAR only, and with "
+                        "GM_SHAPE_UGIMP or GM_SHAPE_CPGIMP on an open box "
+                        "face, in this version (gm_domain_def.shape is %d)",
                         (int)shape);
   int axis = -1, nonzero = 0;
   for (int k = 0; k < 3; k++)
