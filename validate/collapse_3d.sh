@@ -6,13 +6,14 @@
 # same shape functions, floor, material, cell and points per cell; a = 1,
 # R0 = 0.1 m, docs/convergence.md sec. 20's material (Perzyna, phi 37 deg,
 # fluidity 300 1/s, reference stress 1795 Pa), plain family. Two floors:
-#   linear-wall: linear MPM, Coulomb planar wall mu = 0.45 (3D planar walls
-#                take linear shapes only in this version);
+#   linear-wall: linear MPM, Coulomb planar wall mu = 0.45;
+#   ugimp-wall:  uGIMP, the same wall on the open floor face;
 #   ugimp-face:  uGIMP, the no-slip box face;
 #   linear-face: linear MPM, the no-slip box face.
 # Writes validate/results/collapse_3d.csv (one row per setting, N and
 # points per cell) and collapse_3d.md (the table). Environment: PLAN, a
-# list of setting:N:ppc (default: the committed table's 16 runs; empty:
+# list of setting:N:ppc (default: the committed table's 16 runs and three
+# uGIMP Coulomb-floor runs; empty:
 # only rewrite the table), BUILD (default build), APPEND=1 (keep the rows
 # already in the CSV). About 20 minutes of one core with the default plan
 # (the 3D run at R0/24 takes 7 of them: the times are in the table;
@@ -26,7 +27,8 @@ mkdir -p "$results"
 PLAN=${PLAN-"linear-wall:6:2 linear-wall:8:2 linear-wall:12:2 linear-wall:16:2
   linear-wall:24:2 linear-wall:8:3 linear-wall:12:3 ugimp-face:6:2 ugimp-face:8:2
   ugimp-face:12:2 ugimp-face:16:2 ugimp-face:8:3 linear-face:6:2 linear-face:8:2
-  linear-face:12:2 linear-face:16:2"}
+  linear-face:12:2 linear-face:16:2 ugimp-wall:6:2 ugimp-wall:8:2
+  ugimp-wall:12:2"}
 MATERIAL="--family plain --material perzyna --friction 37 --fluidity 300 --reference-stress 1795 --aspect 1 --length 0.1"
 csv=$results/collapse_3d.csv
 [ "${APPEND:-0}" = 1 ] && [ -f "$csv" ] || echo "setting,divisions,ppc,cell_m,runout_axisym,runout_3d,difference,height_axisym,height_3d,runout_side_3d,runout_diagonal_3d,seconds_axisym,seconds_3d,points_3d" >"$csv"
@@ -44,6 +46,7 @@ for run in $PLAN; do
   case $setting in
   linear-wall) floor="--method linear --floor wall --floor-mu 0.45" ;;
   ugimp-face) floor="--method ugimp --floor face" ;;
+  ugimp-wall) floor="--method ugimp --floor wall --floor-mu 0.45" ;;
   linear-face) floor="--method linear --floor face" ;;
   *) echo "unknown setting $setting" >&2 && exit 2 ;;
   esac

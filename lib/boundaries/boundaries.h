@@ -90,7 +90,8 @@ int gm_gap_face_slot(const gm_domain *domain, int face);
 /* Sizes the per-block wall-force partial sums for the current walls. */
 gm_status gm_walls_reserve(gm_domain *domain);
 
-/* Planar walls in 3D (walls_3d.c, wall_gaps_3d.c; linear shapes). An
+/* Planar walls in 3D (walls_3d.c, wall_gaps_3d.c; linear shapes, uGIMP
+ * and cpGIMP on open box faces). An
  * orthonormal basis t1, t2 of the wall's plane (t2 = n x t1). */
 void gm_wall_tangents_3d(const gm_wall *wall, double t1[3], double t2[3]);
 /* Doubles of pooled sums wall w's friction patches need. */

@@ -3,9 +3,14 @@
  * 3D, as wall_gaps.c measures it in 2D: the smallest distance from the
  * wall to the domain of a point with weight on the node, so that material
  * that has left the wall may come back to it within a step (walls.c,
- * walls_3d.c). The domain is, as in 2D for linear MPM, the point's initial
- * box (edges GM_FIELD_DOMAIN_SIZE) moved with its centre: its half extent
- * along the normal n is (l_x |n_x| + l_y |n_y| + l_z |n_z|) / 2. The box
+ * walls_3d.c). The domain is, as in 2D, the point's box: for linear MPM
+ * and uGIMP the initial one (edges GM_FIELD_DOMAIN_SIZE) moved with its
+ * centre, for cpGIMP its edges stretched by |F_kk| (support_3d.h); its
+ * half extent along the normal n is h_x |n_x| + h_y |n_y| + h_z |n_z|
+ * (half edges h_k). The nodes that get the gap are those the point has
+ * weight on: the 8 of its tent with linear MPM, the nodes of its GIMP
+ * support (up to 3 per axis, support_3d.h) with uGIMP and cpGIMP, which
+ * take walls on open box faces only (walls.c, check_wide_3d). The box
  * faces of 3D hold their nodes without a gap (grid_update_3d.c) and are
  * not measured.
  *
@@ -21,8 +26,12 @@
  * patches, less than GM_STRIP_REACH (2) cells in front of it; a linear
  * tent carries points less than a cell from its node, so only points
  * whose centre lies less than 3 cells in front of the plane lower such a
- * gap. 4 cells keeps a margin. */
-#define GM_GAP_REACH_3D 4.0
+ * gap. 4 cells keeps a margin. A GIMP support reaches h + l/2 from the
+ * centre (1.25 cells with 2 points per cell, 1.5 with one; cpGIMP's
+ * stretched box farther): GM_GAP_REACH_WIDE_3D keeps the same margin for
+ * boxes up to 3 cells long, the longest the 3D blocks take. */
+#define GM_GAP_REACH_3D      4.0
+#define GM_GAP_REACH_WIDE_3D 6.0
 
 typedef struct gap_3d_context {
   gm_domain *domain;
@@ -31,13 +40,19 @@ typedef struct gap_3d_context {
 
 /* Could a point binned in this block (its cell's lowest node in the
  * block) lie within the reach of a wall? */
-static bool block_may_reach_3d(const gm_domain *domain, const int64_t base[3]) {
+static bool block_may_reach_3d(const gm_domain *domain, const int64_t base[3],
+                               double reach) {
   const double *origin = domain->shape_grid.origin; /* m, node 0 */
   double h = domain->def.cell_size;                 /* m */
+  /* A GIMP point is binned by its support's lowest node, whose span may
+   * be up to GM_SUPPORT_3D_MAX_SPAN nodes: its centre lies within that. */
+  int64_t span = domain->def.shape == GM_SHAPE_LINEAR
+                     ? 1
+                     : GM_SUPPORT_3D_MAX_SPAN; /* nodes */
   double low[3], high[3]; /* m, a box holding every point centre */
   for (int k = 0; k < 3; k++) {
     low[k] = origin[k] + (double)(base[k] - 1) * h;
-    high[k] = origin[k] + (double)(base[k] + GM_BLOCK_EDGE_3D + 1) * h;
+    high[k] = origin[k] + (double)(base[k] + GM_BLOCK_EDGE_3D + span) * h;
   }
   for (int w = 0; w < domain->wall_count; w++) {
     const gm_wall *wall = &domain->walls[w];
@@ -46,55 +61,80 @@ static bool block_may_reach_3d(const gm_domain *domain, const int64_t base[3]) {
       double corner = wall->normal[k] >= 0.0 ? low[k] : high[k];
       nearest += (corner - wall->point[k]) * wall->normal[k];
     }
-    if (nearest <= GM_GAP_REACH_3D * h)
+    if (nearest <= reach)
       return true;
   }
   return false;
 }
 
-static void measure_point_3d(gm_domain *domain, uint32_t block, size_t p) {
+/* The nodes point p at x (m) has weight on, as a box support: the tent's
+ * 2 per axis with linear MPM (the factors of the linear kernels, so the
+ * linear gaps are those of before), the GIMP support otherwise. False if
+ * the support leaves the grid (the transfers have failed the step then). */
+static bool point_support_3d(const gm_domain *domain, const double x[3],
+                             const double half[3], gm_box_support_3d *out) {
+  if (domain->def.shape != GM_SHAPE_LINEAR)
+    return gm_box_support_compute_3d(&domain->shape_grid, x, half, out);
+  for (int k = 0; k < 3; k++) {
+    double gradient[2];
+    out->lowest[k] =
+        gm_shape_linear_axis(x[k], domain->shape_grid.origin[k],
+                             domain->inv_cell, out->weight[k], gradient);
+    out->span[k] = 2;
+  }
+  return true;
+}
+
+static void measure_point_3d(gm_domain *domain, uint32_t block, size_t p,
+                             double reach) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *current = &points->buffer[points->cur];
   gm_grid *grid = &domain->grid;
   int walls = domain->wall_count;
-  double h = domain->def.cell_size; /* m */
   double x[3] = {current->position[0][p], current->position[1][p],
                  current->position[2][p]}; /* m */
-  double distance[GM_MAX_WALLS];           /* m */
+  double half[3];                          /* m, the box's half edges */
+  gm_box_half_edges_3d(domain->def.shape,
+                       (const double *const *)points->domain_size,
+                       (const double *const *)current->deformation, p, half);
+  double distance[GM_MAX_WALLS]; /* m */
   bool near = false;
   for (int w = 0; w < walls; w++) {
     const gm_wall *wall = &domain->walls[w];
     double centre = 0.0, half_extent = 0.0; /* m */
     for (int k = 0; k < 3; k++) {
       centre += (x[k] - wall->point[k]) * wall->normal[k];
-      half_extent += 0.5 * points->domain_size[k][p] * fabs(wall->normal[k]);
+      half_extent += half[k] * fabs(wall->normal[k]);
     }
     distance[w] = INFINITY;
-    if (centre > GM_GAP_REACH_3D * h)
+    if (centre > reach)
       continue;
     distance[w] = centre - half_extent;
     near = true;
   }
   if (!near)
     return;
+  gm_box_support_3d support;
+  if (!point_support_3d(domain, x, half, &support))
+    return;
   const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
-  const int64_t mask = GM_BLOCK_EDGE_3D - 1;
-  double weight[3][2], gradient[3][2];
-  int64_t local[3];
-  for (int k = 0; k < 3; k++)
-    local[k] = gm_shape_linear_axis(x[k], domain->shape_grid.origin[k],
-                                    domain->inv_cell, weight[k], gradient[k]) &
-               mask;
-  for (int c = 0; c < 8; c++) {
-    int a = c & 1, b = (c >> 1) & 1, z = c >> 2;
-    if (weight[0][a] * weight[1][b] * weight[2][z] == 0.0)
-      continue; /* no weight on this node (2D skips these as well) */
-    size_t node =
-        gm_block_node_3d(links, local[0] + a, local[1] + b, local[2] + z);
-    double *gap = grid->wall_gap + node * (size_t)walls;
-    for (int w = 0; w < walls; w++)
-      gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
-  }
+  int64_t base[3], local[3];
+  gm_block_coordinates_3d(grid, grid->block_key[block], base);
+  for (int k = 0; k < 3; k++) /* the support's lowest node in the block */
+    local[k] = support.lowest[k] - (base[k] << GM_BLOCK_SHIFT_3D);
+  for (int c = 0; c < support.span[2]; c++)
+    for (int b = 0; b < support.span[1]; b++)
+      for (int a = 0; a < support.span[0]; a++) {
+        if (support.weight[0][a] * support.weight[1][b] *
+                support.weight[2][c] ==
+            0.0)
+          continue; /* no weight on this node (2D skips these as well) */
+        size_t node =
+            gm_block_node_3d(links, local[0] + a, local[1] + b, local[2] + c);
+        double *gap = grid->wall_gap + node * (size_t)walls;
+        for (int w = 0; w < walls; w++)
+          gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
+      }
 }
 
 static void measure_blocks_3d(void *context, size_t begin, size_t end,
@@ -110,13 +150,17 @@ static void measure_blocks_3d(void *context, size_t begin, size_t end,
     gm_block_coordinates_3d(grid, grid->block_key[block], base);
     for (int k = 0; k < 3; k++)
       base[k] <<= GM_BLOCK_SHIFT_3D;
-    if (!block_may_reach_3d(domain, base))
+    double reach =
+        (domain->def.shape == GM_SHAPE_LINEAR ? GM_GAP_REACH_3D
+                                              : GM_GAP_REACH_WIDE_3D) *
+        domain->def.cell_size; /* m */
+    if (!block_may_reach_3d(domain, base, reach))
       continue;
     for (uint32_t k = grid->point_start[block];
          k < grid->point_start[block + 1]; k++) {
       size_t p = points->order[k];
       if (!domain->materials[points->material[p]].rigid) /* as in 2D */
-        measure_point_3d(domain, block, p);
+        measure_point_3d(domain, block, p, reach);
     }
   }
 }

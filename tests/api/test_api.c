@@ -1288,7 +1288,9 @@ START_TEST(test_3d_refuses_what_it_lacks) {
       gm_domain_get_wall_tractions(domain, id, NULL, 0, &traction_count),
       ONLY(GM_ERR_UNSUPPORTED), "gm_domain_get_wall_tractions",
       "3D wall tractions");
-  /* ... with linear shapes only: a 3D uGIMP domain refuses the wall. */
+  /* ... with linear shapes only inside the box: a 3D uGIMP domain
+   * refuses this wall (it takes walls on open box faces only,
+   * tests/physics/test_face_friction_3d.c). */
   gm_domain_def gimp_def = def;
   gimp_def.shape = GM_SHAPE_UGIMP;
   gm_domain *gimp = test_create_domain(&gimp_def);
