@@ -82,16 +82,21 @@ static void gather_entries_affine(const gather_view *v, const uint32_t *links,
 }
 
 /* Point p's sums into slot j of the chunk's output, with the massless
- * nodes' correction. */
+ * nodes' correction. The acceleration is stored only where the pass reads
+ * it (acceleration: the FLIP update, flip_chunk) and B_p only with APIC
+ * (with_affine; flip_chunk's APIC copy): the deformation pass reads the
+ * gradient alone, so its 6 stores of zeros per point are left out. */
 static GM_ALWAYS_INLINE void
 store_point_gather(const gather_view *v, size_t p, size_t j, point_gather *sum,
-                   double affine[2][2], chunk_gather *out, const int dim) {
+                   double affine[2][2], chunk_gather *out, const int dim,
+                   const bool acceleration, const bool with_affine) {
   /* Massless nodes: the point's own velocity (see gather_chunk_2d). */
   for (int a = 0; a < dim; a++)
     for (int b = 0; b < dim; b++)
       sum->gradient[a][b] += sum->velocity[a] * sum->empty[b];
   for (int a = 0; a < 2; a++) {
-    out->acceleration[a][j] = a < dim ? sum->acceleration[a] : 0.0;
+    if (acceleration)
+      out->acceleration[a][j] = a < dim ? sum->acceleration[a] : 0.0;
     out->velocity[a][j] = a < dim ? sum->velocity[a] : 0.0;
   }
   out->gradient[0][j] = sum->gradient[0][0];
@@ -101,6 +106,8 @@ store_point_gather(const gather_view *v, size_t p, size_t j, point_gather *sum,
   /* Hoop strain rate v_r / r (002 sec 3). */
   out->gradient[4][j] =
       v->axisymmetric ? sum->velocity[0] / v->position[0][p] : 0.0;
+  if (!with_affine)
+    return;
   out->affine[0][j] = affine[0][0];
   out->affine[1][j] = affine[0][1];
   out->affine[2][j] = affine[1][0];
@@ -156,7 +163,8 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
         reach[1] = axis[1].reach;
         if (gm_wide_support_fits(2, sx, sy, reach, edge)) {
           gather_short_2d(v, links, sx, sy, axis, &sum, acceleration, gradient);
-          store_point_gather(v, p, j, &sum, affine, out, 2);
+          store_point_gather(v, p, j, &sum, affine, out, 2, acceleration,
+                             false); /* not taken with APIC */
           continue;
         }
       }
@@ -169,7 +177,8 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
         int64_t cy = corners->lowest[1] - base[1];
         if (gm_wide_support_fits(2, cx, cy, reach, edge)) {
           gather_cpdi_2d(v, links, base, corners, &sum, acceleration, gradient);
-          store_point_gather(v, p, j, &sum, affine, out, 2);
+          store_point_gather(v, p, j, &sum, affine, out, 2, acceleration,
+                             false); /* not taken with APIC */
           continue;
         }
       }
@@ -199,7 +208,8 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
     } else {
       gather_product(v, links, x0, y0, &support.product, &sum, dim);
     }
-    store_point_gather(v, p, j, &sum, affine, out, dim);
+    store_point_gather(v, p, j, &sum, affine, out, dim, acceleration,
+                       v->affine);
   }
 }
 

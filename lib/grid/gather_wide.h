@@ -91,9 +91,16 @@ gather_node_pair(const gather_view *v, size_t node, double weight,
   gm_pair w = {weight, weight};
   gm_pair nodal = {v->grid_velocity[0][node], v->grid_velocity[1][node]};
   if (gradient) {
-    double is_empty = v->grid_mass[node] == 0.0 ? 1.0 : 0.0;
-    gm_pair e = {is_empty, is_empty}, g = {grad_x, grad_y};
-    *empty += e * g;
+    /* The gradient where the node is massless, +0 where not, by a mask:
+     * the sums of is_empty * g bit for bit. Those products are +0 or -0
+     * (g < 0) at a node with mass, and a sum that starts at +0 is never
+     * -0 and gains nothing from a zero of either sign; g is finite on the
+     * short support (its bounds refuse NaN). */
+    typedef long long gm_pair_mask
+        __attribute__((vector_size(sizeof(gm_pair))));
+    gm_pair mass = {v->grid_mass[node], v->grid_mass[node]};
+    gm_pair zero = {0.0, 0.0}, g = {grad_x, grad_y};
+    *empty += (gm_pair)((gm_pair_mask)g & (mass == zero));
   }
   if (acceleration) {
     gm_pair a = {v->grid_acceleration[0][node], v->grid_acceleration[1][node]};

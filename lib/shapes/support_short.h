@@ -73,15 +73,20 @@ static inline bool gm_short_axis_compute(double s, double l, int64_t last_node,
   past = past > 0.0 ? past : 0.0;
   double far = 0.5 * inverse_length * past * past; /* S_2 */
   double slope = inverse_length * past;            /* e / (2 l) */
-  bool third = reach == 2; /* the domain crosses the line at lowest + 1 */
   out->lowest = lowest;
   out->reach = reach;
   out->weight[0] = 1.0 - centre + far;
   out->weight[1] = centre - 2.0 * far;
-  out->weight[2] = third ? far : 0.0;
   out->gradient[0] = slope - 1.0;
   out->gradient[1] = 1.0 - 2.0 * slope;
-  out->gradient[2] = third ? slope : 0.0;
+  /* The third node's factors need no test of the reach: with reach 1,
+   * s + l < lowest + 1 as computed, so exactly (lowest + 1 is a double);
+   * centre = s - lowest is exact (Sterbenz: lowest <= s < lowest + 1
+   * <= 2 lowest, or lowest = 0), so centre + l rounds to at most 1, past
+   * clamps to +0 and far and slope are +0: the zeros of before, bit for
+   * bit, without the two selects (six axes per point and step). */
+  out->weight[2] = far;
+  out->gradient[2] = slope;
   return true;
 }
 
