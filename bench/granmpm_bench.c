@@ -14,8 +14,11 @@
  *   block3d-1e5, ugimp3d-1e5,         GM_GEOMETRY_3D: a cube of 2x2x2
  *   block3d-1e6                       points per cell (97 336 and 1 000 000
  *                                     points), linear and uGIMP (issue 16
- *                                     item 5; the granular families are
- *                                     not 3D yet)
+ *                                     item 5)
+ *   granular3d-1e5,                   the same cube with the granular
+ *   plain-cloud3d-1e5,                family, and a cube of 70 % of the
+ *   granular-cloud3d-1e5              points under a cloud of the other
+ *                                     30 % (plain and granular), as in 2D
  *
  * each with 1 and 2 workers (the built-in pool). Every case runs in its own
  * forked process, so peak_rss_mb is that case's peak (not the peak of all
@@ -70,8 +73,8 @@ typedef struct bench_case {
   /* Granular cases: share of all points that are disconnected, placed as
    * a sparse cloud above the block (0 = none). */
   double disconnected_share;
-  /* GM_GEOMETRY_3D: a cube of 2 x 2 x 2 points per cell (issue 16 item 5;
-   * no cloud); false: the plane-strain square. */
+  /* GM_GEOMETRY_3D: a cube of 2 x 2 x 2 points per cell (issue 16 item 5);
+   * false: the plane-strain square. */
   bool three_d;
 } bench_case;
 
@@ -103,6 +106,12 @@ static const bench_case bench_cases[] = {
      GM_SHAPE_LINEAR, PLAIN},
     {"block3d-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN3D},
     {"ugimp3d-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_UGIMP, PLAIN3D},
+    {"granular3d-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
+     GM_FAMILY_GRANULAR, 0.0, true},
+    {"plain-cloud3d-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
+     GM_FAMILY_PLAIN, 0.3, true},
+    {"granular-cloud3d-1e5", 1e5, 1.0, true, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
+     GM_FAMILY_GRANULAR, 0.3, true},
     {"block-1e6", 1e6, 1.0, false, MATERIAL_ELASTIC, GM_SHAPE_LINEAR, PLAIN},
     {"block3d-1e6", 1e6, 1.0, false, MATERIAL_ELASTIC, GM_SHAPE_LINEAR,
      PLAIN3D},
@@ -222,11 +231,13 @@ static gm_status add_material(gm_domain *domain, bench_material kind,
 
 /* A falling cloud of points 1.5 cells apart above the block: each point is
  * disconnected (its domain of interaction meets no other), while linear
- * supports of neighbours still share nodes. */
+ * supports of neighbours still share nodes. Rows along y of columns along x
+ * (and, in 3D, of the same number of columns along z). */
 static int add_cloud(gm_domain *domain, int material, double cell_size,
-                     int rows, int columns) {
-  size_t count = (size_t)rows * (size_t)columns;
-  double *position = malloc(2 * count * sizeof *position);
+                     int rows, int columns, bool three_d) {
+  int dim = three_d ? 3 : 2, depth = three_d ? columns : 1;
+  size_t count = (size_t)rows * (size_t)columns * (size_t)depth;
+  double *position = malloc((size_t)dim * count * sizeof *position);
   double *volume = malloc(count * sizeof *volume);
   if (!position || !volume) {
     free(position);
@@ -235,13 +246,19 @@ static int add_cloud(gm_domain *domain, int material, double cell_size,
     return 1;
   }
   double spacing = 1.5 * cell_size; /* m */
+  /* m^3 (m^2 in plane strain): a block point's, 2 per cell and axis */
+  double point_volume = pow(0.5 * cell_size, dim);
+  size_t i = 0;
   for (int row = 0; row < rows; row++)
-    for (int column = 0; column < columns; column++) {
-      size_t i = (size_t)row * (size_t)columns + (size_t)column;
-      position[2 * i] = (column + 0.5) * spacing;
-      position[2 * i + 1] = block_side + (row + 1.0) * spacing;
-      volume[i] = 0.25 * cell_size * cell_size; /* as in the block */
-    }
+    for (int layer = 0; layer < depth; layer++)
+      for (int column = 0; column < columns; column++, i++) {
+        double *x = position + (size_t)dim * i;
+        x[0] = (column + 0.5) * spacing;
+        x[1] = block_side + (row + 1.0) * spacing;
+        if (three_d)
+          x[2] = (layer + 0.5) * spacing;
+        volume[i] = point_volume;
+      }
   gm_points_def points = gm_points_def_default();
   points.count = count;
   points.material = material;
@@ -281,7 +298,9 @@ static int build_scene(const bench_case *scene, int workers,
   int cloud_rows = 0, cloud_columns = cells_per_side * 2 / 3;
   if (scene->disconnected_share > 0.0) { /* 1.5 cells apart: disconnected */
     double cloud_points = scene->target_points * scene->disconnected_share;
-    cloud_rows = (int)ceil(cloud_points / cloud_columns);
+    double per_row = scene->three_d ? (double)cloud_columns * cloud_columns
+                                    : (double)cloud_columns;
+    cloud_rows = (int)ceil(cloud_points / per_row);
     def.extent[1] += 1.5 * cell_size * (cloud_rows + 2);
   }
   def.family = scene->family;
@@ -312,7 +331,8 @@ static int build_scene(const bench_case *scene, int workers,
     CHECK(*domain, gm_domain_set_granular(*domain, material, &granular));
   }
   if (cloud_rows > 0)
-    return add_cloud(*domain, material, cell_size, cloud_rows, cloud_columns);
+    return add_cloud(*domain, material, cell_size, cloud_rows, cloud_columns,
+                     scene->three_d);
   return 0;
 }
 
