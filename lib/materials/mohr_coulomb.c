@@ -155,9 +155,10 @@ static bool return_to_main_plane(const mc_constants *k, const mc_planes *planes,
  * sigma_3. False
  * unless both plastic multipliers are >= 0 and the edge point is ordered
  * (not past the apex). */
-static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
-                           const double trial[3], bool compression,
-                           double out[3]) {
+static GM_ALWAYS_INLINE bool return_to_edge(const mc_constants *k,
+                                            const mc_planes *planes,
+                                            const double trial[3],
+                                            bool compression, double out[3]) {
   const mc_edge *edge_system =
       compression ? &planes->compression : &planes->extension;
   double b_flow_size =
@@ -195,8 +196,10 @@ static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
 }
 
 /* Principal stresses after the return (sorted trial in, result out). */
-static void return_principal(const mc_constants *k, const mc_planes *planes,
-                             const double trial[3], double out[3]) {
+static GM_ALWAYS_INLINE void return_principal(const mc_constants *k,
+                                              const mc_planes *planes,
+                                              const double trial[3],
+                                              double out[3]) {
   if (return_to_main_plane(k, planes, trial, out))
     return;
   /* The main-plane result tells which ordering it broke: sigma_2 > sigma_1
@@ -316,8 +319,10 @@ typedef enum mc_outcome {
  * sin 2 theta) without trigonometry), so the result commutes with the trial
  * as the general path's composition does. At r = 0 every in-plane direction
  * is principal and P = diag(1, -1) is as right as any. */
-static mc_outcome return_planar(const mc_constants *k, const mc_planes *planes,
-                                double stress[6], double *plastic_shear) {
+static GM_ALWAYS_INLINE mc_outcome return_planar(const mc_constants *k,
+                                                 const mc_planes *planes,
+                                                 double stress[6],
+                                                 double *plastic_shear) {
   gm_principal_circle circle = gm_principal_in_plane(stress);
   double major = circle.centre + circle.radius;
   double minor = circle.centre - circle.radius;
@@ -557,6 +562,7 @@ bool gm_mohr_coulomb_plane_returns(const gm_mohr_coulomb_def *def,
   mc_constants k;
   mc_planes planes;
   prepare(def, &k, &planes);
+  k.yield_offset = 0.0; /* no rate term: a constant the returns fold */
   const double *const rows_in[4] = {stress[0], stress[1], stress[2], stress[3]};
   double screen = 0.0; /* x * 0 is NaN exactly when x is not finite */
   for (size_t begin = 0; begin < count; begin += MC_CHUNK) {
