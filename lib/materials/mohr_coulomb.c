@@ -418,7 +418,9 @@ static void sqrt_rows(double *values, size_t count) {
  * loop visits only them and the elastic points cost no scalar work nor a
  * mispredicted branch. With the rate term (`rated`, eta in Pa s^2) each
  * point's 2 c cos(phi) (eq 16) goes to `offset`, as the corrector reads it;
- * without it `offset` is 0. `plane` (a constant): yz = zx = 0 is known and
+ * without it `offset` is 0 (x - 0 is x: the same value), left unwritten
+ * for a plane chunk, whose corrector does not read it. `plane` (a
+ * constant): yz = zx = 0 is known and
  * stress[4], stress[5] are not read; the listed rows are the same (a +0
  * added to the finiteness sum or to the yield value changes neither's
  * test). Returns the number of rows written to `row` (offsets from
@@ -429,8 +431,9 @@ screen_chunk(const mc_constants *k, const mc_planes *planes,
              double dt, size_t begin, size_t end, double eta, const bool rated,
              const bool plane, double *offset, uint16_t *row) {
   size_t count = end - begin;
-  for (size_t j = 0; j < count; j++)
-    offset[j] = 0.0;
+  if (!rated && !plane) /* the general corrector reads them */
+    for (size_t j = 0; j < count; j++)
+      offset[j] = 0.0;
   if (rated)
     for (size_t j = 0; j < count; j++) {
       double increment[6];
@@ -467,7 +470,7 @@ screen_chunk(const mc_constants *k, const mc_planes *planes,
     double high = major > zz[j] ? major : zz[j];
     double low = minor < zz[j] ? minor : zz[j];
     /* plane_value(&planes->main, k, {high, 0, low}) */
-    double value = n0 * high + n1 * 0.0 + n2 * low - offset[j];
+    double value = n0 * high + n1 * 0.0 + n2 * low - (rated ? offset[j] : 0.0);
     /* A general 3D stress (yz or zx not 0) goes to the corrector: +inf
      * (or NaN) added, selected without a branch */
     double general = plane || (yz[j] == 0.0 && zx[j] == 0.0) ? 0.0 : INFINITY;
@@ -567,7 +570,7 @@ bool gm_mohr_coulomb_plane_returns(const gm_mohr_coulomb_def *def,
   double screen = 0.0; /* x * 0 is NaN exactly when x is not finite */
   for (size_t begin = 0; begin < count; begin += MC_CHUNK) {
     size_t end = count - begin < MC_CHUNK ? count : begin + MC_CHUNK;
-    double offset[MC_CHUNK]; /* zeros: no rate term */
+    double offset[MC_CHUNK]; /* not written: no rate term */
     uint16_t row[MC_CHUNK];
     size_t rows = screen_chunk(&k, &planes, rows_in, NULL, 0.0, begin, end, 0.0,
                                false, true, offset, row);
