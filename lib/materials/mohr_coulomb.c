@@ -35,7 +35,10 @@
  * carry the return back to the stress components. Every step of the return
  * (predictor, principal values, planes, recomposition) is frame
  * indifferent, so the update of a rotated state is the rotated update
- * (tests/unit/test_materials_3d.c).
+ * (tests/unit/test_materials_3d.c). The domain's plane chunks without the
+ * rate term do not call gm_mohr_coulomb_update: grid/deform_mohr_coulomb.c
+ * writes the rotated trial stress and calls gm_mohr_coulomb_plane_returns,
+ * the same screen and plane return on those rows (the same bits).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
