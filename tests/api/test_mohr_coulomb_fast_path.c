@@ -18,7 +18,9 @@
  * dilation angle, uGIMP and CPDI; a block spinning at 10 rad/s (the
  * Jaumann spin under plasticity); Mohr-Coulomb beside an elastic block,
  * whose shared chunks mix materials (general path in both domains); and a
- * column squeezed so fast that F inverts.
+ * column squeezed so fast that F inverts; and a column of E = 1e308 Pa
+ * stretched until its elastic trial stress overflows (the fused pass hands
+ * that chunk to the general stress update, which reports it).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -49,16 +51,17 @@ typedef struct scene {
   bool with_elastic;   /* an elastic block beside the column */
   gm_wall_type floor;
   gm_shape shape;
+  double young; /* Pa, 0: 1 MPa */
 } scene;
 
-static gm_mohr_coulomb_def sand(double dilation) {
+static gm_mohr_coulomb_def sand(double dilation, double young) {
   gm_mohr_coulomb_def law = gm_mohr_coulomb_def_default();
-  law.youngs_modulus = 1e6;               /* Pa */
-  law.poisson_ratio = 0.3;                /* - */
-  law.density = 1800.0;                   /* kg/m^3 */
-  law.friction_angle = 30.0 * PI / 180.0; /* rad */
-  law.dilation_angle = dilation;          /* rad */
-  law.bagnold_viscosity = 0.0;            /* Pa s^2: the fast path's case */
+  law.youngs_modulus = young > 0.0 ? young : 1e6; /* Pa */
+  law.poisson_ratio = 0.3;                        /* - */
+  law.density = 1800.0;                           /* kg/m^3 */
+  law.friction_angle = 30.0 * PI / 180.0;         /* rad */
+  law.dilation_angle = dilation;                  /* rad */
+  law.bagnold_viscosity = 0.0; /* Pa s^2: the fast path's case */
   return law;
 }
 
@@ -74,7 +77,7 @@ static int add_sand(gm_domain *domain, const gm_mohr_coulomb_def *law,
     return id;
   }
   gm_material_def def = gm_material_def_default();
-  def.name = "wrapped mohr-coulomb";
+  def.name = "mohr_coulomb"; /* the built-in one's: messages compare equal */
   def.update = wrapped_mohr_coulomb;
   def.user = (void *)law;
   def.state_count = GM_MOHR_COULOMB_STATE_COUNT;
@@ -101,7 +104,7 @@ static gm_domain *make_domain(const scene *s, bool builtin) {
   def.max_retries = 0; /* a failed step fails: no halved dt */
   gm_domain *domain = NULL;
   TEST_ASSERT_OK(NULL, gm_domain_create(&def, &domain));
-  laws[builtin] = sand(s->dilation);
+  laws[builtin] = sand(s->dilation, s->young);
   int column = add_sand(domain, &laws[builtin], builtin);
   gm_fill_def fill = gm_fill_def_default();
   fill.points_per_cell_axis = 2;
@@ -109,6 +112,8 @@ static gm_domain *make_domain(const scene *s, bool builtin) {
   /* A squeezed column stands off the wall (it moves towards its centre
    * line x_c = left + 0.0465 m). */
   double left = s->squeeze > 0.0 ? 0.05 : 0.0, bottom = 0.0; /* m */
+  if (s->squeeze < 0.0) /* a stretched one stands mid-grid */
+    left = 0.1535;
   fill.lower[0] = left;
   fill.upper[0] = left + 0.093; /* not a block boundary: shared chunks */
   fill.lower[1] = bottom;
@@ -294,6 +299,35 @@ START_TEST(inversion_fails_alike) {
 }
 END_TEST
 
+/* A column stretched along x by 1.5 per step (v_x = 1.5 / dt (x - x_c))
+ * with E = 1e308 Pa: F stays positive (det F = 2.5), but the elastic trial
+ * xx, about (lambda + 2 G) 1.5 = 2e308 Pa, overflows. The fused pass hands
+ * such a chunk to the general stress update: both domains fail the step
+ * with the material's message. dt is the domain's stable one (the fixed
+ * one of the soft law would be refused). */
+START_TEST(overflow_fails_alike) {
+  scene s = {GM_SCHEME_USL,   0.0,  0.0, -1.0, 0.0, false, GM_WALL_SLIP,
+             GM_SHAPE_LINEAR, 1e308};
+  gm_domain *fused = make_domain(&s, true);
+  double dt = 0.0;
+  TEST_ASSERT_OK(fused, gm_domain_stable_dt(fused, &dt));
+  gm_domain_destroy(fused);
+  s.squeeze = -1.5 / dt;
+  fused = make_domain(&s, true);
+  gm_domain *general = make_domain(&s, false);
+  gm_status a = gm_domain_step(fused, dt);
+  gm_status b = gm_domain_step(general, dt);
+  ck_assert_int_eq(a, b);
+  ck_assert_int_ne(a, GM_OK);
+  ck_assert_str_eq(gm_domain_last_error(fused), gm_domain_last_error(general));
+  ck_assert_msg(strstr(gm_domain_last_error(fused), "not finite") != NULL,
+                "overflow: %s", gm_domain_last_error(fused));
+  assert_same_state(fused, general, "overflow");
+  gm_domain_destroy(fused);
+  gm_domain_destroy(general);
+}
+END_TEST
+
 static Suite *suite(void) {
   Suite *s = suite_create("mohr_coulomb_fast_path");
   TCase *tc = tcase_create("bitwise");
@@ -305,6 +339,7 @@ static Suite *suite(void) {
   tcase_add_test(tc, spinning_column);
   tcase_add_test(tc, beside_elastic_mixed_chunks);
   tcase_add_test(tc, inversion_fails_alike);
+  tcase_add_test(tc, overflow_fails_alike);
   suite_add_tcase(s, tc);
   return s;
 }
