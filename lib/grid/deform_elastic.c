@@ -29,16 +29,16 @@
 
 #include <math.h>
 
-bool gm_elastic_chunk_fits(const gm_domain *domain, const gather_view *v,
-                           const gm_g2p_pass *pass, size_t first,
-                           size_t count) {
+int gm_plane_chunk_material(const gm_domain *domain, const gather_view *v,
+                            const gm_g2p_pass *pass, size_t first,
+                            size_t count) {
   if (v->dim != 2 || v->axisymmetric || pass->in_place || count == 0)
-    return false;
+    return -1;
   const int32_t *material = domain->points.material + first;
+  int32_t differ = 0; /* no early exit: the scan vectorises */
   for (size_t j = 1; j < count; j++)
-    if (material[j] != material[0])
-      return false;
-  return domain->materials[material[0]].update == gm_elastic_update;
+    differ |= material[j] ^ material[0];
+  return differ ? -1 : material[0];
 }
 
 bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,

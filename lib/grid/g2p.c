@@ -574,11 +574,23 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
     /* A chunk with an inverted point skips its material call: the step
      * fails anyway, and materials never see a non-positive density. */
     bool deformed = true;
-    if (deform && gm_elastic_chunk_fits(domain, v, ctx->pass, first, count)) {
-      /* Elastic plane points: F, V, Jaumann and Hooke in two fused loops
-       * (deform_elastic.c), bitwise the arithmetic of the general path. */
-      deformed =
-          gm_deform_elastic_chunk(domain, v, scratch, first, count, g, dt);
+    int plane_material =
+        deform ? gm_plane_chunk_material(domain, v, ctx->pass, first, count)
+               : -1;
+    bool elastic =
+        plane_material >= 0 &&
+        domain->materials[plane_material].update == gm_elastic_update;
+    bool mohr_coulomb = plane_material >= 0 && !elastic &&
+                        gm_mohr_coulomb_chunk_fits(domain, plane_material);
+    if (elastic || mohr_coulomb) {
+      /* Elastic or Mohr-Coulomb plane points: F, V, Jaumann and the
+       * material's law in fused loops (deform_elastic.c,
+       * deform_mohr_coulomb.c), bitwise the arithmetic of the general
+       * path. */
+      deformed = elastic ? gm_deform_elastic_chunk(domain, v, scratch, first,
+                                                   count, g, dt)
+                         : gm_deform_mohr_coulomb_chunk(domain, v, scratch,
+                                                        first, count, g, dt);
       if (deformed && domain->def.family != GM_FAMILY_PLAIN) {
         double start = gm_monotonic_seconds();
         gm_density_control_chunk(domain, first, count);

@@ -270,16 +270,25 @@ void gm_gather_chunk_wide(const gather_view *view, size_t first, size_t count,
 void gm_report_inverted_chunk(gm_domain *domain, const gather_view *v,
                               gm_worker_scratch *scratch, size_t first,
                               size_t count, double dt);
-/* The fused deformation pass of deform_elastic.c: whether a chunk may take
- * it (plane strain, committed F and stress, one material whose update is
- * gm_elastic_update), and the pass itself, which returns false (the
- * inverted points reported) when some det F is not positive. CPDI's domain
- * map takes its increment there too; its reset stays the caller's. */
-bool gm_elastic_chunk_fits(const gm_domain *domain, const gather_view *v,
-                           const gm_g2p_pass *pass, size_t first, size_t count);
+/* The fused deformation passes of deform_elastic.c and
+ * deform_mohr_coulomb.c. gm_plane_chunk_material: the chunk's one material
+ * when it may take one (plane strain, committed F and stress, a single
+ * material), else -1; the elastic pass is for gm_elastic_update, the
+ * Mohr-Coulomb one for a material gm_mohr_coulomb_chunk_fits accepts. Each
+ * pass returns false (the inverted points reported) when some det F is not
+ * positive. CPDI's domain map takes its increment there too; its reset
+ * stays the caller's. */
+int gm_plane_chunk_material(const gm_domain *domain, const gather_view *v,
+                            const gm_g2p_pass *pass, size_t first,
+                            size_t count);
 bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,
                              gm_worker_scratch *scratch, size_t first,
                              size_t count, const chunk_gather *g, double dt);
+bool gm_mohr_coulomb_chunk_fits(const gm_domain *domain, int material);
+bool gm_deform_mohr_coulomb_chunk(gm_domain *domain, const gather_view *v,
+                                  gm_worker_scratch *scratch, size_t first,
+                                  size_t count, const chunk_gather *g,
+                                  double dt);
 /* Block keys of the chunk's moved and deformed points (next buffer) from
  * their supports; a support leaving the grid fails the step. */
 void gm_wide_keys_chunk(gm_domain *domain, const gather_view *view,

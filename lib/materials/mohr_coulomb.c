@@ -35,7 +35,10 @@
  * carry the return back to the stress components. Every step of the return
  * (predictor, principal values, planes, recomposition) is frame
  * indifferent, so the update of a rotated state is the rotated update
- * (tests/unit/test_materials_3d.c).
+ * (tests/unit/test_materials_3d.c). The domain's plane chunks without the
+ * rate term do not call gm_mohr_coulomb_update: grid/deform_mohr_coulomb.c
+ * writes the rotated trial stress and calls gm_mohr_coulomb_plane_returns,
+ * the same screen and plane return on those rows (the same bits).
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -88,6 +91,9 @@ typedef struct mc_planes {
   mc_plane main;
   double main_compliance; /* 1 / (normal . D flow) of the main plane, 1/Pa */
   mc_edge compression, extension;
+  /* Largest |entry| of each plane's D flow (Pa), for the edge returns'
+   * round-off test: main, compression edge's plane, extension edge's. */
+  double main_flow_size, compression_flow_size, extension_flow_size;
 } mc_planes;
 
 /* The plane on which principal stress `major` plays sigma_1 and `minor`
@@ -111,8 +117,12 @@ static double dot3(const double a[3], const double b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* Largest |entry| of finite a[3]: fmax's value (of finite numbers, the
+ * larger), with plain comparisons instead of libm calls. */
 static double max_abs3(const double a[3]) {
-  return fmax(fabs(a[0]), fmax(fabs(a[1]), fabs(a[2])));
+  double x = fabs(a[0]), y = fabs(a[1]), z = fabs(a[2]);
+  double yz = y > z ? y : z;
+  return x > yz ? x : yz;
 }
 
 static mc_edge make_edge(const mc_plane *a, mc_plane b) {
@@ -148,11 +158,14 @@ static bool return_to_main_plane(const mc_constants *k, const mc_planes *planes,
  * sigma_3. False
  * unless both plastic multipliers are >= 0 and the edge point is ordered
  * (not past the apex). */
-static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
-                           const double trial[3], bool compression,
-                           double out[3]) {
+static GM_ALWAYS_INLINE bool return_to_edge(const mc_constants *k,
+                                            const mc_planes *planes,
+                                            const double trial[3],
+                                            bool compression, double out[3]) {
   const mc_edge *edge_system =
       compression ? &planes->compression : &planes->extension;
+  double b_flow_size =
+      compression ? planes->compression_flow_size : planes->extension_flow_size;
   const mc_plane *a = &planes->main, *b = &edge_system->plane;
   double aa = edge_system->coupling[0][0], ab = edge_system->coupling[0][1];
   double ba = edge_system->coupling[1][0], bb = edge_system->coupling[1][1];
@@ -167,13 +180,10 @@ static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
    * main-plane return then lands on the edge itself, to the last bit on
    * either side, and rejecting the edge sent such a point to the apex (a
    * zero stress for a cohesionless material in compression). */
-  double rounding = 64.0 * DBL_EPSILON *
-                    fmax(fabs(trial[0]), fmax(fabs(trial[1]), fabs(trial[2])));
-  if (multiplier_a < 0.0 &&
-      -multiplier_a * max_abs3(a->elastic_flow) <= rounding)
+  double rounding = 64.0 * DBL_EPSILON * max_abs3(trial);
+  if (multiplier_a < 0.0 && -multiplier_a * planes->main_flow_size <= rounding)
     multiplier_a = 0.0;
-  if (multiplier_b < 0.0 &&
-      -multiplier_b * max_abs3(b->elastic_flow) <= rounding)
+  if (multiplier_b < 0.0 && -multiplier_b * b_flow_size <= rounding)
     multiplier_b = 0.0;
   if (multiplier_a < 0.0 || multiplier_b < 0.0)
     return false;
@@ -189,8 +199,10 @@ static bool return_to_edge(const mc_constants *k, const mc_planes *planes,
 }
 
 /* Principal stresses after the return (sorted trial in, result out). */
-static void return_principal(const mc_constants *k, const mc_planes *planes,
-                             const double trial[3], double out[3]) {
+static GM_ALWAYS_INLINE void return_principal(const mc_constants *k,
+                                              const mc_planes *planes,
+                                              const double trial[3],
+                                              double out[3]) {
   if (return_to_main_plane(k, planes, trial, out))
     return;
   /* The main-plane result tells which ordering it broke: sigma_2 > sigma_1
@@ -310,8 +322,10 @@ typedef enum mc_outcome {
  * sin 2 theta) without trigonometry), so the result commutes with the trial
  * as the general path's composition does. At r = 0 every in-plane direction
  * is principal and P = diag(1, -1) is as right as any. */
-static mc_outcome return_planar(const mc_constants *k, const mc_planes *planes,
-                                double stress[6], double *plastic_shear) {
+static GM_ALWAYS_INLINE mc_outcome return_planar(const mc_constants *k,
+                                                 const mc_planes *planes,
+                                                 double stress[6],
+                                                 double *plastic_shear) {
   gm_principal_circle circle = gm_principal_in_plane(stress);
   double major = circle.centre + circle.radius;
   double minor = circle.centre - circle.radius;
@@ -407,31 +421,36 @@ static void sqrt_rows(double *values, size_t count) {
  * loop visits only them and the elastic points cost no scalar work nor a
  * mispredicted branch. With the rate term (`rated`, eta in Pa s^2) each
  * point's 2 c cos(phi) (eq 16) goes to `offset`, as the corrector reads it;
- * without it `offset` is 0. Returns the number of rows written to `row`
- * (offsets from begin). */
-static GM_ALWAYS_INLINE size_t screen_chunk(const mc_constants *k,
-                                            const mc_planes *planes,
-                                            const gm_material_batch *batch,
-                                            size_t begin, size_t end,
-                                            double eta, const bool rated,
-                                            double *offset, uint16_t *row) {
+ * without it `offset` is 0 (x - 0 is x: the same value), left unwritten
+ * for a plane chunk, whose corrector does not read it. `plane` (a
+ * constant): yz = zx = 0 is known and
+ * stress[4], stress[5] are not read; the listed rows are the same (a +0
+ * added to the finiteness sum or to the yield value changes neither's
+ * test). Returns the number of rows written to `row` (offsets from
+ * begin). */
+static GM_ALWAYS_INLINE size_t
+screen_chunk(const mc_constants *k, const mc_planes *planes,
+             const double *const *stress, const double *const *strain,
+             double dt, size_t begin, size_t end, double eta, const bool rated,
+             const bool plane, double *offset, uint16_t *row) {
   size_t count = end - begin;
-  for (size_t j = 0; j < count; j++)
-    offset[j] = 0.0;
+  if (!rated && !plane) /* the general corrector reads them */
+    for (size_t j = 0; j < count; j++)
+      offset[j] = 0.0;
   if (rated)
     for (size_t j = 0; j < count; j++) {
       double increment[6];
       for (int c = 0; c < 6; c++)
-        increment[c] = batch->strain_increment[c][begin + j];
-      double rate = shear_rate(increment, batch->dt);
+        increment[c] = strain[c][begin + j];
+      double rate = shear_rate(increment, dt);
       offset[j] = 2.0 * eta * rate * rate * k->cos_friction; /* eq 16 */
     }
-  const double *restrict xx = batch->stress[GM_XX] + begin;
-  const double *restrict yy = batch->stress[GM_YY] + begin;
-  const double *restrict zz = batch->stress[GM_ZZ] + begin;
-  const double *restrict xy = batch->stress[GM_XY] + begin;
-  const double *restrict yz = batch->stress[GM_YZ] + begin;
-  const double *restrict zx = batch->stress[GM_ZX] + begin;
+  const double *restrict xx = stress[GM_XX] + begin;
+  const double *restrict yy = stress[GM_YY] + begin;
+  const double *restrict zz = stress[GM_ZZ] + begin;
+  const double *restrict xy = stress[GM_XY] + begin;
+  const double *restrict yz = plane ? NULL : stress[GM_YZ] + begin;
+  const double *restrict zx = plane ? NULL : stress[GM_ZX] + begin;
   const double n0 = planes->main.normal[0], n1 = planes->main.normal[1];
   const double n2 = planes->main.normal[2];
   /* Three loops, so that the two without a square root vectorise: GCC
@@ -445,16 +464,19 @@ static GM_ALWAYS_INLINE size_t screen_chunk(const mc_constants *k,
   sqrt_rows(radius, count);
   double yield[MC_CHUNK]; /* the yield value, +inf or NaN: corrector */
   for (size_t j = 0; j < count; j++) {
-    double screen = (xx[j] + yy[j] + zz[j] + xy[j] + yz[j] + zx[j]) * 0.0;
+    double sum = xx[j] + yy[j] + zz[j] + xy[j];
+    if (!plane)
+      sum += yz[j] + zx[j];
+    double screen = sum * 0.0;
     double centre = 0.5 * (xx[j] + yy[j]);
     double major = centre + radius[j], minor = centre - radius[j];
     double high = major > zz[j] ? major : zz[j];
     double low = minor < zz[j] ? minor : zz[j];
     /* plane_value(&planes->main, k, {high, 0, low}) */
-    double value = n0 * high + n1 * 0.0 + n2 * low - offset[j];
+    double value = n0 * high + n1 * 0.0 + n2 * low - (rated ? offset[j] : 0.0);
     /* A general 3D stress (yz or zx not 0) goes to the corrector: +inf
      * (or NaN) added, selected without a branch */
-    double general = yz[j] == 0.0 && zx[j] == 0.0 ? 0.0 : INFINITY;
+    double general = plane || (yz[j] == 0.0 && zx[j] == 0.0) ? 0.0 : INFINITY;
     yield[j] = value + screen + general;
   }
   size_t rows = 0;
@@ -465,19 +487,35 @@ static GM_ALWAYS_INLINE size_t screen_chunk(const mc_constants *k,
   return rows;
 }
 
+/* The constants and planes of one update call from the def. */
+static void prepare(const gm_mohr_coulomb_def *def, mc_constants *k,
+                    mc_planes *planes) {
+  double young = def->youngs_modulus; /* Pa */
+  double nu = def->poisson_ratio;     /* - */
+  k->shear = young / (2.0 * (1.0 + nu));
+  k->inverse_double_shear = 1.0 / (2.0 * k->shear);
+  k->lame = young * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  k->sin_friction = sin(def->friction_angle);
+  k->cos_friction = cos(def->friction_angle);
+  k->sin_dilation = sin(def->dilation_angle);
+  k->yield_offset = 0.0; /* stays 0 without the rate term (eta = 0) */
+  planes->main = make_plane(k, 0, 2);
+  planes->main_compliance =
+      1.0 / dot3(planes->main.normal, planes->main.elastic_flow);
+  planes->compression = make_edge(&planes->main, make_plane(k, 1, 2));
+  planes->extension = make_edge(&planes->main, make_plane(k, 0, 1));
+  planes->main_flow_size = max_abs3(planes->main.elastic_flow);
+  planes->compression_flow_size =
+      max_abs3(planes->compression.plane.elastic_flow);
+  planes->extension_flow_size = max_abs3(planes->extension.plane.elastic_flow);
+}
+
 int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
                            char *message, size_t message_size) {
   const gm_mohr_coulomb_def *def = user;
-  double young = def->youngs_modulus; /* Pa */
-  double nu = def->poisson_ratio;     /* - */
   mc_constants k;
-  k.shear = young / (2.0 * (1.0 + nu));
-  k.inverse_double_shear = 1.0 / (2.0 * k.shear);
-  k.lame = young * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-  k.sin_friction = sin(def->friction_angle);
-  k.cos_friction = cos(def->friction_angle);
-  k.sin_dilation = sin(def->dilation_angle);
-  k.yield_offset = 0.0; /* stays 0 without the rate term (eta = 0) */
+  mc_planes planes;
+  prepare(def, &k, &planes);
   if (batch->state_count < GM_MOHR_COULOMB_STATE_COUNT) {
     if (message && message_size > 0)
       snprintf(message, message_size,
@@ -487,22 +525,20 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
   }
   double *plastic_shear = batch->state[GM_MOHR_COULOMB_PLASTIC_SHEAR_STRAIN];
   double eta = def->bagnold_viscosity; /* Pa s^2 */
-  mc_planes planes;
-  planes.main = make_plane(&k, 0, 2);
-  planes.main_compliance =
-      1.0 / dot3(planes.main.normal, planes.main.elastic_flow);
-  planes.compression = make_edge(&planes.main, make_plane(&k, 1, 2));
-  planes.extension = make_edge(&planes.main, make_plane(&k, 0, 1));
+  const double *const *trial_rows = (const double *const *)batch->stress;
   for (size_t begin = 0; begin < batch->count; begin += MC_CHUNK) {
     size_t end =
         batch->count - begin < MC_CHUNK ? batch->count : begin + MC_CHUNK;
     elastic_trials(&k, batch, begin, end);
     double offset[MC_CHUNK]; /* 2 c cos(phi) of each point, Pa */
     uint16_t row[MC_CHUNK];  /* the rows the screen leaves, ascending */
-    size_t rows = eta > 0.0 ? screen_chunk(&k, &planes, batch, begin, end, eta,
-                                           true, offset, row)
-                            : screen_chunk(&k, &planes, batch, begin, end, 0.0,
-                                           false, offset, row);
+    size_t rows =
+        eta > 0.0
+            ? screen_chunk(&k, &planes, trial_rows, batch->strain_increment,
+                           batch->dt, begin, end, eta, true, false, offset, row)
+            : screen_chunk(&k, &planes, trial_rows, batch->strain_increment,
+                           batch->dt, begin, end, 0.0, false, false, offset,
+                           row);
     for (size_t r = 0; r < rows; r++) {
       size_t i = begin + row[r];
       double stress[6];
@@ -524,6 +560,40 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
     }
   }
   return 0;
+}
+
+bool gm_mohr_coulomb_plane_returns(const gm_mohr_coulomb_def *def,
+                                   double *const stress[4], size_t count,
+                                   double *plastic_shear, size_t stride) {
+  mc_constants k;
+  mc_planes planes;
+  prepare(def, &k, &planes);
+  k.yield_offset = 0.0; /* no rate term: a constant the returns fold */
+  const double *const rows_in[4] = {stress[0], stress[1], stress[2], stress[3]};
+  double screen = 0.0; /* x * 0 is NaN exactly when x is not finite */
+  for (size_t begin = 0; begin < count; begin += MC_CHUNK) {
+    size_t end = count - begin < MC_CHUNK ? count : begin + MC_CHUNK;
+    double offset[MC_CHUNK]; /* not written: no rate term */
+    uint16_t row[MC_CHUNK];
+    size_t rows = screen_chunk(&k, &planes, rows_in, NULL, 0.0, begin, end, 0.0,
+                               false, true, offset, row);
+    for (size_t r = 0; r < rows; r++) {
+      size_t i = begin + row[r];
+      double point[6] = {stress[GM_XX][i],
+                         stress[GM_YY][i],
+                         stress[GM_ZZ][i],
+                         stress[GM_XY][i],
+                         0.0,
+                         0.0};
+      if (return_planar(&k, &planes, point, &plastic_shear[i * stride]) ==
+          MC_PLASTIC) {
+        for (int c = 0; c < 4; c++)
+          stress[c][i] = point[c];
+        screen += (point[0] + point[1] + point[2] + point[3]) * 0.0;
+      }
+    }
+  }
+  return screen == 0.0;
 }
 
 /* Validates the Mohr-Coulomb specific fields (angles in rad). */
