@@ -213,8 +213,8 @@ static int build_scene(run3d *run) {
   def.extent[2] = scene->extent_z;
   def.gravity[2] = -GRAVITY;
   def.scheme = example_scheme(scene->scheme);
-  def.walls[GM_FACE_XMIN] = GM_WALL_SLIP; /* symmetry planes */
-  def.walls[GM_FACE_YMIN] = GM_WALL_SLIP;
+  def.walls[GM_FACE_XMIN] = GM_WALL_SYMMETRY; /* symmetry planes */
+  def.walls[GM_FACE_YMIN] = GM_WALL_SYMMETRY;
   int face_floor = strcmp(scene->floor, "face") == 0;
   if (!face_floor && strcmp(scene->floor, "wall") != 0) {
     fprintf(stderr, "--floor: '%s' is not wall or face\n", scene->floor);

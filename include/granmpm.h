@@ -149,11 +149,19 @@ typedef enum gm_transfer {
  * families only; no planar walls or rigid materials; y faces, and z faces
  * in 3D, may not be periodic). */
 typedef enum gm_wall_type {
-  GM_WALL_OPEN = 0,    /* no condition: a point crossing it is an error */
-  GM_WALL_FIXED = 1,   /* no-slip: both velocity components zero */
-  GM_WALL_SLIP = 2,    /* frictionless: normal velocity zero */
-  GM_WALL_PERIODIC = 3 /* the x faces wrap around onto each other */
+  GM_WALL_OPEN = 0,     /* no condition: a point crossing it is an error */
+  GM_WALL_FIXED = 1,    /* no-slip: both velocity components zero */
+  GM_WALL_SLIP = 2,     /* frictionless: normal velocity zero */
+  GM_WALL_PERIODIC = 3, /* the x faces wrap around onto each other */
+  GM_WALL_SYMMETRY = 4  /* a symmetry plane: normal velocity always zero */
 } gm_wall_type;
+/* GM_WALL_FIXED and GM_WALL_SLIP are walls that material may leave: a
+ * face node is held only while its material touches the face (a gap of at
+ * most 0.01 cells), and material a fraction of a cell above the face falls
+ * onto it. GM_WALL_SYMMETRY holds the normal velocity of its face nodes
+ * whatever the gap, as the mirror image of the material beyond the plane
+ * would: use it for the symmetry planes of a half or quarter domain
+ * (gm_domain_create(3)). */
 
 /** Faces of the grid box, indices into gm_domain_def.walls. */
 enum {

@@ -58,7 +58,8 @@ void gm_walls_measure_gaps(gm_domain *domain);
 int gm_gap_plane_count(const gm_domain *domain);
 /* Centre-gap records per node (grid->wall_centre_gap): as the gap records
  * with the shapes wider than a tent, the planar walls only with linear
- * shapes, whose faces need no centre gap (grid_update.c). */
+ * shapes, whose faces need no centre gap (grid_update.c); none in 3D,
+ * which has no centre-gap rule yet (walls_3d.c). */
 int gm_centre_gap_plane_count(const gm_domain *domain);
 /* Slot of box face f (2 axis + side) in a node's gap records; -1 when
  * the face is not measured (open, or a B-spline mirror). */
@@ -87,6 +88,9 @@ int gm_gap_face_slot(const gm_domain *domain, int face);
 /* Gaps (cells) below which a wall or a box face counts as touched: see
  * gm_walls_contact (walls.c). */
 #define GM_CONTACT_TOLERANCE 3e-3
+/* Gap (cells) beyond which material that touched a box face may leave it
+ * (grid_update.c, constrain_faces; grid_update_3d.c). */
+#define GM_FACE_RELEASE 0.01
 /* Sizes the per-block wall-force partial sums for the current walls. */
 gm_status gm_walls_reserve(gm_domain *domain);
 

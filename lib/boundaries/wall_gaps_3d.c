@@ -10,9 +10,16 @@
  * (half edges h_k). The nodes that get the gap are those the point has
  * weight on: the 8 of its tent with linear MPM, the nodes of its GIMP
  * support (up to 3 per axis, support_3d.h) with uGIMP and cpGIMP, which
- * take walls on open box faces only (walls.c, check_wide_3d). The box
- * faces of 3D hold their nodes without a gap (grid_update_3d.c) and are
- * not measured.
+ * take walls on open box faces only (walls.c, check_wide_3d).
+ *
+ * The box faces that hold material (slip and fixed; not the B-splines'
+ * mirrors) get the same measure after the walls, in the slots of
+ * gm_gap_face_slot, as in 2D: a face node held at zero while its material
+ * is still a fraction of a cell above the face would hang that material
+ * there (grid_update_3d.c). A face acts on its face and ghost nodes only,
+ * which a support reaches only from points less than a cell in front of it.
+ * The centre gaps of 2D (the wide shapes' rule, wall_gaps.c) are not
+ * measured in 3D.
  *
  * Minima do not depend on the order they are taken in, and the blocks are
  * visited colour by colour as in p2g_3d.c (8 colours), so the result is
@@ -33,14 +40,53 @@
 #define GM_GAP_REACH_3D      4.0
 #define GM_GAP_REACH_WIDE_3D 6.0
 
+/* A plane whose gaps are measured: a point on it and its unit normal into
+ * the material's side. */
+typedef struct gap_plane_3d {
+  double point[3];  /* m */
+  double normal[3]; /* unit */
+  bool face;        /* a box face: only its face and ghost nodes use it */
+} gap_plane_3d;
+
 typedef struct gap_3d_context {
   gm_domain *domain;
   const uint32_t *blocks; /* of the colour being measured */
+  gap_plane_3d planes[GM_MAX_WALLS + 6];
+  int plane_count; /* gm_gap_plane_count: the walls, then the faces */
 } gap_3d_context;
+
+/* The walls, then the measured box faces, in gm_gap_face_slot's order. */
+static int list_planes_3d(const gm_domain *domain, gap_plane_3d *planes) {
+  int count = 0;
+  for (int w = 0; w < domain->wall_count; w++, count++) {
+    for (int k = 0; k < 3; k++) {
+      planes[count].point[k] = domain->walls[w].point[k];
+      planes[count].normal[k] = domain->walls[w].normal[k];
+    }
+    planes[count].face = false;
+  }
+  double h = domain->def.cell_size; /* m */
+  for (int face = 0; face < 6; face++) {
+    if (gm_gap_face_slot(domain, face) < 0)
+      continue;
+    int axis = face / 2, side = face % 2;
+    gap_plane_3d *plane = &planes[count++];
+    for (int k = 0; k < 3; k++)
+      plane->point[k] = plane->normal[k] = 0.0;
+    /* The face's node plane: GM_GHOST_LAYERS above node 0, or cells[axis]
+     * further on the upper side. */
+    int64_t node = GM_GHOST_LAYERS + (side ? domain->cells[axis] : 0);
+    plane->point[axis] = domain->shape_grid.origin[axis] + (double)node * h;
+    plane->normal[axis] = side ? -1.0 : 1.0;
+    plane->face = true;
+  }
+  return count;
+}
 
 /* Could a point binned in this block (its cell's lowest node in the
  * block) lie within the reach of a wall? */
-static bool block_may_reach_3d(const gm_domain *domain, const int64_t base[3],
+static bool block_may_reach_3d(const gm_domain *domain,
+                               const gap_3d_context *ctx, const int64_t base[3],
                                double reach) {
   const double *origin = domain->shape_grid.origin; /* m, node 0 */
   double h = domain->def.cell_size;                 /* m */
@@ -54,12 +100,12 @@ static bool block_may_reach_3d(const gm_domain *domain, const int64_t base[3],
     low[k] = origin[k] + (double)(base[k] - 1) * h;
     high[k] = origin[k] + (double)(base[k] + GM_BLOCK_EDGE_3D + span) * h;
   }
-  for (int w = 0; w < domain->wall_count; w++) {
-    const gm_wall *wall = &domain->walls[w];
+  for (int w = 0; w < ctx->plane_count; w++) {
+    const gap_plane_3d *plane = &ctx->planes[w];
     double nearest = 0.0; /* m, least signed distance of the box corners */
     for (int k = 0; k < 3; k++) {
-      double corner = wall->normal[k] >= 0.0 ? low[k] : high[k];
-      nearest += (corner - wall->point[k]) * wall->normal[k];
+      double corner = plane->normal[k] >= 0.0 ? low[k] : high[k];
+      nearest += (corner - plane->point[k]) * plane->normal[k];
     }
     if (nearest <= reach)
       return true;
@@ -85,31 +131,37 @@ static bool point_support_3d(const gm_domain *domain, const double x[3],
   return true;
 }
 
-static void measure_point_3d(gm_domain *domain, uint32_t block, size_t p,
-                             double reach) {
+static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
+                             uint32_t block, size_t p, double reach) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *current = &points->buffer[points->cur];
   gm_grid *grid = &domain->grid;
-  int walls = domain->wall_count;
+  int planes = ctx->plane_count;
+  double h = domain->def.cell_size; /* m */
   double x[3] = {current->position[0][p], current->position[1][p],
                  current->position[2][p]}; /* m */
   double half[3];                          /* m, the box's half edges */
   gm_box_half_edges_3d(domain->def.shape,
                        (const double *const *)points->domain_size,
                        (const double *const *)current->deformation, p, half);
-  double distance[GM_MAX_WALLS]; /* m */
+  double distance[GM_MAX_WALLS + 6]; /* m */
   bool near = false;
-  for (int w = 0; w < walls; w++) {
-    const gm_wall *wall = &domain->walls[w];
+  for (int w = 0; w < planes; w++) {
+    const gap_plane_3d *plane = &ctx->planes[w];
     double centre = 0.0, half_extent = 0.0; /* m */
     for (int k = 0; k < 3; k++) {
-      centre += (x[k] - wall->point[k]) * wall->normal[k];
-      half_extent += half[k] * fabs(wall->normal[k]);
+      centre += (x[k] - plane->point[k]) * plane->normal[k];
+      half_extent += half[k] * fabs(plane->normal[k]);
     }
     distance[w] = INFINITY;
     if (centre > reach)
       continue;
-    distance[w] = centre - half_extent;
+    double gap = centre - half_extent; /* m */
+    /* A box face acts on its face and ghost nodes only, which a support
+     * reaches only from less than a cell away (wall_gaps.c). */
+    if (plane->face && gap >= h)
+      continue;
+    distance[w] = gap;
     near = true;
   }
   if (!near)
@@ -131,8 +183,8 @@ static void measure_point_3d(gm_domain *domain, uint32_t block, size_t p,
           continue; /* no weight on this node (2D skips these as well) */
         size_t node =
             gm_block_node_3d(links, local[0] + a, local[1] + b, local[2] + c);
-        double *gap = grid->wall_gap + node * (size_t)walls;
-        for (int w = 0; w < walls; w++)
+        double *gap = grid->wall_gap + node * (size_t)planes;
+        for (int w = 0; w < planes; w++)
           gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
       }
 }
@@ -154,13 +206,13 @@ static void measure_blocks_3d(void *context, size_t begin, size_t end,
         (domain->def.shape == GM_SHAPE_LINEAR ? GM_GAP_REACH_3D
                                               : GM_GAP_REACH_WIDE_3D) *
         domain->def.cell_size; /* m */
-    if (!block_may_reach_3d(domain, base, reach))
+    if (!block_may_reach_3d(domain, ctx, base, reach))
       continue;
     for (uint32_t k = grid->point_start[block];
          k < grid->point_start[block + 1]; k++) {
       size_t p = points->order[k];
       if (!domain->materials[points->material[p]].rigid) /* as in 2D */
-        measure_point_3d(domain, block, p, reach);
+        measure_point_3d(domain, ctx, block, p, reach);
     }
   }
 }
@@ -168,7 +220,7 @@ static void measure_blocks_3d(void *context, size_t begin, size_t end,
 static void clear_gaps_3d(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   gm_domain *domain = context;
-  size_t stride = GM_BLOCK_NODES * (size_t)domain->wall_count;
+  size_t stride = GM_BLOCK_NODES * (size_t)gm_gap_plane_count(domain);
   double *gap = domain->grid.wall_gap;
   for (size_t k = begin * stride; k < end * stride; k++)
     gap[k] = INFINITY;
@@ -179,7 +231,10 @@ void gm_walls_measure_gaps_3d(gm_domain *domain) {
   if (grid->block_count == 0)
     return; /* no nodes; and the block lists may be NULL */
   gm_parallel_for(&domain->pool, grid->block_count, clear_gaps_3d, domain);
-  gap_3d_context ctx = {domain, NULL};
+  gap_3d_context ctx;
+  ctx.domain = domain;
+  ctx.blocks = NULL;
+  ctx.plane_count = list_planes_3d(domain, ctx.planes);
   for (int colour = 0; colour < GM_BLOCK_COLOURS; colour++) {
     size_t first = grid->color_start[colour];
     ctx.blocks = grid->color_block + first;

@@ -53,7 +53,8 @@ static bool face_signs(const gm_domain *domain, int axis, int side,
     return false; /* periodic faces: images of the other side (periodic.c) */
   for (int k = 0; k < 3; k++) /* z: 3D only */
     sign[k] = wall == GM_WALL_FIXED ||
-                      (k == axis && (wall == GM_WALL_SLIP || symmetry_axis))
+                      (k == axis && (wall == GM_WALL_SLIP ||
+                                     wall == GM_WALL_SYMMETRY || symmetry_axis))
                   ? -1.0
                   : 1.0;
   return true;

@@ -15,10 +15,6 @@
 
 #include <string.h>
 
-/* Gap (cells) beyond which material that touched a box face may leave it
- * (see constrain_faces). */
-#define GM_FACE_RELEASE 0.01
-
 typedef struct update_context {
   gm_domain *domain;
   double dt; /* s */
@@ -100,8 +96,10 @@ static bool wall_friction(int mode) {
  * stops up to 0.01 cells short of a face it falls onto (measured 0.008
  * cells: a block falling 0.3 cells reaches 98.4 % of the impact speed).
  *
- * The faces of the B-splines are mirrors (bspline_faces.c) and hold as
- * before. */
+ * A symmetry face (GM_WALL_SYMMETRY) holds its nodes' normal velocity
+ * whatever the gap: beyond it lies the mirror image of the material, which
+ * never opens a gap. The faces of the B-splines are mirrors
+ * (bspline_faces.c) and hold as before. */
 static void constrain_faces(const gm_domain *domain, size_t node, int64_t ix,
                             int64_t iy, double dt, double velocity[2],
                             bool held[2]) {
@@ -124,8 +122,8 @@ static void constrain_faces(const gm_domain *domain, size_t node, int64_t ix,
       int slot = gm_gap_face_slot(domain, face);
       double gap = slot >= 0 && grid->mass[node] > 0.0
                        ? grid->wall_gap[node * (size_t)planes + (size_t)slot]
-                       : 0.0; /* m */
-      if (gap <= release) {   /* touching */
+                       : 0.0;                           /* m */
+      if (gap <= release || wall == GM_WALL_SYMMETRY) { /* touching */
         if (wall == GM_WALL_FIXED)
           held[0] = held[1] = true;
         else

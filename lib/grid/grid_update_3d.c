@@ -7,14 +7,21 @@
  * place.
  *
  * A node on or beyond a face (the face's node plane and the ghost layer
- * past it, support.h) takes that face's condition: a fixed face holds all
- * three velocity components at zero, a slip face the normal one, an open
- * face none. This is the 2D faces' "touching" branch held regardless of
- * the gap (version 0.1's rule): the gap-aware release of 2D, which lets
- * material a fraction of a cell above a face fall onto it, needs the wall
- * gaps, not measured in 3D yet (docs/3d.md). After a condition changes a
- * velocity the acceleration becomes (v_new - v_old)/dt, so particle (FLIP)
- * and nodal velocities agree on the faces.
+ * past it, support.h) takes that face's condition, by the rule of the 2D
+ * faces (grid_update.c, constrain_faces): where its material touches the
+ * face (gap at most GM_FACE_RELEASE cells, wall_gaps_3d.c; a node without
+ * mass counts as touching) a fixed face holds all three velocity
+ * components at zero, a slip face the normal one, an open face none;
+ * farther away the node may approach the face by the gap less the contact
+ * tolerance in this step and leave it freely, so material a fraction of a
+ * cell above a face falls onto it instead of hanging there. A symmetry face
+ * (GM_WALL_SYMMETRY) holds the normal component whatever the gap, and the
+ * B-splines' faces are mirrors, not measured: they hold regardless, as
+ * before. After a
+ * condition changes a velocity the acceleration becomes (v_new - v_old)/dt,
+ * so particle (FLIP) and nodal velocities agree on the faces. The wide
+ * shapes' centre-gap rule of the 2D faces (limit_face_centres) is not in
+ * 3D yet.
  *
  * Planar walls of any normal act after the faces, on the nodes near them
  * (walls_3d.c: the contact and Coulomb friction of walls.c, with the
@@ -75,20 +82,41 @@ static void apply_walls_3d(const update_3d_context *ctx, size_t node,
   }
 }
 
-/* Which components the box faces hold at node (ix, iy, iz). */
-static void held_components(const gm_domain *domain, const int64_t index[3],
-                            bool held[3]) {
+/* The box faces on node (ix, iy, iz): which components they hold at zero
+ * (held), and the velocity with its approach to a face limited (velocity,
+ * changed in place); see the top of the file. */
+static void constrain_faces_3d(const gm_domain *domain, size_t node,
+                               const int64_t index[3], double dt,
+                               double velocity[3], bool held[3]) {
+  const gm_grid *grid = &domain->grid;
+  int planes = gm_gap_plane_count(domain);
+  double tolerance = GM_CONTACT_TOLERANCE * domain->def.cell_size; /* m */
+  double release = GM_FACE_RELEASE * domain->def.cell_size;        /* m */
   held[0] = held[1] = held[2] = false;
   for (int axis = 0; axis < 3; axis++) {
     int64_t upper = domain->cells[axis] + GM_GHOST_LAYERS; /* face node */
     for (int side = 0; side < 2; side++) {
       if (side ? index[axis] < upper : index[axis] > GM_GHOST_LAYERS)
         continue;
-      gm_wall_type wall = domain->def.walls[2 * axis + side];
-      if (wall == GM_WALL_FIXED)
-        held[0] = held[1] = held[2] = true;
-      else if (wall == GM_WALL_SLIP)
-        held[axis] = true;
+      int face = 2 * axis + side;
+      gm_wall_type wall = domain->def.walls[face];
+      if (wall == GM_WALL_OPEN || wall == GM_WALL_PERIODIC)
+        continue; /* periodic: the images take their owners' values */
+      int slot = gm_gap_face_slot(domain, face);
+      double gap = slot >= 0 && grid->mass[node] > 0.0
+                       ? grid->wall_gap[node * (size_t)planes + (size_t)slot]
+                       : 0.0;                           /* m */
+      if (gap <= release || wall == GM_WALL_SYMMETRY) { /* touching */
+        if (wall == GM_WALL_FIXED)
+          held[0] = held[1] = held[2] = true;
+        else
+          held[axis] = true;
+        continue;
+      }
+      double inward = side ? -1.0 : 1.0;        /* the face's normal */
+      double approach = (gap - tolerance) / dt; /* m/s */
+      if (inward * velocity[axis] < -approach)
+        velocity[axis] = -inward * approach;
     }
   }
 }
@@ -142,13 +170,19 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
                           base[1] + (int64_t)((local >> 2) & (size_t)mask),
                           base[2] + (int64_t)(local >> 4)};
       bool held[3];
-      held_components(domain, index, held);
+      double velocity[3] = {grid->momentum[0][node], grid->momentum[1][node],
+                            grid->momentum[2][node]}; /* m/s */
+      constrain_faces_3d(domain, node, index, dt, velocity, held);
       for (int k = 0; k < 3; k++) {
-        if (!held[k])
-          continue;
-        grid->momentum[k][node] = 0.0;
-        if (ctx->mode != GM_GRID_VELOCITY_ONLY)
-          grid->force[k][node] = -old_velocity[k] / dt;
+        if (held[k]) {
+          grid->momentum[k][node] = 0.0;
+          if (ctx->mode != GM_GRID_VELOCITY_ONLY)
+            grid->force[k][node] = -old_velocity[k] / dt;
+        } else if (velocity[k] != grid->momentum[k][node]) { /* approach */
+          grid->momentum[k][node] = velocity[k];
+          if (ctx->mode != GM_GRID_VELOCITY_ONLY)
+            grid->force[k][node] = (velocity[k] - old_velocity[k]) / dt;
+        }
       }
       if (near_walls && mass > 0.0)
         apply_walls_3d(ctx, node, index, old_velocity, block_force);

@@ -82,7 +82,7 @@ static gm_status validate_def(const gm_domain_def *def) {
   for (int face = 0; face < 2 * dim; face++) {
     gm_wall_type wall = def->walls[face];
     if (wall != GM_WALL_OPEN && wall != GM_WALL_FIXED && wall != GM_WALL_SLIP &&
-        wall != GM_WALL_PERIODIC)
+        wall != GM_WALL_PERIODIC && wall != GM_WALL_SYMMETRY)
       CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                   "gm_domain_def.walls[%d] (%s face) is %d, not a "
                   "gm_wall_type value",

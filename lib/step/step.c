@@ -325,13 +325,11 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
       gm_rigid_mark_nodes(domain);
     break;
   case STAGE_MEASURE_WALL_GAPS:
-    /* 3D: the planar walls only; its box faces hold their nodes without
-     * a gap (grid_update_3d.c). */
-    if (domain->dim == 3) {
-      if (domain->wall_count > 0)
+    if (gm_gap_plane_count(domain) > 0) {
+      if (domain->dim == 3)
         gm_walls_measure_gaps_3d(domain);
-    } else if (gm_gap_plane_count(domain) > 0) {
-      gm_walls_measure_gaps(domain);
+      else
+        gm_walls_measure_gaps(domain);
       gm_periodic_fold_gaps(domain); /* owners see across the seam */
     }
     break;
