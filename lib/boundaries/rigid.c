@@ -38,6 +38,13 @@ gm_status gm_domain_add_rigid(gm_domain *domain, const gm_rigid_def *def,
                         "gm_domain_add_rigid: rigid materials are not "
                         "supported with periodic x faces (GM_WALL_PERIODIC) "
                         "in this version");
+  /* mark_point_3d reaches the nodes of a GIMP box or a tent; CPDI's
+   * parallelepipeds (support_cpdi_3d.h) are not marked there yet. */
+  if (domain->dim == 3 && domain->def.shape == GM_SHAPE_CPDI)
+    return gm_set_error(domain, GM_ERR_UNSUPPORTED,
+                        "gm_domain_add_rigid: rigid materials are not "
+                        "supported with GM_SHAPE_CPDI in GM_GEOMETRY_3D in "
+                        "this version");
   for (int k = 0; k < domain->dim; k++)
     if (!isfinite(def->velocity[k]))
       return gm_set_error(domain, GM_ERR_NOT_FINITE,

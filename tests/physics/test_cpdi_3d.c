@@ -1,0 +1,651 @@
+/*
+ * test_cpdi_3d.c - CPDI in 3D (GM_GEOMETRY_3D with GM_SHAPE_CPDI,
+ * lib/shapes/support_cpdi_3d.c, docs/3d.md "CPDI in 3D"):
+ *  - the weights of random sheared and rotated parallelepipeds (white box):
+ *    a partition of unity, zero-sum gradients, exact reproduction of
+ *    linear fields (sum S_i x_i = x_p, sum x_i (x) grad S_i = I), and,
+ *    for a box inside one cell along every axis, where the corner
+ *    interpolation of the trilinear tent is exact, uGIMP's weights;
+ *  - the fixed-free elastic bar of test_3d.c: period 4L/c within 1 %;
+ *  - a block spinning about an oblique axis and sheared (every F component
+ *    moves), no gravity, open faces: no NaN, mass bitwise, total momentum
+ *    conserved to round-off (the gradients sum to zero, so the internal
+ *    forces cancel on the grid);
+ *  - that block bitwise the same with 1 and 2 workers, after a checkpoint
+ *    restart, and allocating nothing in a step after warm-up;
+ *  - what stays unsupported is refused by name: the granular family, APIC,
+ *    periodic x faces, planar walls and rigid materials with CPDI in 3D,
+ *    and a domain too thin to weigh its nodes.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#include "shapes/shapes.h"
+
+#include "test_random.h"
+#include "test_util.h"
+
+#include <math.h>
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static const double PI = 3.14159265358979323846;
+
+/* ------------------------------------------------------- the weights */
+static const double grid_origin[3] = {-1.7, 0.3, 2.2}; /* m, node 0 */
+static const double cell = 0.37;                      /* m */
+static const int64_t last_node[3] = {14, 11, 12};
+
+static gm_shape_grid make_grid(gm_shape shape) {
+  gm_shape_grid grid;
+  memset(&grid, 0, sizeof grid);
+  grid.shape = shape;
+  grid.dim = 3;
+  grid.inv_cell = 1.0 / cell;
+  for (int k = 0; k < 3; k++) {
+    grid.origin[k] = grid_origin[k];
+    grid.last_node[k] = last_node[k];
+  }
+  return grid;
+}
+
+/* A random F = R (I + S): R a rotation by up to pi about a random axis, S
+ * a random shear and stretch with entries up to `amount`, det F > 0. */
+static void random_deformation(double amount, double f[9]) {
+  double axis[3], norm = 0.0;
+  for (int k = 0; k < 3; k++) {
+    axis[k] = lcg_between(-1.0, 1.0);
+    norm += axis[k] * axis[k];
+  }
+  norm = sqrt(norm);
+  for (int k = 0; k < 3; k++)
+    axis[k] /= norm;
+  double angle = lcg_between(-PI, PI), c = cos(angle), s = sin(angle);
+  double r[9]; /* Rodrigues */
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      r[3 * i + j] = (i == j ? c : 0.0) + (1.0 - c) * axis[i] * axis[j];
+  r[1] -= s * axis[2];
+  r[2] += s * axis[1];
+  r[3] += s * axis[2];
+  r[5] -= s * axis[0];
+  r[6] -= s * axis[1];
+  r[7] += s * axis[0];
+  double u[9];
+  for (int k = 0; k < 9; k++)
+    u[k] = (k % 4 == 0 ? 1.0 : 0.0) + lcg_between(-amount, amount);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      f[3 * i + j] = r[3 * i] * u[j] + r[3 * i + 1] * u[3 + j] +
+                     r[3 * i + 2] * u[6 + j];
+}
+
+static double det3(const double f[9]) {
+  return f[0] * (f[4] * f[8] - f[5] * f[7]) -
+         f[1] * (f[3] * f[8] - f[5] * f[6]) +
+         f[2] * (f[3] * f[7] - f[4] * f[6]);
+}
+
+/* Coordinate (m) of node n along axis k. */
+static double node_at(int k, int64_t n) {
+  return grid_origin[k] + (double)n * cell;
+}
+
+START_TEST(test_weights_sheared_parallelepipeds) {
+  lcg_state = 20261128;
+  gm_shape_grid grid = make_grid(GM_SHAPE_CPDI);
+  double worst_unity = 0.0, worst_sum_gradient = 0.0, worst_position = 0.0,
+         worst_identity = 0.0;
+  int computed = 0;
+  for (int sample = 0; sample < 3000; sample++) {
+    double f[9], half[3], x[3];
+    random_deformation(0.4, f);
+    if (!(det3(f) > 0.05))
+      continue;
+    for (int k = 0; k < 3; k++) {
+      half[k] = lcg_between(0.05, 0.5) * cell;
+      x[k] = lcg_between(node_at(k, 3), node_at(k, last_node[k] - 3));
+    }
+    gm_cpdi_support_3d support;
+    if (!gm_cpdi_support_compute_3d(&grid, x, f, half, &support))
+      continue; /* spans more than 5 nodes: refused, counted below */
+    computed++;
+    int64_t lowest[3];
+    ck_assert(gm_cpdi_support_lowest_3d(&grid, x, f, half, lowest));
+    double unity = 0.0, position[3] = {0, 0, 0}, gradient_sum[3] = {0, 0, 0};
+    double identity[9] = {0};
+    size_t entry = 0;
+    for (int c = 0; c < support.span[2]; c++)
+      for (int b = 0; b < support.span[1]; b++)
+        for (int a = 0; a < support.span[0]; a++, entry++) {
+          double xi[3] = {node_at(0, support.lowest[0] + a),
+                          node_at(1, support.lowest[1] + b),
+                          node_at(2, support.lowest[2] + c)}; /* m */
+          double w = support.weight[entry];
+          ck_assert(w >= 0.0 && w <= 1.0);
+          unity += w;
+          for (int i = 0; i < 3; i++) {
+            position[i] += w * xi[i];
+            gradient_sum[i] += support.gradient[i][entry];
+            for (int j = 0; j < 3; j++)
+              identity[3 * i + j] += xi[i] * support.gradient[j][entry];
+          }
+        }
+    for (int k = 0; k < 3; k++)
+      ck_assert_int_eq(lowest[k], support.lowest[k]);
+    worst_unity = fmax(worst_unity, fabs(unity - 1.0));
+    for (int i = 0; i < 3; i++) {
+      worst_position = fmax(worst_position, fabs(position[i] - x[i]) / cell);
+      worst_sum_gradient =
+          fmax(worst_sum_gradient, fabs(gradient_sum[i]) * cell);
+      for (int j = 0; j < 3; j++)
+        worst_identity = fmax(worst_identity,
+                              fabs(identity[3 * i + j] - (i == j ? 1.0 : 0.0)));
+    }
+  }
+  printf("CPDI 3D weights, %d sheared parallelepipeds: unity %.2g, "
+         "position %.2g h, gradient sum %.2g / h, sum x (x) grad - I %.2g\n",
+         computed, worst_unity, worst_position, worst_sum_gradient,
+         worst_identity);
+  /* Most samples fit 5 nodes per axis (edges up to 1 cell, stretched by
+   * up to 1.4 and rotated); all four identities are exact in arithmetic:
+   * round-off of sums of up to 125 terms of order 1 (1e-13, as the GIMP
+   * and B-spline tests in test_support_3d.c), the identity's terms of
+   * order x_i / h ~ 15 (1e-12). */
+  ck_assert_int_gt(computed, 2000);
+  ck_assert_double_le(worst_unity, 1e-13);
+  ck_assert_double_le(worst_position, 1e-13);
+  ck_assert_double_le(worst_sum_gradient, 1e-12);
+  ck_assert_double_le(worst_identity, 1e-12);
+}
+END_TEST
+
+/* A box (F = I) inside one cell along every axis: the tent is trilinear
+ * there, so its corner interpolation is exact and CPDI's average is
+ * uGIMP's exact average (004 eq 3.27), node by node. */
+START_TEST(test_weights_inside_one_cell_are_ugimp) {
+  lcg_state = 7;
+  gm_shape_grid cpdi_grid = make_grid(GM_SHAPE_CPDI);
+  gm_shape_grid gimp_grid = make_grid(GM_SHAPE_UGIMP);
+  static const double identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  double worst = 0.0; /* weights, and gradients times h */
+  for (int sample = 0; sample < 1000; sample++) {
+    double x[3], half[3];
+    for (int k = 0; k < 3; k++) {
+      int64_t node = 3 + (int64_t)(lcg_uniform() * 6);
+      half[k] = lcg_between(0.01, 0.45) * cell;
+      x[k] = node_at(k, node) + half[k] +
+             lcg_uniform() * (cell - 2.0 * half[k]) * 0.999;
+    }
+    gm_cpdi_support_3d cpdi;
+    gm_box_support_3d box;
+    ck_assert(gm_cpdi_support_compute_3d(&cpdi_grid, x, identity, half, &cpdi));
+    ck_assert(gm_box_support_compute_3d(&gimp_grid, x, half, &box));
+    /* Both supports list the cell's nodes first (lowest equal); uGIMP may
+     * list a third node of weight 0 (support_3d.h), CPDI two per axis. */
+    size_t entry = 0;
+    for (int c = 0; c < cpdi.span[2]; c++)
+      for (int b = 0; b < cpdi.span[1]; b++)
+        for (int a = 0; a < cpdi.span[0]; a++, entry++) {
+          for (int k = 0; k < 3; k++)
+            ck_assert_int_eq(cpdi.lowest[k], box.lowest[k]);
+          double w = box.weight[0][a] * box.weight[1][b] * box.weight[2][c];
+          double g[3] = {box.gradient[0][a] * box.weight[1][b] *
+                             box.weight[2][c],
+                         box.weight[0][a] * box.gradient[1][b] *
+                             box.weight[2][c],
+                         box.weight[0][a] * box.weight[1][b] *
+                             box.gradient[2][c]};
+          worst = fmax(worst, fabs(cpdi.weight[entry] - w));
+          for (int k = 0; k < 3; k++)
+            worst = fmax(worst, fabs(cpdi.gradient[k][entry] - g[k]) * cell);
+        }
+  }
+  printf("CPDI 3D inside one cell against uGIMP: %.2g\n", worst);
+  /* Round-off of the two evaluations (weights of order 1, gradients of
+   * order 1 / h). A wrong corner gradient (a sign, a missing cross
+   * product) is off by order 1. */
+  ck_assert_double_le(worst, 1e-13);
+}
+END_TEST
+
+START_TEST(test_bounds_refused) {
+  gm_shape_grid grid = make_grid(GM_SHAPE_CPDI);
+  static const double identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  double half[3] = {0.25 * cell, 0.25 * cell, 0.25 * cell};
+  int64_t lowest[3];
+  gm_cpdi_support_3d support;
+  /* Inside. */
+  double x[3] = {node_at(0, 5) + 0.5 * cell, node_at(1, 5), node_at(2, 5)};
+  ck_assert(gm_cpdi_support_compute_3d(&grid, x, identity, half, &support));
+  /* A corner below node 0. */
+  double low[3] = {node_at(0, 0) + 0.1 * cell, x[1], x[2]};
+  ck_assert(!gm_cpdi_support_lowest_3d(&grid, low, identity, half, lowest));
+  /* A NaN centre. */
+  double nan_x[3] = {x[0], NAN, x[2]};
+  ck_assert(!gm_cpdi_support_lowest_3d(&grid, nan_x, identity, half, lowest));
+  /* Stretched along x to 4.5 cells: 6 node planes. */
+  double stretched[9] = {9, 0, 0, 0, 1, 0, 0, 0, 1};
+  ck_assert(!gm_cpdi_support_lowest_3d(&grid, x, stretched, half, lowest));
+  /* An F of determinant 0 (flattened): no corner gradients. */
+  double flat[9] = {1, 0, 0, 0, 1, 0, 0, 0, 0};
+  ck_assert(!gm_cpdi_support_compute_3d(&grid, x, flat, half, &support));
+}
+END_TEST
+
+/* ------------------------------------------------------------ the bar */
+static const double BAR_LENGTH = 25.0;  /* m, along x */
+static const double BAR_SIDE = 2.0;     /* m, the y and z extents */
+static const double BAR_YOUNGS = 100.0; /* Pa */
+static const double BAR_POISSON = 0.3;  /* - */
+static const double BAR_DENSITY = 1.0;  /* kg/m^3 */
+static const double BAR_V0 = 0.1;       /* m/s */
+static const double BAR_CELL = 1.0;     /* m */
+
+/* The bar of test_3d.c: x = 0 FIXED, SLIP y and z faces, the first mode
+ * v_x = v0 sin(pi x / (2L)). */
+static gm_domain *bar_3d(gm_update_scheme scheme) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.shape = GM_SHAPE_CPDI;
+  def.scheme = scheme;
+  def.cell_size = BAR_CELL;
+  def.extent[0] = 30.0;
+  def.extent[1] = def.extent[2] = BAR_SIDE;
+  def.walls[GM_FACE_XMIN] = GM_WALL_FIXED;
+  for (int face = GM_FACE_YMIN; face <= GM_FACE_ZMAX; face++)
+    def.walls[face] = GM_WALL_SLIP;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, BAR_YOUNGS, BAR_POISSON, BAR_DENSITY);
+  const double lower[3] = {0.0, 0.0, 0.0};
+  const double upper[3] = {BAR_LENGTH, BAR_SIDE, BAR_SIDE};
+  test_fill_box(domain, material, lower, upper, 2, NULL);
+  size_t count = gm_domain_point_count(domain);
+  const double *x = NULL;
+  double *v = NULL;
+  TEST_ASSERT_OK(domain, gm_domain_view_field(domain, GM_FIELD_POSITION, 0, &x));
+  TEST_ASSERT_OK(domain, gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 0, &v));
+  for (size_t i = 0; i < count; ++i)
+    v[i] = BAR_V0 * sin(PI * x[i] / (2.0 * BAR_LENGTH));
+  return domain;
+}
+
+static double centre_of_mass_velocity(const gm_domain *domain) {
+  gm_summary summary = gm_summary_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &summary));
+  return summary.momentum[0] / summary.mass; /* m/s */
+}
+
+/* Times of the sign changes of samples[k] (taken at k dt). */
+static int zero_crossings(const double *samples, int sample_count, double dt,
+                          double *times, int max_times) {
+  int found = 0;
+  for (int k = 0; k + 1 < sample_count && found < max_times; ++k) {
+    double a = samples[k], b = samples[k + 1];
+    if ((a > 0 && b <= 0) || (a < 0 && b >= 0))
+      times[found++] = dt * (k + a / (a - b));
+  }
+  return found;
+}
+
+/* _i: scheme. */
+START_TEST(test_bar_period_cpdi_3d) {
+  gm_update_scheme scheme = (gm_update_scheme)_i;
+  double modulus = BAR_YOUNGS * (1 - BAR_POISSON) /
+                   ((1 + BAR_POISSON) * (1 - 2 * BAR_POISSON)); /* Pa */
+  double wave_speed = sqrt(modulus / BAR_DENSITY);              /* m/s */
+  double period = 4.0 * BAR_LENGTH / wave_speed;                /* s */
+  double dt = 0.2 * BAR_CELL / wave_speed;                      /* s */
+  int steps = (int)ceil(2.3 * period / dt);
+  gm_domain *domain = bar_3d(scheme);
+  double *v_cm = malloc((size_t)(steps + 1) * sizeof *v_cm);
+  ck_assert_ptr_nonnull(v_cm);
+  v_cm[0] = centre_of_mass_velocity(domain);
+  for (int k = 1; k <= steps; ++k) {
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, dt));
+    v_cm[k] = centre_of_mass_velocity(domain);
+  }
+  /* Period from the zero crossings at T/4 ... 9T/4 of v_cm, as in
+   * test_3d.c. Expected: the lumped-mass dispersion, +0.06 % for uGIMP
+   * and cpGIMP on this bar; 1 % fails a wrong modulus (E for M is 16 %),
+   * a free end (period halved) or a wrong corner gradient (the stiffness
+   * scales with it). */
+  double crossing[5];
+  ck_assert_int_eq(zero_crossings(v_cm, steps + 1, dt, crossing, 5), 5);
+  double measured = (crossing[4] - crossing[0]) / 2.0;
+  printf("3D bar CPDI %s: period %.6g s, 4L/c = %.6g s (%+.4f %%)\n",
+         test_scheme_name(scheme), measured, period,
+         100.0 * (measured / period - 1.0));
+  ck_assert_msg(fabs(measured - period) <= 0.01 * period,
+                "CPDI %s: period %.6g s, expected 4L/c = %.6g s",
+                test_scheme_name(scheme), measured, period);
+  free(v_cm);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
+/* -------------------------------------------- the sheared, spun block */
+static const double BLOCK_CELL = 0.1;    /* m */
+static const double BLOCK_CENTRE = 0.6;  /* m, every axis; box 1.2 m */
+static const double BLOCK_HALF = 0.2;    /* m, half edge */
+static const double BLOCK_OMEGA = 3.0;   /* rad/s about (1, 2, 3)/sqrt 14 */
+static const double BLOCK_SHEAR = 1.5;   /* 1/s, dv_x/dy and dv_z/dx */
+static const double BLOCK_YOUNGS = 2e4;  /* Pa */
+static const double BLOCK_DENSITY = 1e3; /* kg/m^3 */
+
+/* A cube with v = omega x r + shear + a drift, open faces, no gravity: the
+ * domains rotate and shear at once (every F component moves). */
+static gm_domain *block(gm_update_scheme scheme, int workers) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.shape = GM_SHAPE_CPDI;
+  def.scheme = scheme;
+  def.worker_count = workers;
+  def.cell_size = BLOCK_CELL;
+  for (int k = 0; k < 3; k++) {
+    def.extent[k] = 2.0 * BLOCK_CENTRE;
+    def.gravity[k] = 0.0;
+  }
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, BLOCK_YOUNGS, 0.3, BLOCK_DENSITY);
+  double lower[3], upper[3];
+  for (int k = 0; k < 3; k++) {
+    lower[k] = BLOCK_CENTRE - BLOCK_HALF;
+    upper[k] = BLOCK_CENTRE + BLOCK_HALF;
+  }
+  test_fill_box(domain, material, lower, upper, 2, NULL);
+  size_t count = gm_domain_point_count(domain);
+  const double *x[3];
+  double *v[3];
+  for (int k = 0; k < 3; k++) {
+    TEST_ASSERT_OK(domain,
+                   gm_domain_view_field(domain, GM_FIELD_POSITION, k, &x[k]));
+    TEST_ASSERT_OK(domain,
+                   gm_domain_edit_field(domain, GM_FIELD_VELOCITY, k, &v[k]));
+  }
+  double axis[3] = {1.0 / sqrt(14.0), 2.0 / sqrt(14.0), 3.0 / sqrt(14.0)};
+  for (size_t i = 0; i < count; i++) {
+    double r[3] = {x[0][i] - BLOCK_CENTRE, x[1][i] - BLOCK_CENTRE,
+                   x[2][i] - BLOCK_CENTRE};
+    v[0][i] = BLOCK_OMEGA * (axis[1] * r[2] - axis[2] * r[1]) +
+              BLOCK_SHEAR * r[1] + 0.05;
+    v[1][i] = BLOCK_OMEGA * (axis[2] * r[0] - axis[0] * r[2]) - 0.03;
+    v[2][i] = BLOCK_OMEGA * (axis[0] * r[1] - axis[1] * r[0]) +
+              BLOCK_SHEAR * r[0] + 0.02;
+  }
+  return domain;
+}
+
+static void run(gm_domain *domain, int steps) {
+  for (int k = 0; k < steps; k++)
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, 0.0));
+}
+
+/* _i: scheme. */
+START_TEST(test_block_momentum_cpdi_3d) {
+  gm_update_scheme scheme = (gm_update_scheme)_i;
+  gm_domain *domain = block(scheme, 1);
+  gm_summary start = gm_summary_default(), end = gm_summary_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &start));
+  run(domain, 150);
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &end));
+  size_t count = gm_domain_point_count(domain);
+  double *f = malloc(9 * count * sizeof *f);
+  double *stress = malloc(6 * count * sizeof *stress);
+  ck_assert_ptr_nonnull(f);
+  ck_assert_ptr_nonnull(stress);
+  TEST_ASSERT_OK(domain, gm_domain_get_field(
+                             domain, GM_FIELD_DEFORMATION_GRADIENT, f, 9 * count));
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_STRESS, stress, 6 * count));
+  double smallest_off[9]; /* largest |F_ij - delta_ij| per component */
+  for (int k = 0; k < 9; k++)
+    smallest_off[k] = 0.0;
+  bool finite = true;
+  for (size_t p = 0; p < count; p++) {
+    for (int k = 0; k < 9; k++) {
+      finite = finite && isfinite(f[9 * p + k]);
+      smallest_off[k] = fmax(smallest_off[k],
+                             fabs(f[9 * p + k] - (k % 4 == 0 ? 1.0 : 0.0)));
+    }
+    for (int k = 0; k < 6; k++)
+      finite = finite && isfinite(stress[6 * p + k]);
+  }
+  ck_assert(finite);
+  /* The block really was rotated and sheared: every F component moved by
+   * at least 0.05 somewhere (the spin alone turns it by 0.45 rad). */
+  for (int k = 0; k < 9; k++)
+    ck_assert_msg(smallest_off[k] > 0.05, "F component %d moved only %g", k,
+                  smallest_off[k]);
+  ck_assert(start.mass == end.mass); /* bitwise: masses are per point */
+  /* No external force: the grid's internal forces sum to -sum_p V sigma
+   * sum_i grad S_i = 0 (zero-sum gradients), so FLIP keeps the total
+   * momentum to round-off of the sums (|p| ~ M 0.5 m/s, 150 steps). */
+  double scale = 0.0, drift = 0.0; /* kg m/s */
+  for (int k = 0; k < 3; k++) {
+    scale = fmax(scale, fabs(start.momentum[k]));
+    drift = fmax(drift, fabs(end.momentum[k] - start.momentum[k]));
+  }
+  double spin_scale = start.mass * BLOCK_OMEGA * BLOCK_HALF; /* kg m/s */
+  printf("CPDI 3D block %s: momentum drift %.3g of M omega a, F off I up to "
+         "%.3g\n",
+         test_scheme_name(scheme), drift / spin_scale, smallest_off[1]);
+  ck_assert_msg(drift <= 1e-12 * spin_scale, "%s: momentum drift %g (scale %g)",
+                test_scheme_name(scheme), drift, scale);
+  free(f);
+  free(stress);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
+typedef struct state {
+  size_t count;
+  double *field[5];
+} state;
+
+static const gm_field STATE_FIELDS[5] = {
+    GM_FIELD_POSITION, GM_FIELD_VELOCITY, GM_FIELD_STRESS,
+    GM_FIELD_DEFORMATION_GRADIENT, GM_FIELD_VOLUME};
+static const size_t STATE_COMPONENTS[5] = {3, 3, 6, 9, 1};
+
+static state observe(const gm_domain *domain) {
+  state s;
+  s.count = gm_domain_point_count(domain);
+  for (int f = 0; f < 5; f++) {
+    size_t n = STATE_COMPONENTS[f] * s.count;
+    s.field[f] = malloc(n * sizeof(double));
+    ck_assert_ptr_nonnull(s.field[f]);
+    TEST_ASSERT_OK(domain,
+                   gm_domain_get_field(domain, STATE_FIELDS[f], s.field[f], n));
+  }
+  return s;
+}
+
+static void assert_same(const state *a, const state *b, const char *what) {
+  ck_assert_uint_eq(a->count, b->count);
+  for (int f = 0; f < 5; f++)
+    ck_assert_msg(memcmp(a->field[f], b->field[f],
+                         STATE_COMPONENTS[f] * a->count * sizeof(double)) == 0,
+                  "%s: field %d differs", what, (int)STATE_FIELDS[f]);
+}
+
+static void forget(state *s) {
+  for (int f = 0; f < 5; f++)
+    free(s->field[f]);
+}
+
+/* _i: scheme. */
+START_TEST(test_workers_bitwise_cpdi_3d) {
+  gm_update_scheme scheme = (gm_update_scheme)_i;
+  state result[2];
+  for (int workers = 1; workers <= 2; workers++) {
+    gm_domain *domain = block(scheme, workers);
+    run(domain, 80);
+    result[workers - 1] = observe(domain);
+    gm_domain_destroy(domain);
+  }
+  assert_same(&result[0], &result[1], "1 against 2 workers");
+  forget(&result[0]);
+  forget(&result[1]);
+}
+END_TEST
+
+/* _i: scheme; saved on 1 worker, continued on 1 (_i < 3) or 2. */
+START_TEST(test_restart_bitwise_cpdi_3d) {
+  gm_update_scheme scheme = (gm_update_scheme)(_i % 3);
+  int workers_after = _i < 3 ? 1 : 2;
+  char path[64];
+  snprintf(path, sizeof path, "/tmp/gm_cpdi3d_%ld_%d.ckpt", (long)getpid(),
+           _i);
+  gm_domain *a = block(scheme, 1);
+  run(a, 40);
+  TEST_ASSERT_OK(a, gm_domain_save(a, path));
+  state at_save = observe(a);
+  run(a, 40);
+  state end_a = observe(a);
+  gm_domain *b = block(scheme, workers_after);
+  run(b, 3); /* stale caches */
+  TEST_ASSERT_OK(b, gm_domain_load(b, path));
+  state loaded = observe(b);
+  assert_same(&at_save, &loaded, "right after the load");
+  run(b, 40);
+  state end_b = observe(b);
+  assert_same(&end_a, &end_b, "after the restarted steps");
+  remove(path);
+  forget(&at_save);
+  forget(&end_a);
+  forget(&loaded);
+  forget(&end_b);
+  gm_domain_destroy(a);
+  gm_domain_destroy(b);
+}
+END_TEST
+
+static atomic_long allocations; /* calls to the hook's malloc */
+
+static void *counting_malloc(size_t size, void *user) {
+  (void)user;
+  atomic_fetch_add(&allocations, 1);
+  return malloc(size);
+}
+
+static void counting_free(void *pointer, void *user) {
+  (void)user;
+  free(pointer);
+}
+
+/* _i: scheme (_i % 3), workers (_i / 3 + 1). The bar keeps its points
+ * within their blocks' reach, so after warm-up the grid keeps its blocks
+ * and every work array its size. */
+START_TEST(test_no_allocation_cpdi_3d) {
+  gm_allocator allocator = {sizeof(gm_allocator), counting_malloc,
+                            counting_free, NULL};
+  ck_assert_int_eq(gm_set_allocator(&allocator), GM_OK);
+  gm_update_scheme scheme = (gm_update_scheme)(_i % 3);
+  gm_domain *domain = block(scheme, _i / 3 + 1);
+  run(domain, 5);
+  long before = atomic_load(&allocations);
+  run(domain, 20);
+  long after = atomic_load(&allocations);
+  gm_domain_destroy(domain);
+  ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
+  ck_assert_msg(after == before, "%s, %d workers: %ld allocations in 20 steps",
+                test_scheme_name(scheme), _i / 3 + 1, after - before);
+}
+END_TEST
+
+/* -------------------------------------------------------------- misuse */
+static gm_status create_cpdi_3d(gm_family family, gm_transfer transfer,
+                                bool periodic) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.shape = GM_SHAPE_CPDI;
+  def.family = family;
+  def.transfer = transfer;
+  if (periodic)
+    def.walls[GM_FACE_XMIN] = def.walls[GM_FACE_XMAX] = GM_WALL_PERIODIC;
+  gm_domain *domain = NULL;
+  gm_status status = gm_domain_create(&def, &domain);
+  ck_assert((status == GM_OK) == (domain != NULL));
+  gm_domain_destroy(domain);
+  return status;
+}
+
+START_TEST(test_unsupported_refused_cpdi_3d) {
+  /* The plain and stress-free families are accepted. */
+  ck_assert_int_eq(create_cpdi_3d(GM_FAMILY_PLAIN, GM_TRANSFER_FLIP, false),
+                   GM_OK);
+  ck_assert_int_eq(
+      create_cpdi_3d(GM_FAMILY_STRESS_FREE, GM_TRANSFER_FLIP, false), GM_OK);
+  ck_assert_int_eq(create_cpdi_3d(GM_FAMILY_GRANULAR, GM_TRANSFER_FLIP, false),
+                   GM_ERR_UNSUPPORTED);
+  ck_assert_ptr_nonnull(
+      strstr(gm_last_create_error(),
+             "GM_SHAPE_CPDI with family GM_FAMILY_GRANULAR"));
+  ck_assert_int_eq(create_cpdi_3d(GM_FAMILY_PLAIN, GM_TRANSFER_APIC, false),
+                   GM_ERR_UNSUPPORTED);
+  ck_assert_ptr_nonnull(strstr(gm_last_create_error(), "GM_TRANSFER_APIC"));
+  ck_assert_int_eq(create_cpdi_3d(GM_FAMILY_PLAIN, GM_TRANSFER_FLIP, true),
+                   GM_ERR_UNSUPPORTED);
+  ck_assert_ptr_nonnull(strstr(gm_last_create_error(), "periodic"));
+  /* Planar walls and rigid materials, by the calls that add them. */
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.shape = GM_SHAPE_CPDI;
+  gm_domain *domain = test_create_domain(&def);
+  gm_wall_def wall = gm_wall_def_default();
+  int id = -1;
+  ck_assert_int_eq(gm_domain_add_wall(domain, &wall, &id), GM_ERR_UNSUPPORTED);
+  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "3D"));
+  ck_assert_int_eq(id, -1);
+  gm_rigid_def rigid = gm_rigid_def_default();
+  ck_assert_int_eq(gm_domain_add_rigid(domain, &rigid, &id),
+                   GM_ERR_UNSUPPORTED);
+  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "GM_SHAPE_CPDI"));
+  /* A domain far too thin to weigh its nodes (its corner gradients divide
+   * by its volume), and one spanning more than 5 node planes. */
+  int material = test_add_elastic(domain, 1e5, 0.3, 1000.0);
+  double position[3] = {0.5, 0.5, 0.5}, volume = 1e-3; /* m, m^3 */
+  double thin[3] = {1e-170, 1e-170, 1e-170}; /* m: volume 1e-510, 0 */
+  gm_points_def points = gm_points_def_default();
+  points.material = material;
+  points.count = 1;
+  points.position = position;
+  points.volume = &volume;
+  points.domain_size = thin;
+  ck_assert_int_ne(gm_domain_add_points(domain, &points, NULL), GM_OK);
+  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "point 0"));
+  double long_domain[3] = {0.45, 0.1, 0.1}; /* cell 0.1 m: 6 planes */
+  points.domain_size = long_domain;
+  ck_assert_int_eq(gm_domain_add_points(domain, &points, NULL),
+                   GM_ERR_OUT_OF_GRID);
+  ck_assert_uint_eq(gm_domain_point_count(domain), 0);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
+static Suite *cpdi_3d_suite(void) {
+  Suite *suite = suite_create("cpdi_3d");
+  TCase *weights = tcase_create("weights");
+  tcase_add_test(weights, test_weights_sheared_parallelepipeds);
+  tcase_add_test(weights, test_weights_inside_one_cell_are_ugimp);
+  tcase_add_test(weights, test_bounds_refused);
+  suite_add_tcase(suite, weights);
+  TCase *laws = tcase_create("laws");
+  tcase_set_timeout(laws, 300);
+  tcase_add_loop_test(laws, test_bar_period_cpdi_3d, 0, 3);
+  tcase_add_loop_test(laws, test_block_momentum_cpdi_3d, 0, 3);
+  tcase_add_loop_test(laws, test_workers_bitwise_cpdi_3d, 0, 3);
+  tcase_add_loop_test(laws, test_restart_bitwise_cpdi_3d, 0, 6);
+  tcase_add_loop_test(laws, test_no_allocation_cpdi_3d, 0, 6);
+  tcase_add_test(laws, test_unsupported_refused_cpdi_3d);
+  suite_add_tcase(suite, laws);
+  return suite;
+}
+
+int main(void) {
+  return test_run_suite(cpdi_3d_suite());
+}
