@@ -77,6 +77,19 @@ bool gm_cpdi_support_lowest_3d(const gm_shape_grid *grid, const double x[3],
   return corner_bounds(grid, corners, cells, lowest, span);
 }
 
+bool gm_cpdi_support_bounds_3d(const gm_shape_grid *grid, const double x[3],
+                               const double f[9], const double half[3],
+                               int64_t lowest[3], int64_t highest[3]) {
+  double corners[8][3], cells[8][3];
+  int span[3];
+  gm_cpdi_corners_3d(x, f, half, corners);
+  if (!corner_bounds(grid, corners, cells, lowest, span))
+    return false;
+  for (int k = 0; k < 3; k++)
+    highest[k] = lowest[k] + span[k] - 1;
+  return true;
+}
+
 static void cross(const double a[3], const double b[3], double out[3]) {
   out[0] = a[1] * b[2] - a[2] * b[1];
   out[1] = a[2] * b[0] - a[0] * b[2];

@@ -15,9 +15,9 @@
  * call that adds it, as a GIMP box does.
  *
  * The domain follows F itself (no separate domain map and no reset as in
- * 2D, cpdi_reset.c): 3D CPDI runs the plain and stress-free families,
- * where F is the point's own deformation (the granular family, whose
- * density control rewrites F, is refused with CPDI in 3D: domain.c).
+ * 2D, cpdi_reset.c), in every family; the granular family's density
+ * control scales or restores F (000 eqs 14, 18), and the domain with it,
+ * as it scales the 2D domain map.
  */
 #ifndef GM_SUPPORT_CPDI_3D_H
 #define GM_SUPPORT_CPDI_3D_H
@@ -48,6 +48,11 @@ void gm_cpdi_corners_3d(const double x[3], const double f[9],
 bool gm_cpdi_support_lowest_3d(const gm_shape_grid *grid, const double x[3],
                                const double f[9], const double half[3],
                                int64_t lowest[3]);
+/* The lowest and highest node per axis; false as above (the granular
+ * family's node boxes, components.c). */
+bool gm_cpdi_support_bounds_3d(const gm_shape_grid *grid, const double x[3],
+                               const double f[9], const double half[3],
+                               int64_t lowest[3], int64_t highest[3]);
 /* The whole support; false as gm_cpdi_support_lowest_3d, or where the
  * parallelepiped's volume 8 det[r1 r2 r3] is not positive and finite (out
  * is then undefined). */

@@ -22,8 +22,8 @@ static const char *face_name(int face) {
 
 /* What GM_GEOMETRY_3D runs in this version (docs/3d.md): linear, uGIMP,
  * cpGIMP, the B-spline shapes and CPDI, every family (plain, stress_free,
- * granular: granular/components.c in 3D) except the granular family with
- * CPDI, FLIP/PIC/APIC (FLIP/PIC with CPDI), open, slip, fixed and
+ * granular: granular/components.c in 3D), FLIP/PIC/APIC (FLIP/PIC with
+ * CPDI), open, slip, fixed and
  * periodic x box faces (not periodic with CPDI); every scheme, gravity,
  * damping, host forces. The rest is refused by name here (or by the call
  * that would add it: planar walls with GIMP shapes and CPDI, walls and
@@ -31,16 +31,6 @@ static const char *face_name(int face) {
 static gm_status validate_3d(const gm_domain_def *def) {
   if (def->shape != GM_SHAPE_CPDI)
     return GM_OK;
-  /* The domains of interaction of 3D CPDI are parallelepipeds, which need
-   * the 15-axis separating-axis test (issue 16 item 2), not written yet. */
-  if (def->family == GM_FAMILY_GRANULAR)
-    CREATE_FAIL(GM_ERR_UNSUPPORTED,
-                "gm_domain_def.shape GM_SHAPE_CPDI with family "
-                "GM_FAMILY_GRANULAR is not supported in GM_GEOMETRY_3D in "
-                "this version (the overlap test of parallelepiped domains "
-                "of interaction is not written); use GM_FAMILY_PLAIN or "
-                "GM_FAMILY_STRESS_FREE with CPDI, or another shape with "
-                "the granular family");
   if (def->transfer == GM_TRANSFER_APIC)
     CREATE_FAIL(GM_ERR_UNSUPPORTED,
                 "gm_domain_def.transfer GM_TRANSFER_APIC with shape "
