@@ -24,7 +24,7 @@ static const char *face_name(int face) {
  * cpGIMP, the B-spline shapes and CPDI, every family (plain, stress_free,
  * granular: granular/components.c in 3D), FLIP/PIC/APIC (FLIP/PIC with
  * CPDI), open, slip, fixed and
- * periodic x box faces (not periodic with CPDI); every scheme, gravity,
+ * periodic x box faces; every scheme, gravity,
  * damping, host forces. The rest is refused by name here (or by the call
  * that would add it: planar walls with GIMP shapes and CPDI, walls and
  * rigid materials beside periodic faces, rigid materials with CPDI). */
@@ -36,11 +36,6 @@ static gm_status validate_3d(const gm_domain_def *def) {
                 "gm_domain_def.transfer GM_TRANSFER_APIC with shape "
                 "GM_SHAPE_CPDI is not supported in GM_GEOMETRY_3D in this "
                 "version; use GM_TRANSFER_FLIP (any pic_fraction)");
-  if (def->walls[GM_FACE_XMIN] == GM_WALL_PERIODIC)
-    CREATE_FAIL(GM_ERR_UNSUPPORTED,
-                "gm_domain_def.walls: periodic x faces (xmin, xmax) with "
-                "shape GM_SHAPE_CPDI are not supported in GM_GEOMETRY_3D in "
-                "this version");
   return GM_OK;
 }
 
