@@ -236,9 +236,8 @@ static void mark_cpdi_point_3d(gm_domain *domain, size_t p, int32_t mark) {
     for (int b = 0; b < support.span[1]; b++)
       for (int a = 0; a < support.span[0]; a++, entry++)
         if (support.weight[entry] != 0.0) /* else not reached */
-          grid->rigid_material[gm_block_node_3d(links, local[0] + a,
-                                                local[1] + b, local[2] + c)] =
-              mark;
+          grid->rigid_material[gm_block_node_3d(
+              links, local[0] + a, local[1] + b, local[2] + c)] = mark;
 }
 
 static void mark_point_3d(gm_domain *domain, size_t p, int32_t mark) {

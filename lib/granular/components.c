@@ -161,8 +161,7 @@ static void box_geometry_3d(gm_domain *domain, size_t p, const double x[3],
 static void cpdi_geometry_3d(gm_domain *domain, size_t p, const double x[3],
                              const double half[3], double measure) {
   gm_granular_work *work = &domain->granular;
-  const gm_point_buffers *current =
-      &domain->points.buffer[domain->points.cur];
+  const gm_point_buffers *current = &domain->points.buffer[domain->points.cur];
   double f[9]; /* F row-major */
   gm_deformation_rows_3d((const double *const *)current->deformation, p, f);
   int64_t low[3] = {0, 0, 0}, high[3] = {0, 0, 0};

@@ -82,8 +82,7 @@ static GM_ALWAYS_INLINE void
 gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
                      size_t first, size_t count, chunk_gather_3d *out,
                      const bool with_acceleration, const bool with_gradient,
-                     const bool with_affine, const bool wide,
-                     const bool cpdi) {
+                     const bool with_affine, const bool wide, const bool cpdi) {
   const gm_points *points = &domain->points;
   const gm_grid *grid = &domain->grid;
   const gm_point_buffers *current = &points->buffer[points->cur];
@@ -109,7 +108,8 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
                            (const double *const *)points->domain_size,
                            deformation, p, half);
       gm_deformation_rows_3d(deformation, p, f);
-      found = gm_cpdi_support_compute_3d(&domain->shape_grid, x, f, half, &dense);
+      found =
+          gm_cpdi_support_compute_3d(&domain->shape_grid, x, f, half, &dense);
       int64_t base[3];
       gm_block_coordinates_3d(grid, grid->block_key[block], base);
       for (int axis = 0; found && axis < 3; axis++) {
@@ -568,8 +568,7 @@ static void keys_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
     if (gm_wide_lowest_3d(&domain->shape_grid,
                           (const double *const *)to->position,
                           (const double *const *)points->domain_size,
-                          (const double *const *)to->deformation, p,
-                          lowest)) {
+                          (const double *const *)to->deformation, p, lowest)) {
       points->block_key[p] = gm_block_key_of_node_3d(&domain->grid, lowest[0],
                                                      lowest[1], lowest[2]);
       left |= points->block_key[p] != binned[points->point_block[p]];

@@ -229,11 +229,10 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
     gm_box_support_3d support; /* weights and gradients (1/m) per axis */
     gm_cpdi_support_3d dense;  /* CPDI: per node */
     int64_t local[3];
-    bool found =
-        cpdi ? point_cpdi_support_3d(domain, position, deformation, p, base,
-                                     &dense, local)
-             : point_support_3d(domain, position, deformation, p, base, wide,
-                                &support, local);
+    bool found = cpdi ? point_cpdi_support_3d(domain, position, deformation, p,
+                                              base, &dense, local)
+                      : point_support_3d(domain, position, deformation, p, base,
+                                         wide, &support, local);
     if (!found) {
       report_support_3d(domain, scratch, p);
       continue;
@@ -288,10 +287,10 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
             continue;
           double gx = cpdi ? dense.gradient[0][entry]
                            : d[0][a] * w[1][b] * w[2][c]; /* 1/m */
-          double gy = cpdi ? dense.gradient[1][entry]
-                           : w[0][a] * d[1][b] * w[2][c];
-          double gz = cpdi ? dense.gradient[2][entry]
-                           : w[0][a] * w[1][b] * d[2][c];
+          double gy =
+              cpdi ? dense.gradient[1][entry] : w[0][a] * d[1][b] * w[2][c];
+          double gz =
+              cpdi ? dense.gradient[2][entry] : w[0][a] * w[1][b] * d[2][c];
           /* f_i = N_i b - V sigma grad N_i (004 eq 3.15) */
           grid->force[0][node] +=
               weight * body[0] -

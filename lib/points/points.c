@@ -262,8 +262,8 @@ static gm_status validate_box_3d(gm_domain *domain, const gm_points_def *def,
      * corner gradients (which divide by its volume) is refused here. */
     static const double identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     gm_cpdi_support_3d support;
-    if (gm_cpdi_support_lowest_3d(&domain->shape_grid, position, identity,
-                                  half, lowest)) {
+    if (gm_cpdi_support_lowest_3d(&domain->shape_grid, position, identity, half,
+                                  lowest)) {
       if (gm_cpdi_support_compute_3d(&domain->shape_grid, position, identity,
                                      half, &support))
         return GM_OK;

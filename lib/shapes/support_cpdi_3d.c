@@ -128,7 +128,7 @@ bool gm_cpdi_support_compute_3d(const gm_shape_grid *grid, const double x[3],
         value += ((c >> k) & 1 ? 1.0 : -1.0) * area[k][i];
       g[i] = value * inverse;
     }
-    int64_t local[3];    /* the corner's cell from lowest */
+    int64_t local[3];  /* the corner's cell from lowest */
     double tent[3][2]; /* the cell's two tent values per axis */
     for (int k = 0; k < 3; k++) {
       int64_t cell = gm_floor_index(cells[c][k]);
@@ -141,9 +141,8 @@ bool gm_cpdi_support_compute_3d(const gm_shape_grid *grid, const double x[3],
       for (int dy = 0; dy < 2; dy++)
         for (int dx = 0; dx < 2; dx++) {
           double value = tent[0][dx] * tent[1][dy] * tent[2][dz]; /* N_i */
-          size_t entry =
-              (size_t)(((local[2] + dz) * sy + local[1] + dy) * sx + local[0] +
-                       dx);
+          size_t entry = (size_t)(((local[2] + dz) * sy + local[1] + dy) * sx +
+                                  local[0] + dx);
           out->weight[entry] += 0.125 * value;
           for (int i = 0; i < 3; i++)
             out->gradient[i][entry] += value * g[i];

@@ -311,8 +311,9 @@ static const bad_domain_case bad_domain_cases[] = {
     {"geometry 99", DOMAIN_GEOMETRY, 99, INVALID, "geometry"},
     /* GM_GEOMETRY_3D runs linear MPM, uGIMP, cpGIMP, the B-splines
      * (test_bspline_3d.c) and CPDI (test_cpdi_3d.c), every family
-     * (test_granular_3d.c), FLIP and APIC (not APIC with CPDI), closed and periodic x faces (docs/3d.md); the rest (periodic y
-     * and z faces as in 2D: test_periodic.c) is refused by name. */
+     * (test_granular_3d.c), FLIP and APIC (not APIC with CPDI), closed
+     * and periodic x faces (docs/3d.md); the rest (periodic y and z faces
+     * as in 2D: test_periodic.c) is refused by name. */
     {"3D CPDI APIC", DOMAIN_3D_CPDI_TRANSFER, GM_TRANSFER_APIC,
      ONLY(GM_ERR_UNSUPPORTED), "GM_TRANSFER_APIC with shape GM_SHAPE_CPDI"},
     {"3D family 99", DOMAIN_3D_FAMILY, 99, INVALID, "family"},

@@ -46,7 +46,7 @@ static const double PI = 3.14159265358979323846;
 
 /* ------------------------------------------------------- the weights */
 static const double grid_origin[3] = {-1.7, 0.3, 2.2}; /* m, node 0 */
-static const double cell = 0.37;                      /* m */
+static const double cell = 0.37;                       /* m */
 static const int64_t last_node[3] = {14, 11, 12};
 
 static gm_shape_grid make_grid(gm_shape shape) {
@@ -89,8 +89,8 @@ static void random_deformation(double amount, double f[9]) {
     u[k] = (k % 4 == 0 ? 1.0 : 0.0) + lcg_between(-amount, amount);
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++)
-      f[3 * i + j] = r[3 * i] * u[j] + r[3 * i + 1] * u[3 + j] +
-                     r[3 * i + 2] * u[6 + j];
+      f[3 * i + j] =
+          r[3 * i] * u[j] + r[3 * i + 1] * u[3 + j] + r[3 * i + 2] * u[6 + j];
 }
 
 static double det3(const double f[9]) {
@@ -203,12 +203,10 @@ START_TEST(test_weights_inside_one_cell_are_ugimp) {
           for (int k = 0; k < 3; k++)
             ck_assert_int_eq(cpdi.lowest[k], box.lowest[k]);
           double w = box.weight[0][a] * box.weight[1][b] * box.weight[2][c];
-          double g[3] = {box.gradient[0][a] * box.weight[1][b] *
-                             box.weight[2][c],
-                         box.weight[0][a] * box.gradient[1][b] *
-                             box.weight[2][c],
-                         box.weight[0][a] * box.weight[1][b] *
-                             box.gradient[2][c]};
+          double g[3] = {
+              box.gradient[0][a] * box.weight[1][b] * box.weight[2][c],
+              box.weight[0][a] * box.gradient[1][b] * box.weight[2][c],
+              box.weight[0][a] * box.weight[1][b] * box.gradient[2][c]};
           worst = fmax(worst, fabs(cpdi.weight[entry] - w));
           for (int k = 0; k < 3; k++)
             worst = fmax(worst, fabs(cpdi.gradient[k][entry] - g[k]) * cell);
@@ -276,8 +274,10 @@ static gm_domain *bar_3d(gm_update_scheme scheme) {
   size_t count = gm_domain_point_count(domain);
   const double *x = NULL;
   double *v = NULL;
-  TEST_ASSERT_OK(domain, gm_domain_view_field(domain, GM_FIELD_POSITION, 0, &x));
-  TEST_ASSERT_OK(domain, gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 0, &v));
+  TEST_ASSERT_OK(domain,
+                 gm_domain_view_field(domain, GM_FIELD_POSITION, 0, &x));
+  TEST_ASSERT_OK(domain,
+                 gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 0, &v));
   for (size_t i = 0; i < count; ++i)
     v[i] = BAR_V0 * sin(PI * x[i] / (2.0 * BAR_LENGTH));
   return domain;
@@ -407,10 +407,11 @@ START_TEST(test_block_momentum_cpdi_3d) {
   double *stress = malloc(6 * count * sizeof *stress);
   ck_assert_ptr_nonnull(f);
   ck_assert_ptr_nonnull(stress);
-  TEST_ASSERT_OK(domain, gm_domain_get_field(
-                             domain, GM_FIELD_DEFORMATION_GRADIENT, f, 9 * count));
-  TEST_ASSERT_OK(domain,
-                 gm_domain_get_field(domain, GM_FIELD_STRESS, stress, 6 * count));
+  TEST_ASSERT_OK(
+      domain,
+      gm_domain_get_field(domain, GM_FIELD_DEFORMATION_GRADIENT, f, 9 * count));
+  TEST_ASSERT_OK(
+      domain, gm_domain_get_field(domain, GM_FIELD_STRESS, stress, 6 * count));
   double smallest_off[9]; /* largest |F_ij - delta_ij| per component */
   for (int k = 0; k < 9; k++)
     smallest_off[k] = 0.0;
@@ -418,8 +419,8 @@ START_TEST(test_block_momentum_cpdi_3d) {
   for (size_t p = 0; p < count; p++) {
     for (int k = 0; k < 9; k++) {
       finite = finite && isfinite(f[9 * p + k]);
-      smallest_off[k] = fmax(smallest_off[k],
-                             fabs(f[9 * p + k] - (k % 4 == 0 ? 1.0 : 0.0)));
+      smallest_off[k] =
+          fmax(smallest_off[k], fabs(f[9 * p + k] - (k % 4 == 0 ? 1.0 : 0.0)));
     }
     for (int k = 0; k < 6; k++)
       finite = finite && isfinite(stress[6 * p + k]);
@@ -508,8 +509,7 @@ START_TEST(test_restart_bitwise_cpdi_3d) {
   gm_update_scheme scheme = (gm_update_scheme)(_i % 3);
   int workers_after = _i < 3 ? 1 : 2;
   char path[64];
-  snprintf(path, sizeof path, "/tmp/gm_cpdi3d_%ld_%d.ckpt", (long)getpid(),
-           _i);
+  snprintf(path, sizeof path, "/tmp/gm_cpdi3d_%ld_%d.ckpt", (long)getpid(), _i);
   gm_domain *a = block(scheme, 1);
   run(a, 40);
   TEST_ASSERT_OK(a, gm_domain_save(a, path));
@@ -627,7 +627,7 @@ START_TEST(test_periodic_translation_cpdi_3d) {
   test_get_field_by_id(domain, GM_FIELD_POSITION, 0, position);
   test_get_field_by_id(domain, GM_FIELD_VELOCITY, 0, velocity);
   double worst_velocity = 0.0, worst_position = 0.0; /* m/s, m */
-  for (size_t p = 0; p < count; p++) /* by id */
+  for (size_t p = 0; p < count; p++)                 /* by id */
     for (int k = 0; k < 3; k++) {
       worst_velocity =
           fmax(worst_velocity, fabs(velocity[3 * p + k] - speed[k]));
@@ -873,7 +873,7 @@ START_TEST(test_granular_rotated_domains_meet) {
   static const char axes[3][2] = {{0, 0}, {'z', 'z'}, {'z', 'y'}};
   set_rotation(domain, 0, axes[_i][0]);
   set_rotation(domain, 1, axes[_i][1]);
-  double interaction = edge * cbrt(1500.0 / 1200.0);             /* m, l_i */
+  double interaction = edge * cbrt(1500.0 / 1200.0);                /* m, l_i */
   double contact = _i == 0 ? interaction : sqrt(2.0) * interaction; /* m */
   int expected = (int)floor((start - contact) / (2.0 * speed * dt)) + 1;
   int merge_step = -1;
@@ -940,7 +940,7 @@ START_TEST(test_unsupported_refused_cpdi_3d) {
    * by its volume), and one spanning more than 5 node planes. */
   int material = test_add_elastic(domain, 1e5, 0.3, 1000.0);
   double position[3] = {0.5, 0.5, 0.5}, volume = 1e-3; /* m, m^3 */
-  double thin[3] = {1e-170, 1e-170, 1e-170}; /* m: volume 1e-510, 0 */
+  double thin[3] = {1e-170, 1e-170, 1e-170};           /* m: volume 1e-510, 0 */
   gm_points_def points = gm_points_def_default();
   points.material = material;
   points.count = 1;
