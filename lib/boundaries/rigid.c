@@ -202,7 +202,44 @@ static void mark_point(gm_domain *domain, size_t p, int32_t mark) {
  * weight, reached through the 8 neighbour links of its block as the 3D
  * scatter reaches them (p2g_3d.c): a linear point's trilinear cell, a
  * GIMP point's box (support_3d.h; its block is that of the support's
- * lowest node). */
+ * lowest node); CPDI: mark_cpdi_point_3d. */
+/* mark_point_3d for CPDI: the nodes of the dense support
+ * (support_cpdi_3d.h) with a nonzero weight. */
+static void mark_cpdi_point_3d(gm_domain *domain, size_t p, int32_t mark) {
+  gm_grid *grid = &domain->grid;
+  const gm_points *points = &domain->points;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  const double *const *deformation =
+      (const double *const *)current->deformation;
+  double x[3] = {current->position[0][p], current->position[1][p],
+                 current->position[2][p]}; /* m */
+  double half[3], f[9];                    /* m; F row-major */
+  gm_box_half_edges_3d(GM_SHAPE_CPDI,
+                       (const double *const *)points->domain_size, deformation,
+                       p, half);
+  gm_deformation_rows_3d(deformation, p, f);
+  gm_cpdi_support_3d support;
+  if (!gm_cpdi_support_compute_3d(&domain->shape_grid, x, f, half, &support))
+    return; /* cannot happen: the binning placed the point by it */
+  uint32_t block = points->point_block[p];
+  const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  int64_t base[3], local[3];
+  gm_block_coordinates_3d(grid, grid->block_key[block], base);
+  for (int axis = 0; axis < 3; axis++) {
+    local[axis] = support.lowest[axis] - (base[axis] << GM_BLOCK_SHIFT_3D);
+    if (local[axis] < 0 ||
+        local[axis] + support.span[axis] > 2 * GM_BLOCK_EDGE_3D)
+      return; /* cannot happen either (the scatter fails the step) */
+  }
+  size_t entry = 0;
+  for (int c = 0; c < support.span[2]; c++)
+    for (int b = 0; b < support.span[1]; b++)
+      for (int a = 0; a < support.span[0]; a++, entry++)
+        if (support.weight[entry] != 0.0) /* else not reached */
+          grid->rigid_material[gm_block_node_3d(
+              links, local[0] + a, local[1] + b, local[2] + c)] = mark;
+}
+
 static void mark_point_3d(gm_domain *domain, size_t p, int32_t mark) {
   gm_grid *grid = &domain->grid;
   const gm_points *points = &domain->points;
@@ -264,7 +301,9 @@ void gm_rigid_mark_nodes(gm_domain *domain) {
     int32_t material = points->material[p];
     if (!domain->materials[material].rigid)
       continue;
-    if (domain->dim == 3)
+    if (domain->dim == 3 && domain->def.shape == GM_SHAPE_CPDI)
+      mark_cpdi_point_3d(domain, p, material + 1);
+    else if (domain->dim == 3)
       mark_point_3d(domain, p, material + 1);
     else
       mark_point(domain, p, material + 1);

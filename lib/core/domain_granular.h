@@ -11,6 +11,7 @@
 
 /* Declared in granular/interaction.h; the work arrays only point to it. */
 typedef struct gm_interaction_domain gm_interaction_domain;
+typedef struct gm_interaction_domain3 gm_interaction_domain3;
 
 /* ----------------------------------------------------- granular scratch */
 /* Per-step work arrays of the granular family (components.c), sized with
@@ -28,8 +29,9 @@ typedef struct gm_granular_work {
   int32_t *support_high[3];
   int32_t support_reach; /* nodes past the lowest: 1 linear, 2 or 3 B-spline;
                             0 with support_high stored */
-  gm_interaction_domain *interaction; /* per point; CPDI only (NULL
-                                         otherwise) */
+  gm_interaction_domain *interaction;   /* per point; CPDI only (NULL
+                                           otherwise) */
+  gm_interaction_domain3 *interaction3; /* the same in 3D (parallelepipeds) */
   /* The same for the rectangle variants, SoA for the pair search: centre
    * (the committed positions, not owned) and half edges (m; not CPDI:
    * NULL there); and whether the point's material is granular. */

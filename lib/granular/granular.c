@@ -140,7 +140,9 @@ gm_status gm_granular_reserve(gm_domain *domain) {
     /* The pair test reads the parallelograms of CPDI (48 bytes per point)
      * or the boxes of the rectangle variants (16), never both
      * (pair_rules.h): only the one the domain's shape uses is allocated. */
-    if (domain->shape_grid.shape == GM_SHAPE_CPDI) {
+    if (domain->shape_grid.shape == GM_SHAPE_CPDI && domain->dim == 3) {
+      GROW_WORK(work->interaction3, sizeof(gm_interaction_domain3));
+    } else if (domain->shape_grid.shape == GM_SHAPE_CPDI) {
       GROW_WORK(work->interaction, sizeof(gm_interaction_domain));
     } else {
       for (int k = 0; k < axes; k++)
@@ -186,6 +188,7 @@ void gm_granular_free(gm_domain *domain) {
     gm_free(work->support_high[k]);
   }
   gm_free(work->interaction);
+  gm_free(work->interaction3);
   for (int k = 0; k < 3; k++)
     gm_free(work->box_half[k]);
   gm_free(work->granular);

@@ -40,6 +40,9 @@ static inline bool gm_pair_interacts(const gm_domain *domain, uint32_t p,
   const gm_granular_work *work = &domain->granular;
   if (!work->granular[p] && !work->granular[q])
     return true;
+  if (domain->shape_grid.shape == GM_SHAPE_CPDI && domain->dim == 3)
+    return gm_interaction_overlap3(&work->interaction3[p],
+                                   &work->interaction3[q]); /* 15 axes */
   if (domain->shape_grid.shape == GM_SHAPE_CPDI)
     return gm_interaction_overlap(domain->dim, &work->interaction[p],
                                   &work->interaction[q]);

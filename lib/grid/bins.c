@@ -68,13 +68,11 @@ static void keys_3d(gm_domain *domain, int worker, size_t begin, size_t end) {
     return;
   }
   for (size_t i = begin; i < end; i++) {
-    double x[3] = {position[0][i], position[1][i], position[2][i]}; /* m */
-    double half[3];                                                 /* m */
-    gm_box_half_edges_3d(domain->shape_grid.shape,
-                         (const double *const *)points->domain_size,
-                         (const double *const *)current->deformation, i, half);
-    int64_t lowest[3];
-    if (gm_box_support_lowest_3d(&domain->shape_grid, x, half, lowest)) {
+    int64_t lowest[3]; /* GIMP box, B-spline or CPDI parallelepiped */
+    if (gm_wide_lowest_3d(&domain->shape_grid, position,
+                          (const double *const *)points->domain_size,
+                          (const double *const *)current->deformation, i,
+                          lowest)) {
       points->block_key[i] = gm_block_key_of_node_3d(&domain->grid, lowest[0],
                                                      lowest[1], lowest[2]);
       continue;

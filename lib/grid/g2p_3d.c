@@ -82,7 +82,7 @@ static GM_ALWAYS_INLINE void
 gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
                      size_t first, size_t count, chunk_gather_3d *out,
                      const bool with_acceleration, const bool with_gradient,
-                     const bool with_affine, const bool wide) {
+                     const bool with_affine, const bool wide, const bool cpdi) {
   const gm_points *points = &domain->points;
   const gm_grid *grid = &domain->grid;
   const gm_point_buffers *current = &points->buffer[points->cur];
@@ -95,9 +95,31 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
     const uint32_t *links =
         grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
     gm_box_support_3d support; /* weights and gradients (1/m) per axis */
+    gm_cpdi_support_3d dense;  /* CPDI: per node (support_cpdi_3d.h) */
     int64_t local[3];
     bool found = true;
-    if (wide) {
+    if (cpdi) {
+      double x[3] = {current->position[0][p], current->position[1][p],
+                     current->position[2][p]}; /* m */
+      double half[3], f[9];                    /* m; F row-major */
+      const double *const *deformation =
+          (const double *const *)current->deformation;
+      gm_box_half_edges_3d(GM_SHAPE_CPDI,
+                           (const double *const *)points->domain_size,
+                           deformation, p, half);
+      gm_deformation_rows_3d(deformation, p, f);
+      found =
+          gm_cpdi_support_compute_3d(&domain->shape_grid, x, f, half, &dense);
+      int64_t base[3];
+      gm_block_coordinates_3d(grid, grid->block_key[block], base);
+      for (int axis = 0; found && axis < 3; axis++) {
+        local[axis] = dense.lowest[axis] - (base[axis] << GM_BLOCK_SHIFT_3D);
+        found = local[axis] >= 0 &&
+                local[axis] + dense.span[axis] <= 2 * GM_BLOCK_EDGE_3D;
+      }
+      for (int axis = 0; axis < 3; axis++)
+        support.span[axis] = dense.span[axis];
+    } else if (wide) {
       double x[3] = {current->position[0][p], current->position[1][p],
                      current->position[2][p]}; /* m */
       double half[3];                          /* m */
@@ -137,20 +159,33 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
     int span_x = wide ? support.span[0] : 2,
         span_y = wide ? support.span[1] : 2,
         span_z = wide ? support.span[2] : 2;
+    size_t entry = 0; /* CPDI: (c span_y + b) span_x + a */
     for (int axis = 0; with_affine && axis < 3; axis++)
       gm_apic_axis_offsets_3d(origin[axis], domain->def.cell_size,
                               support.lowest[axis], support.span[axis],
                               current->position[axis][p], offset[axis]);
     for (int c = 0; c < span_z; c++) {
       for (int b = 0; b < span_y; b++) {
-        for (int a_x = 0; a_x < span_x; a_x++) {
+        for (int a_x = 0; a_x < span_x; a_x++, entry++) {
           int64_t nx = local[0] + a_x, ny = local[1] + b, nz = local[2] + c;
           size_t node = gm_block_node_3d(links, nx, ny, nz);
-          double weight = w[0][a_x] * w[1][b] * w[2][c];
-          double grad[3] = {d[0][a_x] * w[1][b] * w[2][c],
-                            w[0][a_x] * d[1][b] * w[2][c],
-                            w[0][a_x] * w[1][b] * d[2][c]}; /* 1/m */
+          double weight = 0.0, grad[3]; /* -, 1/m */
+          if (cpdi) {
+            weight = dense.weight[entry];
+            for (int k = 0; k < 3; k++)
+              grad[k] = dense.gradient[k][entry];
+          } else {
+            weight = w[0][a_x] * w[1][b] * w[2][c];
+            grad[0] = d[0][a_x] * w[1][b] * w[2][c];
+            grad[1] = w[0][a_x] * d[1][b] * w[2][c];
+            grad[2] = w[0][a_x] * w[1][b] * d[2][c];
+          }
           any_empty |= with_gradient && grid->mass[node] == 0.0;
+          /* CPDI has no axis factors for empty_gradient_3d: its massless
+           * nodes' gradient sum is taken here, node by node. */
+          if (cpdi && with_gradient && grid->mass[node] == 0.0)
+            for (int k = 0; k < 3; k++)
+              empty[k] += grad[k];
           for (int i = 0; i < 3; i++) {
             double nodal = grid->momentum[i][node]; /* velocity by now */
             if (with_acceleration)
@@ -172,7 +207,7 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
     /* Massless nodes are rare (a point on a cell face, a box edge on a
      * node plane): their gradient sum is taken in a second loop over the
      * support only when one was seen, not node by node for every point. */
-    if (with_gradient && any_empty)
+    if (with_gradient && any_empty && !cpdi)
       empty_gradient_3d(grid, links, local, w, d, span_x, span_y, span_z,
                         empty);
     /* As in 2D (g2p.c): a massless node (a point exactly on a cell face,
@@ -198,40 +233,45 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
 static GM_ALWAYS_INLINE void
 gather_chunk_3d_shape(const gm_domain *domain, gm_worker_scratch *scratch,
                       size_t first, size_t count, chunk_gather_3d *out,
-                      bool flip, bool deform, const bool wide) {
+                      bool flip, bool deform, const bool wide,
+                      const bool cpdi) {
   bool apic = domain->def.transfer == GM_TRANSFER_APIC;
   bool acceleration = flip && !apic;
   bool gradient = deform || (flip && apic && !wide);
   bool affine = flip && apic && wide;
   if (acceleration && gradient)
     gather_chunk_3d_kind(domain, scratch, first, count, out, true, true, false,
-                         wide);
+                         wide, cpdi);
   else if (acceleration)
     gather_chunk_3d_kind(domain, scratch, first, count, out, true, false, false,
-                         wide);
+                         wide, cpdi);
   else if (gradient && affine) /* not a pass of any scheme */
     gather_chunk_3d_kind(domain, scratch, first, count, out, false, true, true,
-                         wide);
+                         wide, cpdi);
   else if (gradient)
     gather_chunk_3d_kind(domain, scratch, first, count, out, false, true, false,
-                         wide);
+                         wide, cpdi);
   else if (affine)
     gather_chunk_3d_kind(domain, scratch, first, count, out, false, false, true,
-                         wide);
+                         wide, cpdi);
   else
     gather_chunk_3d_kind(domain, scratch, first, count, out, false, false,
-                         false, wide);
+                         false, wide, cpdi);
 }
 
 static void gather_chunk_3d(const gm_domain *domain, gm_worker_scratch *scratch,
                             size_t first, size_t count, chunk_gather_3d *out,
                             bool flip, bool deform) {
-  if (domain->shape_grid.shape == GM_SHAPE_LINEAR)
+  gm_shape shape = domain->shape_grid.shape;
+  if (shape == GM_SHAPE_LINEAR)
     gather_chunk_3d_shape(domain, scratch, first, count, out, flip, deform,
-                          false);
-  else /* uGIMP, cpGIMP, B-splines (domain.c refuses CPDI in 3D) */
+                          false, false);
+  else if (shape == GM_SHAPE_CPDI) /* never with APIC (domain.c) */
     gather_chunk_3d_shape(domain, scratch, first, count, out, flip, deform,
-                          true);
+                          true, true);
+  else /* uGIMP, cpGIMP, B-splines */
+    gather_chunk_3d_shape(domain, scratch, first, count, out, flip, deform,
+                          true, false);
 }
 
 /* uGIMP and cpGIMP APIC: the same share as linear MPM's (apic_linear.h),
@@ -525,7 +565,10 @@ static void keys_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
                          (const double *const *)points->domain_size,
                          (const double *const *)to->deformation, p, half);
     int64_t lowest[3];
-    if (gm_box_support_lowest_3d(&domain->shape_grid, x, half, lowest)) {
+    if (gm_wide_lowest_3d(&domain->shape_grid,
+                          (const double *const *)to->position,
+                          (const double *const *)points->domain_size,
+                          (const double *const *)to->deformation, p, lowest)) {
       points->block_key[p] = gm_block_key_of_node_3d(&domain->grid, lowest[0],
                                                      lowest[1], lowest[2]);
       left |= points->block_key[p] != binned[points->point_block[p]];

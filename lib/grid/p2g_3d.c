@@ -129,7 +129,34 @@ point_support_3d(const gm_domain *domain, const double *const position[3],
   return fits;
 }
 
-/* Names a point whose GIMP support cannot be scattered. */
+/* Point p's CPDI support (support_cpdi_3d.h) and the local index of its
+ * lowest node in the block whose lowest node is base; false as
+ * point_support_3d. */
+static bool point_cpdi_support_3d(const gm_domain *domain,
+                                  const double *const position[3],
+                                  const double *const deformation[9], size_t p,
+                                  const int64_t base[3],
+                                  gm_cpdi_support_3d *support,
+                                  int64_t local[3]) {
+  const gm_points *points = &domain->points;
+  double x[3] = {position[0][p], position[1][p], position[2][p]}; /* m */
+  double half[3], f[9]; /* m; F row-major */
+  gm_box_half_edges_3d(GM_SHAPE_CPDI,
+                       (const double *const *)points->domain_size, deformation,
+                       p, half);
+  gm_deformation_rows_3d(deformation, p, f);
+  if (!gm_cpdi_support_compute_3d(&domain->shape_grid, x, f, half, support))
+    return false;
+  bool fits = true;
+  for (int axis = 0; axis < 3; axis++) {
+    local[axis] = support->lowest[axis] - base[axis];
+    fits = fits && local[axis] >= 0 &&
+           local[axis] + support->span[axis] <= 2 * GM_BLOCK_EDGE_3D;
+  }
+  return fits;
+}
+
+/* Names a point whose GIMP or CPDI support cannot be scattered. */
 static void report_support_3d(const gm_domain *domain,
                               gm_worker_scratch *scratch, size_t p) {
   gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
@@ -169,15 +196,16 @@ affine_of_point_3d(const p2g_3d_context *ctx, const double *const position[3],
         support, (const double(*)[GM_SUPPORT_3D_MAX_SPAN])offset, b, c);
 }
 
-/* do_mass, do_momentum, do_forces, wide and apic are constants in each
- * specialisation below (scatter_block_3d), so each pass kind and support
- * gets its own loop; each field is summed alone, so leaving the others
- * out changes no bit. */
+/* do_mass, do_momentum, do_forces, wide, apic and cpdi are constants in
+ * each specialisation below (scatter_block_3d), so each pass kind and
+ * support gets its own loop; each field is summed alone, so leaving the
+ * others out changes no bit. CPDI (wide, never with APIC: domain.c) reads
+ * its dense weights and gradients instead of the axis products. */
 static GM_ALWAYS_INLINE void
 scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
                       uint32_t block, const bool do_mass,
                       const bool do_momentum, const bool do_forces,
-                      const bool wide, const bool apic) {
+                      const bool wide, const bool apic, const bool cpdi) {
   const gm_domain *domain = ctx->domain;
   const gm_points *points = &domain->points;
   const gm_grid *grid = &domain->grid;
@@ -188,7 +216,7 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
   const double *gravity = domain->def.gravity; /* m/s^2 */
   const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
   int64_t base[3] = {0, 0, 0}; /* the block's lowest node */
-  if (wide) {
+  if (wide || cpdi) {
     gm_block_coordinates_3d(grid, grid->block_key[block], base);
     for (int axis = 0; axis < 3; axis++)
       base[axis] <<= GM_BLOCK_SHIFT_3D;
@@ -199,17 +227,21 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
     if (ctx->skip_rigid && ctx->rigid[points->material[p]])
       continue;                /* rigid points take no part (rigid.c) */
     gm_box_support_3d support; /* weights and gradients (1/m) per axis */
+    gm_cpdi_support_3d dense;  /* CPDI: per node */
     int64_t local[3];
-    if (!point_support_3d(domain, position, deformation, p, base, wide,
-                          &support, local)) {
+    bool found = cpdi ? point_cpdi_support_3d(domain, position, deformation, p,
+                                              base, &dense, local)
+                      : point_support_3d(domain, position, deformation, p, base,
+                                         wide, &support, local);
+    if (!found) {
       report_support_3d(domain, scratch, p);
       continue;
     }
     double(*w)[GM_SUPPORT_3D_MAX_SPAN] = support.weight;
     double(*d)[GM_SUPPORT_3D_MAX_SPAN] = support.gradient;
-    int span_x = wide ? support.span[0] : 2,
-        span_y = wide ? support.span[1] : 2,
-        span_z = wide ? support.span[2] : 2;
+    const int *spans = cpdi ? dense.span : support.span;
+    int span_x = wide ? spans[0] : 2, span_y = wide ? spans[1] : 2,
+        span_z = wide ? spans[2] : 2;
     double m = points->mass[p]; /* kg */
     double velocity[3] = {ctx->velocity[0][p], ctx->velocity[1][p],
                           ctx->velocity[2][p]};   /* m/s */
@@ -228,12 +260,14 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
     double affine[9];                         /* 1/s, C_p */
     if (do_momentum && apic)
       affine_of_point_3d(ctx, position, p, &support, wide, offset, affine);
+    size_t entry = 0; /* CPDI: (c span_y + b) span_x + a */
     for (int c = 0; c < span_z; c++) {
       for (int b = 0; b < span_y; b++) {
-        for (int a = 0; a < span_x; a++) {
+        for (int a = 0; a < span_x; a++, entry++) {
           int64_t nx = local[0] + a, ny = local[1] + b, nz = local[2] + c;
           size_t node = gm_block_node_3d(links, nx, ny, nz);
-          double weight = w[0][a] * w[1][b] * w[2][c];
+          double weight =
+              cpdi ? dense.weight[entry] : w[0][a] * w[1][b] * w[2][c];
           if (do_mass)
             grid->mass[node] += weight * m;
           if (do_momentum && !apic)
@@ -251,9 +285,12 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
           }
           if (!do_forces)
             continue;
-          double gx = d[0][a] * w[1][b] * w[2][c]; /* 1/m */
-          double gy = w[0][a] * d[1][b] * w[2][c];
-          double gz = w[0][a] * w[1][b] * d[2][c];
+          double gx = cpdi ? dense.gradient[0][entry]
+                           : d[0][a] * w[1][b] * w[2][c]; /* 1/m */
+          double gy =
+              cpdi ? dense.gradient[1][entry] : w[0][a] * d[1][b] * w[2][c];
+          double gz =
+              cpdi ? dense.gradient[2][entry] : w[0][a] * w[1][b] * d[2][c];
           /* f_i = N_i b - V sigma grad N_i (004 eq 3.15) */
           grid->force[0][node] +=
               weight * body[0] -
@@ -274,35 +311,42 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
  * transfer. */
 static GM_ALWAYS_INLINE void
 scatter_block_3d_shape(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
-                       uint32_t block, const bool wide, const bool apic) {
+                       uint32_t block, const bool wide, const bool apic,
+                       const bool cpdi) {
   const gm_p2g_pass *pass = ctx->pass;
   if (pass->mass && pass->momentum && pass->forces)
-    scatter_block_3d_kind(ctx, scratch, block, true, true, true, wide, apic);
+    scatter_block_3d_kind(ctx, scratch, block, true, true, true, wide, apic,
+                          cpdi);
   else if (pass->mass && pass->momentum)
-    scatter_block_3d_kind(ctx, scratch, block, true, true, false, wide, apic);
+    scatter_block_3d_kind(ctx, scratch, block, true, true, false, wide, apic,
+                          cpdi);
   else if (pass->momentum && pass->forces)
-    scatter_block_3d_kind(ctx, scratch, block, false, true, true, wide, apic);
+    scatter_block_3d_kind(ctx, scratch, block, false, true, true, wide, apic,
+                          cpdi);
   else if (pass->momentum)
-    scatter_block_3d_kind(ctx, scratch, block, false, true, false, wide, apic);
+    scatter_block_3d_kind(ctx, scratch, block, false, true, false, wide, apic,
+                          cpdi);
   else /* no momentum: the transfer does not matter */
     scatter_block_3d_kind(ctx, scratch, block, pass->mass, false, pass->forces,
-                          wide, false);
+                          wide, false, cpdi);
 }
 
 static void scatter_block_3d(const p2g_3d_context *ctx,
                              gm_worker_scratch *scratch, uint32_t block) {
   bool wide = ctx->domain->shape_grid.shape != GM_SHAPE_LINEAR;
   bool apic = ctx->affine[0] != NULL;
-  /* uGIMP, cpGIMP and the B-splines are the wide shapes (domain.c refuses
-   * CPDI in 3D) */
-  if (!wide && !apic)
-    scatter_block_3d_shape(ctx, scratch, block, false, false);
+  /* uGIMP, cpGIMP, the B-splines and CPDI are the wide shapes (domain.c
+   * refuses APIC with CPDI in 3D) */
+  if (ctx->domain->shape_grid.shape == GM_SHAPE_CPDI)
+    scatter_block_3d_shape(ctx, scratch, block, true, false, true);
+  else if (!wide && !apic)
+    scatter_block_3d_shape(ctx, scratch, block, false, false, false);
   else if (!wide)
-    scatter_block_3d_shape(ctx, scratch, block, false, true);
+    scatter_block_3d_shape(ctx, scratch, block, false, true, false);
   else if (!apic)
-    scatter_block_3d_shape(ctx, scratch, block, true, false);
+    scatter_block_3d_shape(ctx, scratch, block, true, false, false);
   else
-    scatter_block_3d_shape(ctx, scratch, block, true, true);
+    scatter_block_3d_shape(ctx, scratch, block, true, true, false);
 }
 
 static void scatter_blocks_3d(void *context, size_t begin, size_t end,

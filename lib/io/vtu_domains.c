@@ -2,9 +2,9 @@
  * vtu_domains.c - gm_domain_write_domains_vtu: the current domain of every
  * material point as a polygon, so ParaView draws the domains as the
  * snapshots of 000 Figs 12 and 16 show them (a parallelogram per point with
- * CPDI, a rectangle with the GIMP variants and linear MPM; in 3D, linear
- * MPM only so far, a hexahedron: the parallelepiped F carries the initial
- * box to).
+ * CPDI, a rectangle with the GIMP variants and linear MPM; in 3D a
+ * hexahedron: the GIMP box, or for linear MPM and CPDI the parallelepiped
+ * F carries the initial box to).
  *
  * The corners come from GM_FIELD_DOMAIN_CORNERS (support.h), counter-
  * clockwise from the lower left, which is VTK_QUAD's vertex order, so a

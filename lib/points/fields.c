@@ -92,7 +92,9 @@ static double *stored_component(const gm_domain *domain, gm_field field,
  * volume is det F times the initial box's, the point's volume V = det F V0
  * (g2p_3d.c) when V0 is the initial box (fill_box). Linear MPM has no
  * domain of its own: this is the material box the point started as,
- * carried by F (the CPDI domain of 000 Fig. 12 in 3D). uGIMP and cpGIMP
+ * carried by F (the CPDI domain of 000 Fig. 12 in 3D; with GM_SHAPE_CPDI
+ * exactly the domain its weights average over, support_cpdi_3d.h). uGIMP
+ * and cpGIMP
  * give their own box instead (axis-aligned; cpGIMP's edges stretched by
  * |F_kk|), whose volume is not V. Corner c has signs
  * (s_x, s_y, s_z) in VTK_HEXAHEDRON's vertex order: the lower face
@@ -108,7 +110,8 @@ static double corner_value_3d(const gm_domain *domain, size_t k, size_t i) {
       {F_XX, F_XY, F_XZ}, {F_YX, F_YY, F_YZ}, {F_ZX, F_ZY, F_ZZ}};
   size_t corner = k / 3, axis = k % 3;
   double value = buffer->position[axis][i]; /* m */
-  if (domain->shape_grid.shape != GM_SHAPE_LINEAR) {
+  gm_shape shape = domain->shape_grid.shape;
+  if (shape != GM_SHAPE_LINEAR && shape != GM_SHAPE_CPDI) {
     /* uGIMP, cpGIMP: the box the weights average over, along the axes
      * (support_3d.h), as the 2D rectangle of support.h. */
     double half[3]; /* m */

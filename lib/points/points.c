@@ -40,7 +40,8 @@ gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
     GROW(buffer->stress[k], sizeof(double));
   for (int k = 0; k < stored_deformation(domain); k++)
     GROW(buffer->deformation[k], sizeof(double));
-  if (domain->def.shape == GM_SHAPE_CPDI)
+  /* CPDI's domain map D (2D; 3D domains follow F, support_cpdi_3d.h) */
+  if (domain->def.shape == GM_SHAPE_CPDI && domain->dim < 3)
     for (int k = 0; k < 4; k++)
       GROW(buffer->domain_map[k], sizeof(double));
   GROW(buffer->volume, sizeof(double));
@@ -256,8 +257,26 @@ static gm_status validate_box_3d(gm_domain *domain, const gm_points_def *def,
                          ? def->domain_size[i * 3 + (size_t)k]
                          : default_domain_edge(domain, volume, position[0]));
   int64_t lowest[3];
-  if (gm_box_support_lowest_3d(&domain->shape_grid, position, half, lowest))
+  if (domain->shape_grid.shape == GM_SHAPE_CPDI) {
+    /* F = I. The whole support, so that a domain too thin for its
+     * corner gradients (which divide by its volume) is refused here. */
+    static const double identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    gm_cpdi_support_3d support;
+    if (gm_cpdi_support_lowest_3d(&domain->shape_grid, position, identity, half,
+                                  lowest)) {
+      if (gm_cpdi_support_compute_3d(&domain->shape_grid, position, identity,
+                                     half, &support))
+        return GM_OK;
+      return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                          "gm_domain_add_points: point %zu domain (edges %g "
+                          "x %g x %g m) is too thin for the shape functions "
+                          "to weigh its nodes",
+                          i, 2.0 * half[0], 2.0 * half[1], 2.0 * half[2]);
+    }
+  } else if (gm_box_support_lowest_3d(&domain->shape_grid, position, half,
+                                      lowest)) {
     return GM_OK;
+  }
   return gm_set_error(domain, GM_ERR_OUT_OF_GRID,
                       "gm_domain_add_points: point %zu domain (edges %g x %g "
                       "x %g m at x = %g, y = %g, z = %g m) reaches past the "

@@ -6,7 +6,8 @@
  * for every shape variant with the corners of its current domain
  * (support.h, support.c; in 3D support_3d.h, support_3d.c; the fixed
  * three-node axes of short GIMP domains, support_short.h; the inline 2D
- * CPDI support, support_cpdi.h). The bottom
+ * CPDI support, support_cpdi.h; the 3D CPDI support, support_cpdi_3d.{h,c}).
+ * The bottom
  * layer: core/domain.h includes it for gm_shape_grid. Private to the
  * library.
  */
@@ -19,6 +20,7 @@
 #include "shapes/support.h"
 #include "shapes/support_3d.h"
 #include "shapes/support_cpdi.h"
+#include "shapes/support_cpdi_3d.h"
 #include "shapes/support_short.h"
 
 #endif

@@ -21,21 +21,21 @@ static const char *face_name(int face) {
 }
 
 /* What GM_GEOMETRY_3D runs in this version (docs/3d.md): linear, uGIMP,
- * cpGIMP and the B-spline shapes, every family (plain, stress_free,
- * granular: granular/components.c in 3D), FLIP/PIC/APIC, open, slip,
- * fixed and periodic x box faces; every scheme, gravity, damping, host forces.
- * The rest is refused by name here (or by the call that would add it: planar
- * walls with GIMP shapes, walls and rigid materials beside periodic faces). */
+ * cpGIMP, the B-spline shapes and CPDI, every family (plain, stress_free,
+ * granular: granular/components.c in 3D), FLIP/PIC/APIC (FLIP/PIC with
+ * CPDI), open, slip, fixed and
+ * periodic x box faces; every scheme, gravity,
+ * damping, host forces. The rest is refused by name here (or by the call
+ * that would add it: planar walls with GIMP shapes and CPDI, walls and
+ * rigid materials beside periodic faces, rigid materials with CPDI). */
 static gm_status validate_3d(const gm_domain_def *def) {
-  static const char *shapes[] = {"GM_SHAPE_LINEAR",   "GM_SHAPE_UGIMP",
-                                 "GM_SHAPE_CPGIMP",   "GM_SHAPE_CPDI",
-                                 "GM_SHAPE_BSPLINE2", "GM_SHAPE_BSPLINE3"};
-  if (def->shape == GM_SHAPE_CPDI)
+  if (def->shape != GM_SHAPE_CPDI)
+    return GM_OK;
+  if (def->transfer == GM_TRANSFER_APIC)
     CREATE_FAIL(GM_ERR_UNSUPPORTED,
-                "gm_domain_def.shape %s is not supported in GM_GEOMETRY_3D "
-                "in this version (only GM_SHAPE_LINEAR, GM_SHAPE_UGIMP, "
-                "GM_SHAPE_CPGIMP, GM_SHAPE_BSPLINE2 and GM_SHAPE_BSPLINE3)",
-                shapes[def->shape]);
+                "gm_domain_def.transfer GM_TRANSFER_APIC with shape "
+                "GM_SHAPE_CPDI is not supported in GM_GEOMETRY_3D in this "
+                "version; use GM_TRANSFER_FLIP (any pic_fraction)");
   return GM_OK;
 }
 

@@ -210,6 +210,7 @@ typedef enum domain_knob {
   DOMAIN_AXISYMMETRIC_ORIGIN_X,
   /* GM_GEOMETRY_3D with a setting not done in 3D yet (docs/3d.md). */
   DOMAIN_3D_SHAPE,
+  DOMAIN_3D_CPDI_TRANSFER,
   DOMAIN_3D_FAMILY
 } domain_knob;
 
@@ -284,6 +285,11 @@ static void spoil_domain_def(gm_domain_def *d, domain_knob knob, double value) {
     d->geometry = GM_GEOMETRY_3D;
     d->family = (gm_family)(int)value;
     break;
+  case DOMAIN_3D_CPDI_TRANSFER:
+    d->geometry = GM_GEOMETRY_3D;
+    d->shape = GM_SHAPE_CPDI;
+    d->transfer = (gm_transfer)(int)value;
+    break;
   }
 }
 
@@ -303,12 +309,13 @@ static const bad_domain_case bad_domain_cases[] = {
     {"extent NaN", DOMAIN_EXTENT_X, NAN, NONFINITE, "extent"},
     {"geometry 0", DOMAIN_GEOMETRY, 0, INVALID, "geometry"},
     {"geometry 99", DOMAIN_GEOMETRY, 99, INVALID, "geometry"},
-    /* GM_GEOMETRY_3D runs linear MPM, uGIMP, cpGIMP and the B-splines
-     * (test_bspline_3d.c), every family (test_granular_3d.c), FLIP and
-     * APIC, closed and periodic x faces (docs/3d.md); the rest (periodic y
-     * and z faces as in 2D: test_periodic.c) is refused by name. */
-    {"3D CPDI", DOMAIN_3D_SHAPE, GM_SHAPE_CPDI, ONLY(GM_ERR_UNSUPPORTED),
-     "GM_SHAPE_CPDI"},
+    /* GM_GEOMETRY_3D runs linear MPM, uGIMP, cpGIMP, the B-splines
+     * (test_bspline_3d.c) and CPDI (test_cpdi_3d.c), every family
+     * (test_granular_3d.c), FLIP and APIC (not APIC with CPDI), closed
+     * and periodic x faces (docs/3d.md); the rest (periodic y and z faces
+     * as in 2D: test_periodic.c) is refused by name. */
+    {"3D CPDI APIC", DOMAIN_3D_CPDI_TRANSFER, GM_TRANSFER_APIC,
+     ONLY(GM_ERR_UNSUPPORTED), "GM_TRANSFER_APIC with shape GM_SHAPE_CPDI"},
     {"3D family 99", DOMAIN_3D_FAMILY, 99, INVALID, "family"},
     {"cfl 0", DOMAIN_CFL, 0.0, INVALID, "cfl"},
     {"cfl < 0", DOMAIN_CFL, -0.5, INVALID, "cfl"},

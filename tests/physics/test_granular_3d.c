@@ -16,8 +16,9 @@
  * nodes (node layers, 000 sec 3.3), and each must move bitwise as it does
  * alone in the same box; the step that starts after t* merges them.
  *
- *  1. on three grids (cells 0.1, 0.05, 0.025 m) and every box shape that
- *     runs in 3D (linear, uGIMP, cpGIMP, quadratic and cubic B-splines):
+ *  1. on three grids (cells 0.1, 0.05, 0.025 m) and every shape that
+ *     runs in 3D (linear, uGIMP, cpGIMP, quadratic and cubic B-splines,
+ *     CPDI, whose parallelepipeds take the 15-axis test):
  *     the velocities and positions of each blob equal bitwise those of the
  *     blob run alone, step by step, while there are two components; the
  *     components merge at the first step starting after t*, within one
@@ -65,10 +66,10 @@ static const double GAP = 0.1633;         /* m, between the cubes */
 static const double LOWER_A = 0.3;        /* m, x of cube A's lower face */
 static const double TIME_STEP = 1e-3;     /* s; c = 9.5 m/s, h/c >= 2.6e-3 */
 
-static const gm_shape SHAPES[] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
-                                  GM_SHAPE_CPGIMP, GM_SHAPE_BSPLINE2,
-                                  GM_SHAPE_BSPLINE3};
-#define SHAPE_COUNT 5
+static const gm_shape SHAPES[] = {GM_SHAPE_LINEAR,   GM_SHAPE_UGIMP,
+                                  GM_SHAPE_CPGIMP,   GM_SHAPE_BSPLINE2,
+                                  GM_SHAPE_BSPLINE3, GM_SHAPE_CPDI};
+#define SHAPE_COUNT 6
 static const double CELLS[3] = {0.1, 0.05, 0.025}; /* m */
 
 /* Which blobs a scene holds. */
