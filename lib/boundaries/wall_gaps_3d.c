@@ -7,7 +7,9 @@
  * and uGIMP the initial one (edges GM_FIELD_DOMAIN_SIZE) moved with its
  * centre, for cpGIMP its edges stretched by |F_kk| (support_3d.h); its
  * half extent along the normal n is h_x |n_x| + h_y |n_y| + h_z |n_z|
- * (half edges h_k). The nodes that get the gap are those the point has
+ * (half edges h_k); CPDI's is the parallelepiped of edges F r_k, whose
+ * half extent is sum_k |F r_k . n|. The nodes that get the gap are those
+ * the point has
  * weight on: the 8 of its tent with linear MPM, the nodes of its GIMP
  * support (up to 3 per axis, support_3d.h) with uGIMP and cpGIMP, which
  * take walls on open box faces only (walls.c, check_wide_3d).
@@ -26,6 +28,8 @@
  * deterministic and free of races.
  */
 #include "boundaries/boundaries.h"
+
+#include "shapes/support_cpdi_3d.h"
 
 #include <math.h>
 
@@ -131,6 +135,43 @@ static bool point_support_3d(const gm_domain *domain, const double x[3],
   return true;
 }
 
+/* Lowers the gaps of node (local, in the block of links) to distance. */
+static void lower_node_gaps(gm_grid *grid, const uint32_t *links,
+                            const int64_t local[3], const double *distance,
+                            int planes) {
+  size_t node = gm_block_node_3d(links, local[0], local[1], local[2]);
+  double *gap = grid->wall_gap + node * (size_t)planes;
+  for (int w = 0; w < planes; w++)
+    gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
+}
+
+/* CPDI's nodes: the entries of its dense support (support_cpdi_3d.h) that
+ * have weight. */
+static void lower_cpdi_gaps(gm_domain *domain, uint32_t block,
+                            const double x[3], const double f[9],
+                            const double half[3], const double *distance,
+                            int planes) {
+  gm_grid *grid = &domain->grid;
+  gm_cpdi_support_3d support;
+  if (!gm_cpdi_support_compute_3d(&domain->shape_grid, x, f, half, &support))
+    return; /* the transfers have failed the step then */
+  const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  int64_t base[3];
+  gm_block_coordinates_3d(grid, grid->block_key[block], base);
+  int entry = 0;
+  for (int c = 0; c < support.span[2]; c++)
+    for (int b = 0; b < support.span[1]; b++)
+      for (int a = 0; a < support.span[0]; a++, entry++) {
+        if (support.weight[entry] == 0.0)
+          continue;
+        int64_t local[3] = {
+            support.lowest[0] - (base[0] << GM_BLOCK_SHIFT_3D) + a,
+            support.lowest[1] - (base[1] << GM_BLOCK_SHIFT_3D) + b,
+            support.lowest[2] - (base[2] << GM_BLOCK_SHIFT_3D) + c};
+        lower_node_gaps(grid, links, local, distance, planes);
+      }
+}
+
 static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
                              uint32_t block, size_t p, double reach) {
   const gm_points *points = &domain->points;
@@ -144,14 +185,23 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
   gm_box_half_edges_3d(domain->def.shape,
                        (const double *const *)points->domain_size,
                        (const double *const *)current->deformation, p, half);
+  /* CPDI: the parallelepiped of edges r_k = half_k (column k of F), whose
+   * half extent along n is sum_k |r_k . n| (support_cpdi_3d.h). */
+  bool cpdi = domain->def.shape == GM_SHAPE_CPDI;
+  double f[9] = {0.0}; /* F, row-major */
+  if (cpdi)
+    gm_deformation_rows_3d((const double *const *)current->deformation, p, f);
   double distance[GM_MAX_WALLS + 6]; /* m */
   bool near = false;
   for (int w = 0; w < planes; w++) {
     const gap_plane_3d *plane = &ctx->planes[w];
     double centre = 0.0, half_extent = 0.0; /* m */
+    const double *n = plane->normal;
     for (int k = 0; k < 3; k++) {
-      centre += (x[k] - plane->point[k]) * plane->normal[k];
-      half_extent += half[k] * fabs(plane->normal[k]);
+      centre += (x[k] - plane->point[k]) * n[k];
+      half_extent += cpdi ? fabs(half[k] * (f[k] * n[0] + f[3 + k] * n[1] +
+                                            f[6 + k] * n[2]))
+                          : half[k] * fabs(n[k]);
     }
     distance[w] = INFINITY;
     if (centre > reach)
@@ -166,6 +216,10 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
   }
   if (!near)
     return;
+  if (cpdi) {
+    lower_cpdi_gaps(domain, block, x, f, half, distance, planes);
+    return;
+  }
   gm_box_support_3d support;
   if (!point_support_3d(domain, x, half, &support))
     return;
@@ -181,11 +235,8 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
                 support.weight[2][c] ==
             0.0)
           continue; /* no weight on this node (2D skips these as well) */
-        size_t node =
-            gm_block_node_3d(links, local[0] + a, local[1] + b, local[2] + c);
-        double *gap = grid->wall_gap + node * (size_t)planes;
-        for (int w = 0; w < planes; w++)
-          gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
+        int64_t node[3] = {local[0] + a, local[1] + b, local[2] + c};
+        lower_node_gaps(grid, links, node, distance, planes);
       }
 }
 

@@ -9,7 +9,8 @@
  * per cell, its bottom at gap g above the floor (the z-min box face, slip
  * or fixed: the third axis, which the 2D test cannot reach; the side faces
  * slip, three cells from the block), released from rest under gravity
- * along -z. Linear shapes in USL, MUSL and USF, uGIMP in USL. Asserted as
+ * along -z. Linear shapes in USL, MUSL and USF, uGIMP and CPDI in USL.
+ * Asserted as
  * in 2D:
  *  - the largest downward speed of its centre of mass is the free-fall
  *    impact speed sqrt(2 g g_0) within 2 % (the speed is sampled at the
@@ -76,15 +77,17 @@ static void add_block(gm_domain *domain, int material, double gap) {
   free(volume);
 }
 
-/* _i: linear with scheme (3) x floor (2) x gap (3), then uGIMP in USL with
- * floor (2) x gap (3). */
+/* _i: linear with scheme (3) x floor (2) x gap (3), then uGIMP and CPDI in
+ * USL with floor (2) x gap (3). */
 START_TEST(test_block_falls_onto_face_3d) {
   bool wide = _i >= 18;
-  int k = wide ? _i - 18 : _i;
+  int k = wide ? (_i - 18) % 6 : _i;
   gm_update_scheme scheme = wide ? GM_SCHEME_USL : SCHEMES[k % 3];
   gm_wall_type floor = wide ? FLOORS[k % 2] : FLOORS[k / 3 % 2];
   double gap_cells = wide ? GAPS[k / 2] : GAPS[k / 6];
-  gm_shape shape = wide ? GM_SHAPE_UGIMP : GM_SHAPE_LINEAR;
+  gm_shape shape = !wide     ? GM_SHAPE_LINEAR
+                   : _i < 24 ? GM_SHAPE_UGIMP
+                             : GM_SHAPE_CPDI;
   const char *name = floor == GM_WALL_SLIP ? "slip" : "fixed";
   gm_domain_def def = gm_domain_def_default();
   def.geometry = GM_GEOMETRY_3D;
@@ -193,7 +196,7 @@ int main(void) {
   Suite *suite = suite_create("face_gaps_3d");
   TCase *tcase = tcase_create("block falling onto a 3D box face");
   tcase_set_timeout(tcase, 300);
-  tcase_add_loop_test(tcase, test_block_falls_onto_face_3d, 0, 18 + 6);
+  tcase_add_loop_test(tcase, test_block_falls_onto_face_3d, 0, 18 + 6 + 6);
   suite_add_tcase(suite, tcase);
   TCase *symmetry = tcase_create("symmetry plane");
   tcase_add_test(symmetry, test_symmetry_face_holds);
