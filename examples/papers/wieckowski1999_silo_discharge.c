@@ -57,6 +57,9 @@
  * --grain D replaces Drucker-Prager by mu(I) with grain diameter D on the
  * same cone (docs/convergence.md sec. 14: the rate's growth under
  * refinement is the same).
+ * --drop L lowers the sinks L below the orifice (whole cells): the points
+ * leave the opening in free fall instead of being removed at its plane
+ * (docs/convergence.md sec. 25: the rate's growth is the same).
  *
  * --geometry 3d (issue 16 items 3-4): a square silo of side 2B with a
  * circular orifice of diameter D in its flat floor, y up. Only the quarter
@@ -115,6 +118,8 @@ typedef struct silo {
   double grain;        /* m, > 0: mu(I) with this grain diameter */
   const char *profile; /* path of the steady profiles' CSV; "" = none */
   double cfl;          /* -, Courant number of the stable dt */
+  double drop;         /* m, free fall below the orifice before the sink
+                          (whole cells); 0 = the sink at the orifice */
   int dim;             /* 2, or 3 with --geometry 3d */
 } silo;
 
@@ -160,9 +165,10 @@ static gm_status create_domain(const silo *s, double damping,
   def.family = s->options.family;
   def.scheme = GM_SCHEME_MUSL; /* 001 sec 3: the smoothed velocity */
   def.cell_size = cell;
-  def.origin[1] = -3.0 * cell; /* the floor layer and the sink below 0 */
+  /* the floor layer, the free fall of --drop and the sink below 0 */
+  def.origin[1] = -3.0 * cell - s->drop;
   def.extent[0] = s->half_width + 2.0 * cell;
-  def.extent[1] = s->fill_height + 5.0 * cell;
+  def.extent[1] = s->fill_height + 5.0 * cell + s->drop;
   def.gravity[1] = -GRAVITY;
   def.walls[GM_FACE_XMIN] = GM_WALL_SLIP; /* the symmetry axis */
   def.walls[GM_FACE_XMAX] = GM_WALL_SLIP;
@@ -540,7 +546,10 @@ static gm_status copy_points(const gm_domain *from, int material, gm_domain *to,
   return status;
 }
 
-/* Sink just below the orifice, and a catch-all under the floor layer. In
+/* Sink just below the orifice, and a catch-all under the floor layer,
+ * both lowered by --drop (the points then fall freely through the opening
+ * for that height before they are counted: the stress of the flow above
+ * the orifice is not cut off at its plane; docs/convergence.md sec. 25). In
  * 3D the catch-all only (a sink removes rigid points too, and a box just
  * below a round hole would take the floor's corner): points are counted
  * once they fall below the floor layer. */
@@ -556,14 +565,14 @@ static gm_status add_sinks(gm_domain *domain, const silo *s, int sinks[2]) {
   gm_sink_def orifice = gm_sink_def_default();
   orifice.lower[0] = 0.0;
   orifice.upper[0] = 0.5 * s->orifice;
-  orifice.lower[1] = -3.0 * cell;
-  orifice.upper[1] = 0.0;
+  orifice.lower[1] = -3.0 * cell - s->drop;
+  orifice.upper[1] = -s->drop;
   gm_status status = gm_domain_add_sink(domain, &orifice, &sinks[0]);
   gm_sink_def below = gm_sink_def_default();
   below.lower[0] = 0.0;
   below.upper[0] = s->half_width + 2.0 * cell;
-  below.lower[1] = -3.0 * cell;
-  below.upper[1] = -1.5 * cell;
+  below.lower[1] = -3.0 * cell - s->drop;
+  below.upper[1] = -1.5 * cell - s->drop;
   if (status == GM_OK)
     status = gm_domain_add_sink(domain, &below, &sinks[1]);
   return status;
@@ -930,6 +939,7 @@ static int configure(silo *s, int argc, char **argv) {
   double fluidity = 0.0, reference = 0.0;   /* 1/s, Pa */
   double grain = 0.0;                       /* m */
   double cfl = gm_domain_def_default().cfl; /* - */
+  double drop = 0.0;                        /* m */
   example_extra extras[] = {
       {"orifice", "orifice width (slot) or diameter D, m", &orifice, NULL},
       {"geometry", "plane|axisym|3d (3d: a quarter square silo)", NULL,
@@ -953,11 +963,15 @@ static int configure(silo *s, int argc, char **argv) {
        "> 0: mu(I) with this grain diameter, m, on the same cone (0: "
        "Drucker-Prager)",
        &grain, NULL},
+      {"drop",
+       "free fall below the orifice before the sink, m (whole cells; 0: the "
+       "sink at the orifice)",
+       &drop, NULL},
   };
   int parsed = example_parse(argc, argv,
                              "Silo discharge through a bottom orifice "
                              "against Beverloo (002 sec 5, 001 sec 5.1.1).",
-                             &s->options, extras, 9);
+                             &s->options, extras, 10);
   if (parsed != 0)
     return parsed;
   s->geometry = strcmp(geometry, "axisym") == 0 ? GM_GEOMETRY_AXISYMMETRIC
@@ -1013,6 +1027,12 @@ static int configure(silo *s, int argc, char **argv) {
     return 2;
   }
   s->cfl = cfl;
+  if (!(drop >= 0.0) || (drop > 0.0 && (s->dim == 3 || s->hopper_angle > 0))) {
+    fprintf(stderr, "--drop must be >= 0, in 2D and with a flat floor (a "
+                    "hopper's wall plane continues below the orifice)\n");
+    return 2;
+  }
+  s->drop = cell * round(drop / cell); /* y = 0 stays a node line */
   return 0;
 }
 
