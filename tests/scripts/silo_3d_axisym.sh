@@ -12,7 +12,11 @@
 #
 # Asserts the 3D rate (4 x the quarter's) within 5 % of the axisymmetric
 # one, the issue's bound. Measured (docs/3d.md, "Silo discharge through a
-# circular orifice"): 56.27 against 56.42 kg/s (-0.27 %); at D/8 D8RESULT.
+# circular orifice"): 56.27 against 56.42 kg/s (-0.27 %). Not a converged
+# agreement: at D/8 (too long for make check, 6.5 min of CPU) 70.13 against
+# 78.88 kg/s (-11.1 %), where the 3D floor's open area is 4.5 % below the
+# axisymmetric one (at D/6 5.5 % above): this test guards the floor and
+# sinks at D/6, not the issue's bound on every cell.
 # The first 3D floor (every floor point kept whose own centre lies outside
 # the circle: 6 open floor nodes in the quarter instead of 8, the nodes of
 # every cell the circle cuts held) and its sink below the floor layer gave
