@@ -1,8 +1,14 @@
 # examples/silos.mk - silo discharge and filling against Beverloo and Janssen (included by Makefile.am).
 noinst_PROGRAMS += examples/papers/wieckowski1999_silo_discharge examples/papers/wieckowski2004_silo_filling_janssen
-examples_papers_wieckowski1999_silo_discharge_SOURCES = examples/papers/wieckowski1999_silo_discharge.c $(EXAMPLE_COMMON)
+examples_papers_wieckowski1999_silo_discharge_SOURCES = examples/papers/wieckowski1999_silo_discharge.c \
+	examples/papers/silo_discharge_3d.c examples/papers/silo_discharge_3d.h $(EXAMPLE_COMMON)
 examples_papers_wieckowski1999_silo_discharge_LDADD = lib/libgranmpm.la -lm
 examples_papers_wieckowski1999_silo_discharge_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
+# The 3D silo (a quarter square silo, circular orifice) against the
+# axisymmetric silo of the same D, B, H and cell, within 5 % at D/6
+# (issue 16 item 3; docs/3d.md).
+TESTS += tests/scripts/silo_3d_axisym.sh
+EXTRA_DIST += tests/scripts/silo_3d_axisym.sh
 examples_papers_wieckowski2004_silo_filling_janssen_SOURCES = examples/papers/wieckowski2004_silo_filling_janssen.c $(EXAMPLE_COMMON)
 examples_papers_wieckowski2004_silo_filling_janssen_LDADD = lib/libgranmpm.la -lm
 examples_papers_wieckowski2004_silo_filling_janssen_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples

@@ -38,8 +38,9 @@
  * grain, k d = 2.7 h (tests/physics/test_beverloo.c asserts that scaling).
  *
  * Runs for at least --t-end s and until 45 % of the fill has left (use a
- * larger --t-end to watch the silo empty). The default (D = 0.3 m, 0.025 m
- * cells, 2 x 2 points per cell) takes about 5 s on one core.
+ * larger --t-end to watch the silo empty; --t-max stops it earlier).
+ * --fill sets the fill height in full widths (2 by default). The default (D =
+ * 0.3 m, 0.025 m cells, 2 x 2 points per cell) takes about 5 s on one core.
  *
  * Steady rate: the discharged mass is sampled every --sample s; the rate is
  * the least-squares slope of mass against time over the window from the
@@ -51,6 +52,9 @@
  *   RESULT wall_pressure_mid=... (Janssen, at rest; hopper: not printed)
  *   RESULT flow_rate=... reference=Beverloo (kg/(m s), or kg/s axisym)
  *   rate by window: the same fit over 10-25 % and 25-40 % of the fill
+ *   (axisymmetric and 3D) the open floor nodes of the orifice and the
+ *   area they open against pi D^2 / 4, and the mean v_y over the window of
+ *   the points above the orifice's centre (r < h, 0 <= y < h)
  * Writes <out>/discharge.csv, <out>/rest_wall.csv and <out>/silo.pvd, and
  * with --profile PATH the steady profiles across and above the orifice
  * (PATH, PATH_axis.csv; docs/convergence.md sec. 14).
@@ -65,8 +69,11 @@
  * circular orifice of diameter D in its flat floor, y up. Only the quarter
  * x, z >= 0 is modelled: the grid faces x = 0 and z = 0 are slip symmetry
  * planes, the side walls x = B and z = B planar Coulomb walls, the floor
- * a rigid layer with a quarter-circle hole centred on the corner (a point
- * of the layer is kept where its centre lies outside the circle). The
+ * a rigid layer with a quarter-circle hole centred on the corner: the
+ * rigid floor holds every node its points touch, so the hole is cut by
+ * nodes, the open ones those within D/2 - h/2 of the corner, the planar
+ * and axisymmetric floors' rule on their line (silo_discharge_3d.c). The
+ * sinks fill the hole in the floor layer, as in 2D. The
  * rate is 4 times the quarter's, against Beverloo's circular law (eq 20)
  * and, printed as a second RESULT, against the axisymmetric silo of the
  * same D, B, H, cell and points per cell, run in the same process (a
@@ -80,6 +87,7 @@
 #include <granmpm.h>
 
 #include "common.h"
+#include "silo_discharge_3d.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -101,7 +109,7 @@ static const double BEVERLOO_SI = 45.0 / 60.; /* 002 eq 19 in SI units */
 static const double MESH_GRAIN =
     2.7; /* k d / h, tests/physics/test_beverloo.c */
 
-enum { MAX_SAMPLES = 100000, MAX_TRACTIONS = 4096 };
+enum { MAX_SAMPLES = 100000, MAX_TRACTIONS = 4096, MAX_SINKS = 64 };
 
 /* What the command line chooses, and the derived geometry. */
 typedef struct silo {
@@ -120,6 +128,7 @@ typedef struct silo {
   double cfl;          /* -, Courant number of the stable dt */
   double drop;         /* m, free fall below the orifice before the sink
                           (whole cells); 0 = the sink at the orifice */
+  double t_max;        /* s, > 0: the discharge stops here, window or not */
   int dim;             /* 2, or 3 with --geometry 3d */
 } silo;
 
@@ -270,13 +279,16 @@ static gm_status add_walls(gm_domain *domain, const silo *s,
   return add_wall(domain, edge, normal, &loads->walls[1]);
 }
 
-/* The 3D floor layer, on the lattice of fill_box: every point whose
- * centre lies at least `radius` (m) from the corner axis x = z = 0, out to
- * x, z < `edge` (m). */
+/* The 3D floor layer, on the lattice of fill_box, out to x, z < `edge`
+ * (m): the points of every rigid cell (silo3d_rigid_cell) about the
+ * orifice of radius `radius` (m, a whole number of cells; 0: the gate).
+ * The open nodes are then those within D/2 - h/2 of the corner axis, the
+ * planar and axisymmetric floors' rule (silo_discharge_3d.c). */
 static gm_status add_floor_3d(gm_domain *domain, const silo *s, int material,
                               double radius, double edge) {
   int n = s->options.ppc;
-  double spacing = s->options.cell / n; /* m */
+  double spacing = s->options.cell / n;          /* m */
+  long holes = lround(radius / s->options.cell); /* cells */
   size_t side = (size_t)llround(edge / spacing), count = 0;
   double *position = malloc(3 * side * side * n * sizeof *position);
   double *volume = malloc(side * side * n * sizeof *volume);
@@ -284,7 +296,8 @@ static gm_status add_floor_3d(gm_domain *domain, const silo *s, int material,
     for (size_t k = 0; k < side; k++)
       for (int j = 0; j < n; j++) {
         double x = (i + 0.5) * spacing, z = (k + 0.5) * spacing; /* m */
-        if (x * x + z * z < radius * radius)
+        if (holes > 0 &&
+            !silo3d_rigid_cell((long)(i / n), (long)(k / n), holes))
           continue; /* the orifice */
         position[3 * count] = x;
         position[3 * count + 1] = -s->options.cell + (j + 0.5) * spacing;
@@ -546,42 +559,51 @@ static gm_status copy_points(const gm_domain *from, int material, gm_domain *to,
   return status;
 }
 
-/* Sink just below the orifice, and a catch-all under the floor layer,
- * both lowered by --drop (the points then fall freely through the opening
- * for that height before they are counted: the stress of the flow above
- * the orifice is not cut off at its plane; docs/convergence.md sec. 25). In
- * 3D the catch-all only (a sink removes rigid points too, and a box just
- * below a round hole would take the floor's corner): points are counted
- * once they fall below the floor layer. */
-static gm_status add_sinks(gm_domain *domain, const silo *s, int sinks[2]) {
+/* Sinks just below the orifice, in the floor layer's hole (y in [-3h, 0)),
+ * and a catch-all under the floor layer: a point is counted once its
+ * centre passes the floor's top y = 0 inside the orifice. Both are lowered
+ * by --drop (2D only: the points then fall freely through the opening for
+ * that height before they are counted, so the stress of the flow above
+ * the orifice is not cut off at its plane; docs/convergence.md sec. 25). A sink
+ * removes rigid points too, so in 3D the hole is a strip per column of open
+ * cells, x in [i h, (i + 1) h), z from 0 to the column's first rigid cell:
+ * their union is the hole, as the planar and axisymmetric box is. Returns the
+ * number of sinks in *count. */
+static gm_status add_sinks(gm_domain *domain, const silo *s,
+                           int sinks[MAX_SINKS], int *count) {
   double cell = s->options.cell; /* m */
-  if (s->dim == 3) {
-    gm_sink_def below = gm_sink_def_default();
-    below.upper[0] = below.upper[2] = s->half_width + 2.0 * cell;
-    below.lower[1] = -3.0 * cell;
-    below.upper[1] = -cell;
-    return gm_domain_add_sink(domain, &below, &sinks[0]);
+  long holes = lround(0.5 * s->orifice / cell);
+  gm_status status = GM_OK;
+  *count = 0;
+  long strips = s->dim == 3 ? holes : 1;
+  for (long i = 0; status == GM_OK && i < strips; i++) {
+    gm_sink_def orifice = gm_sink_def_default();
+    orifice.lower[0] = s->dim == 3 ? i * cell : 0.0;
+    orifice.upper[0] = s->dim == 3 ? (i + 1) * cell : 0.5 * s->orifice;
+    orifice.lower[1] = -3.0 * cell - s->drop;
+    orifice.upper[1] = -s->drop;
+    long k = 0;
+    while (s->dim == 3 && !silo3d_rigid_cell(i, k, holes))
+      k++;
+    orifice.upper[2] = k * cell; /* m, 0 in 2D (z is not read) */
+    if (s->dim == 3 && k == 0)
+      continue;
+    status = gm_domain_add_sink(domain, &orifice, &sinks[(*count)++]);
   }
-  gm_sink_def orifice = gm_sink_def_default();
-  orifice.lower[0] = 0.0;
-  orifice.upper[0] = 0.5 * s->orifice;
-  orifice.lower[1] = -3.0 * cell - s->drop;
-  orifice.upper[1] = -s->drop;
-  gm_status status = gm_domain_add_sink(domain, &orifice, &sinks[0]);
   gm_sink_def below = gm_sink_def_default();
-  below.lower[0] = 0.0;
-  below.upper[0] = s->half_width + 2.0 * cell;
+  below.upper[0] = below.upper[2] = s->half_width + 2.0 * cell;
   below.lower[1] = -3.0 * cell - s->drop;
   below.upper[1] = -1.5 * cell - s->drop;
   if (status == GM_OK)
-    status = gm_domain_add_sink(domain, &below, &sinks[1]);
+    status = gm_domain_add_sink(domain, &below, &sinks[(*count)++]);
   return status;
 }
 
-/* Discharged mass (kg, per m or full ring) of both sinks. */
-static double discharged_mass(const gm_domain *domain, const int sinks[2]) {
+/* Discharged mass (kg, per m or full ring) of all the sinks. */
+static double discharged_mass(const gm_domain *domain, const int *sinks,
+                              int count) {
   double total = 0.0;
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < count; k++) {
     gm_flow_totals totals = gm_flow_totals_default();
     if (gm_domain_get_sink_totals(domain, sinks[k], &totals) == GM_OK)
       total += totals.mass;
@@ -770,7 +792,10 @@ static void write_profile(const silo *s, const profile_sums *sums) {
 typedef struct discharge_record {
   const silo *s;
   wall_loads *loads;
-  int sinks[2];
+  int sinks[MAX_SINKS];
+  int sink_count;
+  double centre_sum; /* m/s, v_y of the orifice centre, summed by sample */
+  long centre_samples;
   double symmetry;       /* full silo over the model: 2 in plane strain */
   double *time;          /* s, of each sample */
   double *mass;          /* kg, discharged by then (full silo) */
@@ -778,6 +803,36 @@ typedef struct discharge_record {
   FILE *csv;             /* NULL: none */
   profile_sums *profile; /* NULL: none */
 } discharge_record;
+
+/* The mean vertical velocity (m/s) of the fill's points (material 0,
+ * added first) over the orifice's centre: within one cell of the axis,
+ * in the cell above the floor (0 <= y < h). */
+static gm_status centre_velocity(const gm_domain *domain, const silo *s,
+                                 double *velocity) {
+  size_t count = gm_domain_point_count(domain), dim = (size_t)s->dim;
+  double *fields = malloc((2 * dim + 1) * (count + 1) * sizeof *fields);
+  if (!fields)
+    return GM_ERR_NO_MEMORY;
+  double *x = fields, *v = fields + dim * count, *id = v + dim * count;
+  gm_status status =
+      gm_domain_get_field(domain, GM_FIELD_POSITION, x, dim * count);
+  if (status == GM_OK)
+    status = gm_domain_get_field(domain, GM_FIELD_VELOCITY, v, dim * count);
+  if (status == GM_OK)
+    status = gm_domain_get_field(domain, GM_FIELD_MATERIAL, id, count);
+  double h = s->options.cell, sum = 0.0, n = 0.0; /* m, m/s, - */
+  for (size_t i = 0; status == GM_OK && i < count; i++) {
+    const double *p = x + dim * i;                            /* m */
+    double r2 = p[0] * p[0] + (dim == 3 ? p[2] * p[2] : 0.0); /* m^2 */
+    if (id[i] == 0.0 && r2 < h * h && p[1] >= 0.0 && p[1] < h) {
+      sum += v[dim * i + 1];
+      n += 1.0;
+    }
+  }
+  free(fields);
+  *velocity = n > 0.0 ? sum / n : 0.0;
+  return status;
+}
 
 /* example_run_fn: the loads are averaged over each sampling interval. */
 static gm_status reset_interval(gm_domain *domain,
@@ -802,9 +857,19 @@ static gm_status sample_discharge(const gm_domain *domain,
     return status;
   double *time = record->time, *mass = record->mass;
   time[taken] = target;
-  mass[taken] = record->symmetry * discharged_mass(domain, record->sinks);
+  mass[taken] = record->symmetry *
+                discharged_mass(domain, record->sinks, record->sink_count);
   double flow = taken > 0 ? (mass[taken] - mass[taken - 1]) / s->sample : 0;
   double total = record->symmetry * s->mass; /* kg, the full fill */
+  if (s->geometry != GM_GEOMETRY_PLANE_STRAIN &&
+      mass[taken] >= WINDOW_START * total && mass[taken] < WINDOW_END * total) {
+    double velocity = 0.0; /* m/s */
+    status = centre_velocity(domain, s, &velocity);
+    if (status != GM_OK)
+      return status;
+    record->centre_sum += velocity;
+    record->centre_samples++;
+  }
   if (record->profile && mass[taken] >= WINDOW_START * total &&
       mass[taken] < WINDOW_END * total) {
     status = add_profile(domain, s, record->profile);
@@ -831,7 +896,9 @@ static int discharge_done(const gm_domain *domain,
   (void)domain;
   discharge_record *record = user;
   size_t last = (size_t)state->interval;
-  if (!(state->target >= record->s->options.t_end &&
+  double t_max = record->s->t_max; /* s */
+  if (!(t_max > 0.0 && state->target >= t_max) &&
+      !(state->target >= record->s->options.t_end &&
         past_window(record->s, record->time, record->mass, last)))
     return 0;
   record->taken = last;
@@ -843,8 +910,7 @@ static int discharge_done(const gm_domain *domain,
  * times the quarter's in 3D). */
 static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
                      double *rate) {
-  discharge_record record = {s,    loads, {-1, -1}, 0.0, NULL,
-                             NULL, 0,     NULL,     NULL};
+  discharge_record record = {.s = s, .loads = loads};
   if (s->profile[0]) {
     record.profile = calloc(1, sizeof *record.profile);
     if (!record.profile)
@@ -852,7 +918,7 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
     record.profile->bin =
         fmax(s->orifice / 24.0, s->options.cell / s->options.ppc);
   }
-  EXAMPLE_CHECK(domain, add_sinks(domain, s, record.sinks));
+  EXAMPLE_CHECK(domain, add_sinks(domain, s, record.sinks, &record.sink_count));
   double symmetry = symmetry_factor(s);
   size_t samples = MAX_SAMPLES;
   double *time = calloc(2 * samples, sizeof *time), *mass = time + samples;
@@ -915,6 +981,11 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
   printf("steady window: %.3f s to %.3f s (%.0f %% to %.0f %% discharged)\n",
          first < taken ? time[first] : -1.0, last < taken ? time[last] : -1.0,
          100 * WINDOW_START, 100 * WINDOW_END);
+  if (record.centre_samples > 0)
+    printf("orifice centre: mean v_y %.4g m/s over the window (%ld samples; "
+           "points within one cell of the axis, 0 <= y < h)\n",
+           record.centre_sum / (double)record.centre_samples,
+           record.centre_samples);
   *rate = last > first + 2 ? fitted_rate(time, mass, first, last) : 0.0;
   /* The same fit over parts of the window: a rate that drifts within it
    * (a start-up not over, or the falling head) shows here. */
@@ -938,6 +1009,8 @@ static int configure(silo *s, int argc, char **argv) {
   double orifice = 0.3, sample = 0.01;      /* m, s */
   double fluidity = 0.0, reference = 0.0;   /* 1/s, Pa */
   double grain = 0.0;                       /* m */
+  double fill = 2.0;                        /* full silo widths */
+  double t_max = 0.0;                       /* s, 0: none */
   double cfl = gm_domain_def_default().cfl; /* - */
   double drop = 0.0;                        /* m */
   example_extra extras[] = {
@@ -967,11 +1040,19 @@ static int configure(silo *s, int argc, char **argv) {
        "free fall below the orifice before the sink, m (whole cells; 0: the "
        "sink at the orifice)",
        &drop, NULL},
+      {"fill",
+       "fill height in full silo widths 2B (default 2; Beverloo's law wants "
+       ">= 1.2 at the end of the window)",
+       &fill, NULL},
+      {"t-max",
+       "> 0: stop the discharge here even before the window is over (the "
+       "rate is then fitted from the window's start to the end), s",
+       &t_max, NULL},
   };
   int parsed = example_parse(argc, argv,
                              "Silo discharge through a bottom orifice "
                              "against Beverloo (002 sec 5, 001 sec 5.1.1).",
-                             &s->options, extras, 10);
+                             &s->options, extras, 12);
   if (parsed != 0)
     return parsed;
   s->geometry = strcmp(geometry, "axisym") == 0 ? GM_GEOMETRY_AXISYMMETRIC
@@ -1008,7 +1089,17 @@ static int configure(silo *s, int argc, char **argv) {
    * be 1.25 D + 1 cell, which narrowed the silo 18 % from 0.05 to
    * 0.00625 m cells). */
   s->half_width = cell * ceil(1.5 * s->orifice / cell - 1e-9);
-  s->fill_height = 4.0 * s->half_width; /* two full widths */
+  if (!(fill >= 0.5 && fill <= 10.0)) {
+    fprintf(stderr, "--fill must be in [0.5, 10] widths\n");
+    return 2;
+  }
+  if (s->dim == 3 && 0.5 * s->orifice / cell > MAX_SINKS - 2) {
+    fprintf(stderr, "--geometry 3d: at most %d cells across D/2\n",
+            MAX_SINKS - 2);
+    return 2;
+  }
+  /* on a node line: the same metres on every cell that divides it */
+  s->fill_height = cell * round(2.0 * fill * s->half_width / cell);
   s->sample = sample;
   if (!(fluidity >= 0.0) || !(reference >= 0.0)) {
     fprintf(stderr, "--fluidity and --reference-stress must be >= 0\n");
@@ -1033,6 +1124,7 @@ static int configure(silo *s, int argc, char **argv) {
     return 2;
   }
   s->drop = cell * round(drop / cell); /* y = 0 stays a node line */
+  s->t_max = t_max > 0.0 ? t_max : 0.0;
   return 0;
 }
 
@@ -1068,6 +1160,18 @@ static int simulate(silo *s, double *rate, double *mid_pressure,
   return failed;
 }
 
+/* The open floor nodes of the orifice and the area they open against
+ * pi D^2 / 4 (silo_discharge_3d.h). */
+static void print_orifice(const silo *s) {
+  double h = s->options.cell; /* m */
+  long holes = lround(0.5 * s->orifice / h), nodes = 0;
+  double area = silo3d_open_area(s->dim == 3, holes, &nodes) * h * h; /* m^2 */
+  printf("orifice: %ld open floor nodes (%s), open area %.4g m^2 = %.3f of "
+         "pi D^2/4\n",
+         nodes, s->dim == 3 ? "quarter" : "radius", area,
+         area / (0.25 * PI * s->orifice * s->orifice));
+}
+
 int main(int argc, char **argv) {
   silo s = {0};
   s.options = (example_options){GM_SHAPE_LINEAR,
@@ -1091,6 +1195,8 @@ int main(int argc, char **argv) {
          s.fill_height, s.options.cell, example_shape_name(s.options.shape),
          example_family_name(s.options.family));
 
+  if (s.geometry != GM_GEOMETRY_PLANE_STRAIN)
+    print_orifice(&s);
   double rate = 0.0, mid_pressure = 0.0, mid_depth = 0.0; /* kg/s, Pa, m */
   int failed = simulate(&s, &rate, &mid_pressure, &mid_depth);
   if (failed)
@@ -1103,6 +1209,7 @@ int main(int argc, char **argv) {
     ring.options.out = "";
     ring.options.quiet = 1;
     printf("the axisymmetric silo of the same D, B, H and cell:\n");
+    print_orifice(&ring);
     double unused[2];
     failed = simulate(&ring, &axisym, &unused[0], &unused[1]);
     if (failed)
