@@ -29,7 +29,7 @@
  */
 #include "boundaries/boundaries.h"
 
-#include "shapes/support_cpdi_3d.h"
+#include "shapes/shapes.h"
 
 #include <math.h>
 
