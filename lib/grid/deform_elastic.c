@@ -91,26 +91,17 @@ bool gm_deform_elastic_chunk(gm_domain *domain, const gather_view *v,
   if (v->next_domain_map[0]) /* CPDI: D takes F's increment (g2p.c) */
     gm_deform_domain_map_chunk(v, first, count, g, dt);
   for (size_t j = 0; j < count; j++) {
-    /* prepare_rows (stress_update.c): Jaumann rotation, strain increment */
-    double spin = 0.5 * (l_xy[j] - l_yx[j]) * dt; /* W_xy dt */
-    double s_xx = sxx[j], s_yy = syy[j], s_zz = szz[j], s_xy = sxy[j];
-    double r_xx = s_xx + 2.0 * spin * s_xy;
-    double r_yy = s_yy - 2.0 * spin * s_xy;
-    double r_xy = s_xy + spin * (s_yy - s_xx);
-    double e_xx = l_xx[j] * dt, e_yy = l_yy[j] * dt, e_zz = l_zz[j] * dt;
-    double e_xy = 0.5 * (l_xy[j] + l_yx[j]) * dt;
-    /* gm_elastic_update (elastic.c) */
-    double volumetric = e_xx + e_yy + e_zz;
-    double lame_term = lame * volumetric;
-    r_xx += lame_term + 2.0 * shear * e_xx;
-    r_yy += lame_term + 2.0 * shear * e_yy;
-    double r_zz = s_zz + (lame_term + 2.0 * shear * e_zz);
-    r_xy += 2.0 * shear * e_xy;
-    rxx[j] = r_xx;
-    ryy[j] = r_yy;
-    rzz[j] = r_zz;
-    rxy[j] = r_xy;
-    screen += (r_xx + r_yy + r_zz + r_xy) * 0.0;
+    /* Jaumann rotation and the elastic law (gm_elastic_update, elastic.c)
+     * (transfer.h) */
+    const double s[4] = {sxx[j], syy[j], szz[j], sxy[j]}; /* Pa */
+    double r[4];                                          /* Pa */
+    gm_plane_hooke_trial(dt, lame, shear, l_xx[j], l_xy[j], l_yx[j], l_yy[j],
+                         l_zz[j], s, r);
+    rxx[j] = r[0];
+    ryy[j] = r[1];
+    rzz[j] = r[2];
+    rxy[j] = r[3];
+    screen += (r[0] + r[1] + r[2] + r[3]) * 0.0;
   }
   if (!positive) { /* the general path skips the material call: so do we */
     gm_report_inverted_chunk(domain, v, scratch, first, count, dt);

@@ -92,26 +92,17 @@ bool gm_deform_mohr_coulomb_chunk(gm_domain *domain, const gather_view *v,
    * sends the chunk to the general path, which decides exactly) */
   double screen = 0.0;
   for (size_t j = 0; j < count; j++) {
-    /* prepare_rows (stress_update.c): Jaumann rotation, strain increment */
-    double spin = 0.5 * (l_xy[j] - l_yx[j]) * dt; /* W_xy dt */
-    double s_xx = sxx[j], s_yy = syy[j], s_zz = szz[j], s_xy = sxy[j];
-    double r_xx = s_xx + 2.0 * spin * s_xy;
-    double r_yy = s_yy - 2.0 * spin * s_xy;
-    double r_xy = s_xy + spin * (s_yy - s_xx);
-    double e_xx = l_xx[j] * dt, e_yy = l_yy[j] * dt, e_zz = l_zz[j] * dt;
-    double e_xy = 0.5 * (l_xy[j] + l_yx[j]) * dt;
-    /* elastic_trials (mohr_coulomb.c) */
-    double volumetric = e_xx + e_yy + e_zz;
-    double lame_term = lame * volumetric;
-    r_xx += lame_term + 2.0 * shear * e_xx;
-    r_yy += lame_term + 2.0 * shear * e_yy;
-    double r_zz = s_zz + (lame_term + 2.0 * shear * e_zz);
-    r_xy += 2.0 * shear * e_xy;
-    rxx[j] = r_xx;
-    ryy[j] = r_yy;
-    rzz[j] = r_zz;
-    rxy[j] = r_xy;
-    screen += (r_xx + r_yy + r_zz + r_xy) * 0.0;
+    /* Jaumann rotation and the elastic trial (elastic_trials, mohr_coulomb.c)
+     * (transfer.h) */
+    const double s[4] = {sxx[j], syy[j], szz[j], sxy[j]}; /* Pa */
+    double r[4];                                          /* Pa */
+    gm_plane_hooke_trial(dt, lame, shear, l_xx[j], l_xy[j], l_yx[j], l_yy[j],
+                         l_zz[j], s, r);
+    rxx[j] = r[0];
+    ryy[j] = r[1];
+    rzz[j] = r[2];
+    rxy[j] = r[3];
+    screen += (r[0] + r[1] + r[2] + r[3]) * 0.0;
   }
   /* The state columns (call_material): committed values into the next
    * buffer, where the return adds its plastic shear strain. */

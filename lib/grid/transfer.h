@@ -173,6 +173,33 @@ static inline double gm_deform_plane_point(double dt, double l_xx, double l_xy,
   return b_xx * b_yy - b_xy * b_yx;
 }
 
+/* One point's stress rotated by the Jaumann rate and incremented by
+ * Hooke's law in plane strain: s (Pa; xx, yy, zz, xy) under the velocity
+ * gradient L (1/s) over dt (s) with Lame's constants lame and shear (Pa)
+ * gives r, in the order of the general path (stress_update.c's
+ * prepare_rows, then gm_elastic_update, elastic.c, or Mohr-Coulomb's
+ * elastic trial, mohr_coulomb.c). Shared by the fused passes
+ * deform_elastic.c and deform_mohr_coulomb.c, which must give its bits. */
+static GM_ALWAYS_INLINE void
+gm_plane_hooke_trial(double dt, double lame, double shear, double l_xx,
+                     double l_xy, double l_yx, double l_yy, double l_zz,
+                     const double s[4], double r[4]) {
+  double spin = 0.5 * (l_xy - l_yx) * dt; /* W_xy dt */
+  double r_xx = s[0] + 2.0 * spin * s[3];
+  double r_yy = s[1] - 2.0 * spin * s[3];
+  double r_xy = s[3] + spin * (s[1] - s[0]);
+  double e_xx = l_xx * dt, e_yy = l_yy * dt, e_zz = l_zz * dt;
+  double e_xy = 0.5 * (l_xy + l_yx) * dt;
+  double volumetric = e_xx + e_yy + e_zz;
+  double lame_term = lame * volumetric;
+  r_xx += lame_term + 2.0 * shear * e_xx;
+  r_yy += lame_term + 2.0 * shear * e_yy;
+  r[2] = s[2] + (lame_term + 2.0 * shear * e_zz);
+  r[0] = r_xx;
+  r[1] = r_yy;
+  r[3] = r_xy + 2.0 * shear * e_xy;
+}
+
 /* CPDI: the domain map takes F's increment, D <- (I + L dt) D (the
  * arithmetic of gm_deform_plane_point), for the chunk's points from the
  * gathered gradient into next_domain_map. Shared by the general
