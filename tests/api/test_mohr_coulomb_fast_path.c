@@ -228,44 +228,44 @@ static void run_pair(const scene *s, int steps, const char *what) {
 }
 
 START_TEST(collapse_usl) {
-  scene s = {GM_SCHEME_USL, 0.0,   0.0,          0.0,
-             0.0,           false, GM_WALL_SLIP, GM_SHAPE_LINEAR};
+  scene s = {GM_SCHEME_USL,   0.0, 0.0, 0.0, 0.0, false, GM_WALL_SLIP,
+             GM_SHAPE_LINEAR, 0.0};
   run_pair(&s, 300, "collapse, USL");
 }
 END_TEST
 
 START_TEST(collapse_musl_pic_dilation) {
-  scene s = {GM_SCHEME_MUSL, 0.2,   0.0,          0.0,
-             0.17,           false, GM_WALL_SLIP, GM_SHAPE_LINEAR};
+  scene s = {GM_SCHEME_MUSL,  0.2, 0.0, 0.0, 0.17, false, GM_WALL_SLIP,
+             GM_SHAPE_LINEAR, 0.0};
   run_pair(&s, 300, "collapse, MUSL, PIC 0.2, psi 0.17 rad");
 }
 END_TEST
 
 /* The fast path starts from the gathered gradient, whatever the shape. */
 START_TEST(collapse_ugimp) {
-  scene s = {GM_SCHEME_USL, 0.0,   0.0,          0.0,
-             0.0,           false, GM_WALL_SLIP, GM_SHAPE_UGIMP};
+  scene s = {GM_SCHEME_USL,  0.0, 0.0, 0.0, 0.0, false, GM_WALL_SLIP,
+             GM_SHAPE_UGIMP, 0.0};
   run_pair(&s, 200, "collapse, uGIMP");
 }
 END_TEST
 
 START_TEST(collapse_cpdi) {
-  scene s = {GM_SCHEME_USL, 0.0,   0.0,          0.0,
-             0.0,           false, GM_WALL_SLIP, GM_SHAPE_CPDI};
+  scene s = {GM_SCHEME_USL, 0.0,          0.0,           0.0, 0.0,
+             false,         GM_WALL_SLIP, GM_SHAPE_CPDI, 0.0};
   run_pair(&s, 200, "collapse, CPDI");
 }
 END_TEST
 
 START_TEST(spinning_column) {
-  scene s = {GM_SCHEME_USL, 0.0,   10.0,         0.0,
-             0.0,           false, GM_WALL_SLIP, GM_SHAPE_LINEAR};
+  scene s = {GM_SCHEME_USL,   0.0, 10.0, 0.0, 0.0, false, GM_WALL_SLIP,
+             GM_SHAPE_LINEAR, 0.0};
   run_pair(&s, 200, "spinning column");
 }
 END_TEST
 
 START_TEST(beside_elastic_mixed_chunks) {
-  scene s = {GM_SCHEME_USL, 0.0,  0.0,          0.0,
-             0.0,           true, GM_WALL_SLIP, GM_SHAPE_LINEAR};
+  scene s = {GM_SCHEME_USL,   0.0, 0.0, 0.0, 0.0, true, GM_WALL_SLIP,
+             GM_SHAPE_LINEAR, 0.0};
   run_pair(&s, 300, "beside an elastic block");
 }
 END_TEST
@@ -274,8 +274,9 @@ END_TEST
  * first step. Both paths fail it with the same status and message and
  * leave the committed state as it was. */
 START_TEST(inversion_fails_alike) {
-  scene s = {GM_SCHEME_USL, 0.0,   0.0,          1.5 / fixed_dt(),
-             0.0,           false, GM_WALL_SLIP, GM_SHAPE_LINEAR};
+  scene s = {
+      GM_SCHEME_USL,   0.0, 0.0, 1.5 / fixed_dt(), 0.0, false, GM_WALL_SLIP,
+      GM_SHAPE_LINEAR, 0.0};
   gm_domain *fused = make_domain(&s, true);
   gm_domain *general = make_domain(&s, false);
   double dt = fixed_dt();
