@@ -326,6 +326,9 @@ static Suite *determinism_suite(void) {
    * idle core; the timeout only catches a hang, and is generous because 4
    * workers on 2 shared, loaded cores under the sanitizers took > 10 s. */
   tcase_set_timeout(tcase, 120.0);
+  /* ~40 s plain in all: tests/README.md, "Slow cases" (the "threads" case
+   * below keeps one scene of each kind under the sanitizers). */
+  tcase_set_tags(tcase, "slow");
   tcase_add_loop_test(tcase, test_plane_strain_block, GM_SCHEME_USL + 1,
                       GM_SCHEME_USF + 1);
   tcase_add_loop_test(tcase, test_plane_strain_block_bspline, GM_SCHEME_USL + 1,

@@ -693,16 +693,23 @@ static Suite *bspline_3d_suite(void) {
   Suite *suite = suite_create("bspline_3d");
   TCase *laws = tcase_create("laws");
   tcase_set_timeout(laws, 300);
-  tcase_add_loop_test(laws, test_bar_period_bspline_3d, 0, 6);
   tcase_add_loop_test(laws, test_ball_keeps_angular_momentum_apic, 0, 6);
   tcase_add_loop_test(laws, test_workers_bitwise_bspline_3d, 0, 12);
   tcase_add_loop_test(laws, test_restart_bitwise_bspline_3d, 0, 6);
   tcase_add_loop_test(laws, test_no_allocation_bspline_3d, 0, 12);
   tcase_add_loop_test(laws, test_periodic_translation_bspline_3d, 0, 4);
   tcase_add_loop_test(laws, test_rigid_motion_bspline_3d, 0, 2);
-  tcase_add_loop_test(laws, test_rigid_impact_bspline_3d, 0, 4);
   tcase_add_test(laws, test_unsupported_refused_3d);
   suite_add_tcase(suite, laws);
+  /* The bar's period and the rigid impact (tests/README.md, "Slow cases":
+   * the workers, restart, allocation and rigid-motion cases above keep the
+   * 3D B-spline paths under the sanitizers). */
+  TCase *slow = tcase_create("period and impact");
+  tcase_set_timeout(slow, 300);
+  tcase_set_tags(slow, "slow");
+  tcase_add_loop_test(slow, test_bar_period_bspline_3d, 0, 6);
+  tcase_add_loop_test(slow, test_rigid_impact_bspline_3d, 0, 4);
+  suite_add_tcase(suite, slow);
   return suite;
 }
 

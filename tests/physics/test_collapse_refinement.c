@@ -199,6 +199,9 @@ static Suite *refinement_suite(void) {
   TCase *tcase = tcase_create("perzyna_bspline2");
   /* ~20 s and ~15 s at -O2 on one loaded core; ASan is ~3x slower. */
   tcase_set_timeout(tcase, 600);
+  /* tests/README.md, "Slow cases": test_column_collapse keeps the collapse
+   * under the sanitizers. */
+  tcase_set_tags(tcase, "slow");
   tcase_add_test(tcase, test_runout_converges_under_refinement);
   tcase_add_test(tcase, test_runout_independent_of_points_per_cell);
   suite_add_tcase(suite, tcase);

@@ -314,10 +314,17 @@ static Suite *collapse_suite(void) {
   /* ~4 s (a = 0.5) and ~9 s (a = 3) at -O2; ASan is ~3x slower. */
   tcase_set_timeout(tcase, 300);
   tcase_add_loop_test(tcase, test_runout_follows_lube, 0, CASE_COUNT);
-  tcase_add_loop_test(tcase, test_cpdi_as_close_as_ugimp, 0, TALL_COUNT);
-  tcase_add_loop_test(tcase, test_bspline_runout, 0, BSPLINE_COUNT);
-  tcase_add_loop_test(tcase, test_axisymmetric_runout, 0, AXISYMMETRIC_COUNT);
   suite_add_tcase(suite, tcase);
+  /* The other shapes and the axisymmetric column (tests/README.md, "Slow
+   * cases": test_cpdi_*, test_bspline and test_axisymmetric keep those
+   * paths under the sanitizers). */
+  TCase *shapes = tcase_create("other shapes and geometries");
+  tcase_set_timeout(shapes, 300);
+  tcase_set_tags(shapes, "slow");
+  tcase_add_loop_test(shapes, test_cpdi_as_close_as_ugimp, 0, TALL_COUNT);
+  tcase_add_loop_test(shapes, test_bspline_runout, 0, BSPLINE_COUNT);
+  tcase_add_loop_test(shapes, test_axisymmetric_runout, 0, AXISYMMETRIC_COUNT);
+  suite_add_tcase(suite, shapes);
   return suite;
 }
 

@@ -967,7 +967,6 @@ static Suite *cpdi_3d_suite(void) {
   suite_add_tcase(suite, weights);
   TCase *laws = tcase_create("laws");
   tcase_set_timeout(laws, 300);
-  tcase_add_loop_test(laws, test_bar_period_cpdi_3d, 0, 3);
   tcase_add_loop_test(laws, test_block_momentum_cpdi_3d, 0, 3);
   tcase_add_loop_test(laws, test_workers_bitwise_cpdi_3d, 0, 3);
   tcase_add_loop_test(laws, test_restart_bitwise_cpdi_3d, 0, 6);
@@ -975,10 +974,18 @@ static Suite *cpdi_3d_suite(void) {
   tcase_add_loop_test(laws, test_periodic_translation_cpdi_3d, 0, 3);
   tcase_add_test(laws, test_periodic_workers_cpdi_3d);
   tcase_add_test(laws, test_rigid_motion_cpdi_3d);
-  tcase_add_test(laws, test_rigid_impact_cpdi_3d);
   tcase_add_loop_test(laws, test_granular_rotated_domains_meet, 0, 3);
   tcase_add_test(laws, test_unsupported_refused_cpdi_3d);
   suite_add_tcase(suite, laws);
+  /* The bar's period and the rigid impact (tests/README.md, "Slow cases":
+   * the momentum, workers, restart, allocation and rigid-motion cases above
+   * keep the 3D CPDI paths under the sanitizers). */
+  TCase *slow = tcase_create("period and impact");
+  tcase_set_timeout(slow, 300);
+  tcase_set_tags(slow, "slow");
+  tcase_add_loop_test(slow, test_bar_period_cpdi_3d, 0, 3);
+  tcase_add_test(slow, test_rigid_impact_cpdi_3d);
+  suite_add_tcase(suite, slow);
   return suite;
 }
 

@@ -266,6 +266,9 @@ static Suite *silo_filling_suite(void) {
   Suite *suite = suite_create("silo_filling");
   TCase *tcase = tcase_create("janssen");
   tcase_set_timeout(tcase, 600); /* s, for sanitizer and valgrind builds */
+  /* ~40 s plain: tests/README.md, "Slow cases" (test_janssen and
+   * test_filling keep the load and the filling under the sanitizers). */
+  tcase_set_tags(tcase, "slow");
   tcase_add_test(tcase, test_poured_fill_against_janssen);
   suite_add_tcase(suite, tcase);
   return suite;

@@ -405,7 +405,12 @@ int main(void) {
   tcase_add_loop_test(tcase, test_block_on_oblique_plane, 0,
                       3 * SLOPE_COUNT * OFFSET_COUNT);
   tcase_add_loop_test(tcase, test_workers_and_momentum, 0, 3);
-  tcase_add_loop_test(tcase, test_slide_refinement, 0, 2);
   suite_add_tcase(suite, tcase);
+  /* The same slide on finer cells (tests/README.md, "Slow cases"). */
+  TCase *refinement = tcase_create("refinement");
+  tcase_set_timeout(refinement, 600);
+  tcase_set_tags(refinement, "slow");
+  tcase_add_loop_test(refinement, test_slide_refinement, 0, 2);
+  suite_add_tcase(suite, refinement);
   return test_run_suite(suite) ? 1 : 0;
 }
