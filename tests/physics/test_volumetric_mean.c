@@ -14,20 +14,26 @@
  *  - bitwise identical results for 1, 2 and 3 workers with a Mohr-Coulomb
  *    column collapsing (the Mohr-Coulomb fast path), linear and B-spline,
  *    plane strain and axisymmetry, and different from the run without it;
+ *  - a checkpoint records the setting (a domain without it refuses the
+ *    file) and continues bitwise;
  *  - no allocation in a step after warm-up, and every allocation freed;
  *  - the refusals: 1D and 3D (GM_ERR_UNSUPPORTED, named), a bad value,
  *    NULL, a call during a step.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#define _POSIX_C_SOURCE 200809L /* mkstemp */
+
 #include "test_util.h"
 
 #include <check.h>
 #include <math.h>
 #include <stdatomic.h>
 #include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 enum { VARIANT_PLANE_LINEAR, VARIANT_PLANE_BSPLINE, VARIANT_AXISYM_LINEAR };
 
@@ -305,6 +311,45 @@ START_TEST(test_bitwise_across_workers) {
 }
 END_TEST
 
+/* A checkpoint records the setting: it continues bitwise in a domain with
+ * the setting, and a domain without it refuses the file by naming it. */
+START_TEST(test_checkpoint_records_it) {
+  char path[] = "/tmp/test_volumetric_mean_XXXXXX";
+  int fd = mkstemp(path);
+  ck_assert_int_ge(fd, 0);
+  close(fd);
+  gm_domain *first = column(VARIANT_PLANE_LINEAR, 1, true);
+  for (int s = 0; s < 20; s++)
+    TEST_ASSERT_OK(first, gm_domain_step(first, 2e-4));
+  TEST_ASSERT_OK(first, gm_domain_save(first, path));
+  for (int s = 0; s < 20; s++)
+    TEST_ASSERT_OK(first, gm_domain_step(first, 2e-4));
+  gm_domain *second = column(VARIANT_PLANE_LINEAR, 1, true);
+  TEST_ASSERT_OK(second, gm_domain_load(second, path));
+  for (int s = 0; s < 20; s++)
+    TEST_ASSERT_OK(second, gm_domain_step(second, 2e-4));
+  size_t n = gm_domain_point_count(first);
+  ck_assert_uint_eq(n, gm_domain_point_count(second));
+  double *a = malloc(6 * n * sizeof(double));
+  double *b = malloc(6 * n * sizeof(double));
+  ck_assert(a && b);
+  TEST_ASSERT_OK(first, gm_domain_get_field(first, GM_FIELD_STRESS, a, 6 * n));
+  TEST_ASSERT_OK(second,
+                 gm_domain_get_field(second, GM_FIELD_STRESS, b, 6 * n));
+  ck_assert(memcmp(a, b, 6 * n * sizeof(double)) == 0);
+  gm_domain *without = column(VARIANT_PLANE_LINEAR, 1, false);
+  ck_assert_int_eq(gm_domain_load(without, path), GM_ERR_INVALID_ARGUMENT);
+  ck_assert_ptr_nonnull(
+      strstr(gm_domain_last_error(without), "gm_domain_set_volumetric"));
+  free(a);
+  free(b);
+  gm_domain_destroy(first);
+  gm_domain_destroy(second);
+  gm_domain_destroy(without);
+  remove(path);
+}
+END_TEST
+
 /* ------------------------------------------------------ allocation */
 
 static atomic_long allocations, releases;
@@ -400,6 +445,7 @@ static Suite *volumetric_suite(void) {
   tcase_add_test(tc, test_uniform_expansion_is_kept);
   tcase_add_loop_test(tc, test_bitwise_across_workers, 0, 3);
   tcase_add_loop_test(tc, test_no_allocation_after_warm_up, 0, 6);
+  tcase_add_test(tc, test_checkpoint_records_it);
   tcase_add_test(tc, test_refusals);
   suite_add_tcase(suite, tc);
   return suite;
