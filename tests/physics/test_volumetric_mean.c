@@ -11,6 +11,7 @@
  *  - a uniform expansion is reproduced: the interior points, whose cells
  *    see the uniform rate, keep it (the averaged field equals the point
  *    field);
+ *  - the Mohr-Coulomb fast path gives the general path's bits with it;
  *  - bitwise identical results for 1, 2 and 3 workers with a Mohr-Coulomb
  *    column collapsing (the Mohr-Coulomb fast path), linear and B-spline,
  *    plane strain and axisymmetry, and different from the run without it;
@@ -231,7 +232,17 @@ END_TEST
 
 /* A Mohr-Coulomb column (phi 30 deg, psi 0: plastically incompressible)
  * collapsing on a fixed floor, MUSL. */
-static gm_domain *column(int variant, int workers, bool cell_mean) {
+/* The general path: the same law through a user callback (the fast path
+ * of deform_mohr_coulomb.c takes the built-in material only). */
+static int wrapped_mohr_coulomb(const gm_material_batch *batch, void *user,
+                                char *message, size_t message_size) {
+  return gm_mohr_coulomb_update(batch, user, message, message_size);
+}
+
+static gm_mohr_coulomb_def sand; /* lives as long as the domains */
+
+static gm_domain *column_path(int variant, int workers, bool cell_mean,
+                              bool builtin) {
   gm_domain_def def = gm_domain_def_default();
   def.cell_size = 0.05;
   def.extent[0] = 1.5;
@@ -249,24 +260,44 @@ static gm_domain *column(int variant, int workers, bool cell_mean) {
   if (cell_mean)
     TEST_ASSERT_OK(domain,
                    gm_domain_set_volumetric(domain, GM_VOLUMETRIC_CELL_MEAN));
-  gm_mohr_coulomb_def mc = gm_mohr_coulomb_def_default();
-  mc.youngs_modulus = 1e6; /* Pa */
-  mc.density = 1500.0;     /* kg/m^3 */
-  mc.friction_angle = 30.0 * 3.14159265358979 / 180.0;
-  mc.dilation_angle = 0.0;
-  mc.bagnold_viscosity = 0.0; /* the fast path's material */
+  sand = gm_mohr_coulomb_def_default();
+  sand.youngs_modulus = 1e6; /* Pa */
+  sand.poisson_ratio = 0.3;  /* - */
+  sand.density = 1500.0;     /* kg/m^3 */
+  sand.friction_angle = 30.0 * 3.14159265358979 / 180.0;
+  sand.dilation_angle = 0.0;
+  sand.bagnold_viscosity = 0.0; /* the fast path's material */
   int material = -1;
-  TEST_ASSERT_OK(domain, gm_domain_add_mohr_coulomb(domain, &mc, &material));
+  if (builtin) {
+    TEST_ASSERT_OK(domain,
+                   gm_domain_add_mohr_coulomb(domain, &sand, &material));
+  } else {
+    gm_material_def user_def = gm_material_def_default();
+    user_def.name = "mohr_coulomb";
+    user_def.update = wrapped_mohr_coulomb;
+    user_def.user = &sand;
+    user_def.state_count = GM_MOHR_COULOMB_STATE_COUNT;
+    double nu = sand.poisson_ratio; /* M = E (1 - nu) / ((1 + nu)(1 - 2 nu)) */
+    user_def.p_wave_modulus =
+        sand.youngs_modulus * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    user_def.density = sand.density;
+    TEST_ASSERT_OK(domain,
+                   gm_domain_add_material(domain, &user_def, &material));
+  }
   const double lower[3] = {0.0, 0.0, 0.0}, upper[3] = {0.3, 0.5, 0.0};
   test_fill_box(domain, material, lower, upper, 2, NULL);
   return domain;
 }
 
+static gm_domain *column(int variant, int workers, bool cell_mean) {
+  return column_path(variant, workers, cell_mean, true);
+}
+
 enum { COLUMN_STEPS = 150 };
 
-static double *column_state(int variant, int workers, bool cell_mean,
-                            size_t *length) {
-  gm_domain *domain = column(variant, workers, cell_mean);
+static double *column_state_path(int variant, int workers, bool cell_mean,
+                                 bool builtin, size_t *length) {
+  gm_domain *domain = column_path(variant, workers, cell_mean, builtin);
   for (int s = 0; s < COLUMN_STEPS; s++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
   size_t n = gm_domain_point_count(domain);
@@ -288,6 +319,28 @@ static double *column_state(int variant, int workers, bool cell_mean,
   gm_domain_destroy(domain);
   return state;
 }
+
+static double *column_state(int variant, int workers, bool cell_mean,
+                            size_t *length) {
+  return column_state_path(variant, workers, cell_mean, true, length);
+}
+
+/* The Mohr-Coulomb fast path reads the shifted L as the general path
+ * does: the same bits (the elastic fast path is in the equation test:
+ * its plane linear scene is built-in elastic). */
+START_TEST(test_fast_path_alike) {
+  int variant = _i;
+  size_t length = 0, other = 0;
+  double *fast = column_state_path(variant, 1, true, true, &length);
+  double *general = column_state_path(variant, 1, true, false, &other);
+  ck_assert_uint_eq(length, other);
+  ck_assert_msg(memcmp(fast, general, length * sizeof(double)) == 0,
+                "%s: the fast path differs from the general one",
+                variant_name(variant));
+  free(fast);
+  free(general);
+}
+END_TEST
 
 START_TEST(test_bitwise_across_workers) {
   int variant = _i;
@@ -444,6 +497,7 @@ static Suite *volumetric_suite(void) {
   tcase_add_loop_test(tc, test_trace_is_the_cell_mean, 0, 3);
   tcase_add_test(tc, test_uniform_expansion_is_kept);
   tcase_add_loop_test(tc, test_bitwise_across_workers, 0, 3);
+  tcase_add_loop_test(tc, test_fast_path_alike, 0, 2);
   tcase_add_loop_test(tc, test_no_allocation_after_warm_up, 0, 6);
   tcase_add_test(tc, test_checkpoint_records_it);
   tcase_add_test(tc, test_refusals);
