@@ -1082,7 +1082,9 @@ typedef enum gm_volumetric {
 } gm_volumetric;
 
 /** Sets how the points' volumetric strain rate is taken (above), from
- * the next step on; allowed between steps and from a step hook. The
+ * the next step on; allowed between steps only (during a step, a step
+ * hook included: GM_ERR_BUSY). A checkpoint records it when it is on and
+ * loads only into a domain with the same setting. The
  * averaging costs a second velocity-gradient gather and a scatter of two
  * values per point in each deformation pass; its work arrays grow with the
  * grid, outside the passes. Bad values give GM_ERR_INVALID_ARGUMENT, 1D
