@@ -123,6 +123,7 @@ typedef struct collapse_scene {
   double back_friction;    /* mu of the back wall (0: the symmetry plane) */
   const char *floor;       /* wall | face | rigid */
   const char *transfer;    /* flip | apic */
+  const char *volumetric;  /* point | cell */
   double pic_fraction;     /* FLIP-PIC blend, 0 = FLIP */
   double grain_diameter;   /* mu(I): d, m */
   double regularise;       /* mu(I): nonzero = Barker & Gray's low-I branch */
@@ -325,6 +326,8 @@ static int build_scene(collapse_run *run) {
   /* The walls below hold the material; a point reaching an open face (the
    * far right or the top) has left the scene and fails the step. */
   EXAMPLE_CHECK(NULL, gm_domain_create(&def, &run->domain));
+  if (example_set_volumetric(run->domain, scene->volumetric) != 0)
+    return 2;
   gm_domain *domain = run->domain;
   int material = add_material(domain, scene);
   if (material < 0)
@@ -792,6 +795,7 @@ int main(int argc, char **argv) {
   scene.floor_friction = -1.0;
   scene.floor = "wall";
   scene.transfer = "flip";
+  scene.volumetric = "point";
   scene.grain_diameter = 0.5e-3;
   scene.scheme = "usl";
   scene.geometry = "plane";
@@ -819,6 +823,10 @@ int main(int argc, char **argv) {
        "column 2 L0 wide; > 0: a column against a tank's end wall)",
        &scene.back_friction, NULL},
       {"transfer", "flip | apic", NULL, &scene.transfer},
+      {"volumetric",
+       "point | cell (tr L averaged over each cell's points against "
+       "volumetric locking, gm_domain_set_volumetric)",
+       NULL, &scene.volumetric},
       {"pic", "PIC share of the FLIP-PIC blend, 0..1", &scene.pic_fraction,
        NULL},
       {"grain", "mu_i grain diameter d, m", &scene.grain_diameter, NULL},

@@ -178,6 +178,21 @@ gm_domain *example_create_domain(const gm_domain_def *def) {
   return domain;
 }
 
+int example_set_volumetric(gm_domain *domain, const char *word) {
+  gm_volumetric volumetric = GM_VOLUMETRIC_POINT;
+  if (strcmp(word, "cell") == 0)
+    volumetric = GM_VOLUMETRIC_CELL_MEAN;
+  else if (strcmp(word, "point") != 0) {
+    fprintf(stderr, "--volumetric: '%s' is not point or cell\n", word);
+    return 2;
+  }
+  if (gm_domain_set_volumetric(domain, volumetric) != GM_OK) {
+    fprintf(stderr, "%s\n", gm_domain_last_error(domain));
+    return 2;
+  }
+  return 0;
+}
+
 gm_update_scheme example_scheme(const char *word) {
   if (strcmp(word, "usl") == 0)
     return GM_SCHEME_USL;

@@ -51,6 +51,11 @@ gm_domain_def example_domain_def(const example_options *options);
 /* gm_domain_create, reporting a failure on stderr (NULL then). */
 gm_domain *example_create_domain(const gm_domain_def *def);
 
+/* --volumetric point|cell (gm_domain_set_volumetric: each point's own tr L,
+ * or its cell's mean against volumetric locking); 0, or 2 after a
+ * message on stderr. */
+int example_set_volumetric(gm_domain *domain, const char *word);
+
 /* "usl", "usf" or anything else (MUSL), for the examples' --scheme. */
 gm_update_scheme example_scheme(const char *word);
 

@@ -82,6 +82,9 @@ module granmpm
     GM_FIELD_COMPONENT = 14, GM_FIELD_AFFINE = 15
   ! gm_transfer
   integer(c_int), parameter :: GM_TRANSFER_FLIP = 0, GM_TRANSFER_APIC = 1
+  ! gm_volumetric (gm_domain_set_volumetric, provisional)
+  integer(c_int), parameter :: GM_VOLUMETRIC_POINT = 0, &
+      GM_VOLUMETRIC_CELL_MEAN = 1
   ! gm_hook_stage
   integer(c_int), parameter :: GM_HOOK_BEFORE_STEP = 0, &
     GM_HOOK_AFTER_STEP = 1
@@ -499,6 +502,14 @@ module granmpm
       type(c_ptr), value :: domain
       real(c_double), value :: seconds
     end function gm_domain_set_force_smoothing_time
+
+    function gm_domain_set_volumetric(domain, volumetric) &
+        bind(c, name="gm_domain_set_volumetric")
+      import
+      integer(c_int) :: gm_domain_set_volumetric
+      type(c_ptr), value :: domain
+      integer(c_int), value :: volumetric
+    end function gm_domain_set_volumetric
 
     function gm_source_def_init(out, struct_size) bind(c, name="gm_source_def_init")
       import

@@ -998,7 +998,10 @@ GM_API gm_status gm_set_allocator(const gm_allocator *allocator);
  *    impulses and smoothed force are the stable readings);
  *  - the mu(I) material (granmpm/mu_i.h): its parameters may still
  *    change (its steady inclined-plane flow matches the Bagnold profile to
- *    3 % on a periodic chute, tests/physics/test_bagnold.c).
+ *    3 % on a periodic chute, tests/physics/test_bagnold.c);
+ *  - the volumetric averaging gm_domain_set_volumetric(): the averaging
+ *    (over a cell, volume-weighted) may change as its measurements
+ *    (docs/convergence.md section 26) go on.
  * This is zstd's static-linking-only section turned around: a program that
  * must rely on the stable part only defines GM_STABLE_ONLY before including
  * this header, and the compiler then names every provisional call it makes.
@@ -1054,6 +1057,40 @@ GM_API gm_status gm_domain_get_wall_tractions(const gm_domain *domain,
                                               int wall_id,
                                               gm_wall_traction *tractions,
                                               size_t capacity, size_t *count);
+
+/* ------------------------------------------------ volumetric averaging */
+/** The volumetric strain rate each point's deformation takes
+ * (gm_domain_set_volumetric(), gm_domain_create(3)). With several points per
+ * cell, linear MPM enforces a flow's incompressibility (an elastic solid near
+ * nu = 0.5, the plastic flow of a pressure-insensitive or psi = 0 material) at
+ * every point of a cell; the cell's few nodal velocities cannot meet that many
+ * constraints and the flow stiffens ("volumetric locking", docs/convergence.md
+ * sections 25-26). GM_VOLUMETRIC_CELL_MEAN replaces each point's
+ * volumetric rate tr L (1/s; in axisymmetry with the hoop rate v_r / r)
+ * by the volume-weighted mean of tr L over the points in its background
+ * cell and keeps the point's deviatoric part (the B-bar idea, Hughes
+ * 1980, in the cell-wise form of Coombs et al. 2018, CMAME 333:1):
+ * L_p <- L_p + (mean - tr L_p) / n I, n = 2 in plane strain, 3 in
+ * axisymmetry (xx, yy and the hoop rate). F, the volume and the stress
+ * follow that L. Plane strain and axisymmetry with every shape and family;
+ * rigid points take no part. 1D (nothing to lock) and GM_GEOMETRY_3D are
+ * refused (GM_ERR_UNSUPPORTED). Off by default: results are then those of
+ * the library without it, bit for bit. */
+typedef enum gm_volumetric {
+  GM_VOLUMETRIC_POINT = 0,    /* each point its own tr L (default) */
+  GM_VOLUMETRIC_CELL_MEAN = 1 /* tr L averaged over the cell's points */
+} gm_volumetric;
+
+/** Sets how the points' volumetric strain rate is taken (above), from
+ * the next step on; allowed between steps only (during a step, a step
+ * hook included: GM_ERR_BUSY). A checkpoint records it when it is on and
+ * loads only into a domain with the same setting. The
+ * averaging costs a second velocity-gradient gather and a scatter of two
+ * values per point in each deformation pass; its work arrays grow with the
+ * grid, outside the passes. Bad values give GM_ERR_INVALID_ARGUMENT, 1D
+ * and 3D domains GM_ERR_UNSUPPORTED (the setting is then unchanged). */
+GM_API gm_status gm_domain_set_volumetric(gm_domain *domain,
+                                          gm_volumetric volumetric);
 
 /* ------------------------------------------------------------- mu(I) model */
 #include "granmpm/mu_i.h"

@@ -115,21 +115,22 @@ enum { MAX_SAMPLES = 100000, MAX_TRACTIONS = 4096, MAX_SINKS = 64 };
 typedef struct silo {
   example_options options;
   gm_geometry geometry;
-  double orifice;      /* m, D: slot width or orifice diameter */
-  double half_width;   /* m, B: axis to the silo wall */
-  double fill_height;  /* m, H: initial free surface above the floor */
-  double hopper_angle; /* rad, hopper wall from the vertical; 0 = flat */
-  double sample;       /* s, sampling interval of the discharge */
-  double mass;         /* kg (per m, or full ring), the fill's mass */
-  double fluidity;     /* 1/s, > 0: the Perzyna rate term; 0: rate-free */
-  double reference;    /* Pa, sigma_ref of the Perzyna normaliser */
-  double grain;        /* m, > 0: mu(I) with this grain diameter */
-  const char *profile; /* path of the steady profiles' CSV; "" = none */
-  double cfl;          /* -, Courant number of the stable dt */
-  double drop;         /* m, free fall below the orifice before the sink
-                          (whole cells); 0 = the sink at the orifice */
-  double t_max;        /* s, > 0: the discharge stops here, window or not */
-  int dim;             /* 2, or 3 with --geometry 3d */
+  double orifice;         /* m, D: slot width or orifice diameter */
+  double half_width;      /* m, B: axis to the silo wall */
+  double fill_height;     /* m, H: initial free surface above the floor */
+  double hopper_angle;    /* rad, hopper wall from the vertical; 0 = flat */
+  double sample;          /* s, sampling interval of the discharge */
+  double mass;            /* kg (per m, or full ring), the fill's mass */
+  double fluidity;        /* 1/s, > 0: the Perzyna rate term; 0: rate-free */
+  double reference;       /* Pa, sigma_ref of the Perzyna normaliser */
+  double grain;           /* m, > 0: mu(I) with this grain diameter */
+  const char *profile;    /* path of the steady profiles' CSV; "" = none */
+  double cfl;             /* -, Courant number of the stable dt */
+  double drop;            /* m, free fall below the orifice before the sink
+                             (whole cells); 0 = the sink at the orifice */
+  double t_max;           /* s, > 0: the discharge stops here, window or not */
+  int dim;                /* 2, or 3 with --geometry 3d */
+  const char *volumetric; /* --volumetric point|cell */
 } silo;
 
 /* The full silo over the model: the half in plane strain, the whole ring
@@ -195,7 +196,10 @@ static gm_status create_domain(const silo *s, double damping,
   def.damping = damping;
   def.cfl = s->cfl;
   def.worker_count = s->options.workers;
-  return gm_domain_create(&def, domain);
+  gm_status status = gm_domain_create(&def, domain);
+  if (status == GM_OK && strcmp(s->volumetric, "cell") == 0)
+    status = gm_domain_set_volumetric(*domain, GM_VOLUMETRIC_CELL_MEAN);
+  return status;
 }
 
 /* The granular material and, for the granular family, its critical density
@@ -1012,6 +1016,7 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
 /* Parses --geometry, --hopper, --orifice and sizes the silo. */
 static int configure(silo *s, int argc, char **argv) {
   const char *geometry = "plane", *hopper = "flat", *profile = "";
+  s->volumetric = "point";
   double orifice = 0.3, sample = 0.01;      /* m, s */
   double fluidity = 0.0, reference = 0.0;   /* 1/s, Pa */
   double grain = 0.0;                       /* m */
@@ -1054,11 +1059,15 @@ static int configure(silo *s, int argc, char **argv) {
        "> 0: stop the discharge here even before the window is over (the "
        "rate is then fitted from the window's start to the end), s",
        &t_max, NULL},
+      {"volumetric",
+       "point | cell (tr L averaged over each cell's points against "
+       "volumetric locking, gm_domain_set_volumetric; 2D only)",
+       NULL, &s->volumetric},
   };
   int parsed = example_parse(argc, argv,
                              "Silo discharge through a bottom orifice "
                              "against Beverloo (002 sec 5, 001 sec 5.1.1).",
-                             &s->options, extras, 12);
+                             &s->options, extras, 13);
   if (parsed != 0)
     return parsed;
   s->geometry = strcmp(geometry, "axisym") == 0 ? GM_GEOMETRY_AXISYMMETRIC
@@ -1131,6 +1140,14 @@ static int configure(silo *s, int argc, char **argv) {
   }
   s->drop = cell * round(drop / cell); /* y = 0 stays a node line */
   s->t_max = t_max > 0.0 ? t_max : 0.0;
+  if (strcmp(s->volumetric, "point") != 0 &&
+      (strcmp(s->volumetric, "cell") != 0 || s->dim == 3)) {
+    fprintf(stderr,
+            "--volumetric: '%s' is not point or cell (cell: 2D "
+            "only)\n",
+            s->volumetric);
+    return 2;
+  }
   return 0;
 }
 

@@ -100,6 +100,16 @@ typedef struct gm_grid {
    * that much toward it in a step (walls.c, grid_update.c). */
   double *wall_centre_gap;
   size_t wall_centre_gap_capacity; /* doubles allocated */
+  /* GM_VOLUMETRIC_CELL_MEAN only (grid/volumetric_mean.c), scratch of one
+   * deformation pass: per cell, stored at its lowest node, the sums of
+   * V_p tr L_p (m^3/s) and V_p (m^3) over its points; per point, tr L_p
+   * (1/s) and the node index of its cell (SIZE_MAX: not averaged). */
+  double *cell_rate_volume;
+  double *cell_volume;
+  size_t cell_capacity; /* nodes allocated */
+  double *point_rate;
+  size_t *point_cell;
+  size_t point_capacity; /* points allocated */
 } gm_grid;
 
 /* Colour of a block for the parallel scatter: blocks of one colour are two

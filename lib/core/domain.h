@@ -54,8 +54,11 @@ struct gm_domain {
   gm_force_report wall_report[GM_MAX_WALLS]; /* last successful call, run */
   double wall_impulse[GM_MAX_WALLS][3];      /* N s, of the call in progress */
   double force_smoothing_time;               /* s, tau of the smoothed forces */
-  bool wall_profile_valid; /* grid contact records are of a committed step */
-  int rigid_count;         /* rigid materials; 0 = no rigid machinery runs */
+  bool wall_profile_valid;  /* grid contact records are of a committed step */
+  int rigid_count;          /* rigid materials; 0 = no rigid machinery runs */
+  gm_volumetric volumetric; /* gm_domain_set_volumetric; the arrays of
+                               GM_VOLUMETRIC_CELL_MEAN are the grid's
+                               (block_grid.h) */
   gm_source sources[GM_MAX_SOURCES];
   int source_count;
   gm_sink sinks[GM_MAX_SOURCES];

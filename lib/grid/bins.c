@@ -150,6 +150,8 @@ gm_status gm_bin_points(gm_domain *domain) {
     status = gm_walls_reserve(domain);
   if (status == GM_OK)
     status = gm_rigid_reserve(domain);
+  if (status == GM_OK)
+    status = gm_volumetric_reserve(domain);
   if (status != GM_OK || kept)
     return status;
   gm_grid *grid = &domain->grid;

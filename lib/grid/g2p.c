@@ -21,6 +21,7 @@ typedef struct g2p_context {
   const gm_g2p_pass *pass;
   gather_view view;
   linear_move_2d move; /* gather_move_chunk_2d */
+  bool cell_mean;      /* a deformation pass with GM_VOLUMETRIC_CELL_MEAN */
 } g2p_context;
 
 /* What a pass needs from the gather decides what it computes:
@@ -566,6 +567,8 @@ static GM_ALWAYS_INLINE void g2p_chunks_kind(void *context, size_t begin,
         gather_chunk_1d(v, first, count, g);
       else
         gather_chunk_2d(v, first, count, g, flip, deform);
+      if (deform && ctx->cell_mean) /* L's trace to its cell's mean */
+        gm_volumetric_apply_chunk(domain, v, first, count, g);
       if (flip)
         flip_chunk(domain, v, first, count, g, dt);
       if (move)
@@ -637,6 +640,31 @@ static void g2p_deform_only(void *c, size_t b, size_t e, int w) {
 }
 static void g2p_flip_move(void *c, size_t b, size_t e, int w) {
   g2p_chunks_kind(c, b, e, w, true, true, false); /* USL first, USF second */
+}
+
+/* The first sweep of a deformation pass with GM_VOLUMETRIC_CELL_MEAN: each
+ * point's tr L and cell (volumetric_mean.c), from the gather the pass
+ * itself then repeats (the same function on the same inputs: the same
+ * bits). */
+static void g2p_volumetric_rates(void *context, size_t begin, size_t end,
+                                 int worker) {
+  g2p_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  const gather_view *v = &ctx->view;
+  gm_worker_scratch *scratch = &domain->scratch[worker];
+  size_t point_count = domain->points.count;
+  chunk_gather *g = scratch->gather;
+  bool wide = v->shape_grid->shape != GM_SHAPE_LINEAR;
+  for (size_t chunk = begin; chunk < end; chunk++) {
+    size_t first = chunk * GM_BATCH_SIZE;
+    size_t count = point_count - first < GM_BATCH_SIZE ? point_count - first
+                                                       : GM_BATCH_SIZE;
+    if (wide)
+      gm_gather_chunk_wide(v, first, count, g, domain, scratch, false, true);
+    else
+      gather_chunk_2d(v, first, count, g, false, true);
+    gm_volumetric_store_chunk(domain, v, first, count, g);
+  }
 }
 
 /* The passes of the three schemes (step.c): USL flip+move then deform,
@@ -731,5 +759,12 @@ void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass) {
       ctx.view.domain_map[k] = ctx.view.next_domain_map[k];
   }
   size_t chunks = (domain->points.count + GM_BATCH_SIZE - 1) / GM_BATCH_SIZE;
+  /* 2D only: gm_domain_set_volumetric refuses 1D and 3D. */
+  ctx.cell_mean = pass->deform && domain->dim == 2 &&
+                  domain->volumetric == GM_VOLUMETRIC_CELL_MEAN;
+  if (ctx.cell_mean) {
+    gm_parallel_for(&domain->pool, chunks, g2p_volumetric_rates, &ctx);
+    gm_volumetric_sum(domain);
+  }
   gm_parallel_for(&domain->pool, chunks, pass_kernel(pass), &ctx);
 }

@@ -19,6 +19,9 @@
 
 gm_status gm_bin_points(gm_domain *domain); /* bins.c */
 void gm_reorder_points(gm_domain *domain);  /* bins.c */
+/* Grows the work arrays of GM_VOLUMETRIC_CELL_MEAN to the grid's blocks
+ * and the points' capacity (volumetric_mean.c); a no-op when it is off. */
+gm_status gm_volumetric_reserve(gm_domain *domain);
 /* What a P2G pass accumulates (p2g.c). */
 typedef struct gm_p2g_pass {
   bool mass;           /* nodal mass */

@@ -60,6 +60,10 @@ static void describe_def(const gm_domain *domain, gm_byte_writer *out) {
    * into FLIP domains); an APIC file names this record on a mismatch. */
   if (def->transfer != GM_TRANSFER_FLIP)
     gm_record_integer(out, "gm_domain_def.transfer", def->transfer);
+  /* Not a field of the definition (gm_domain_set_volumetric), and written
+   * only when on, so that other files keep their layout. */
+  if (domain->volumetric != GM_VOLUMETRIC_POINT)
+    gm_record_integer(out, "gm_domain_set_volumetric", domain->volumetric);
   /* worker_count and the task system are left out on purpose: results do
    * not depend on them, so a run may restart with other threads. */
 }

@@ -281,6 +281,10 @@ static void free_grid(gm_grid *grid) {
   gm_free(grid->rigid_impulse[0]);
   gm_free(grid->rigid_impulse[1]);
   gm_free(grid->rigid_impulse[2]);
+  gm_free(grid->cell_rate_volume);
+  gm_free(grid->cell_volume);
+  gm_free(grid->point_rate);
+  gm_free(grid->point_cell);
   for (int k = 0; k < 3; k++) {
     gm_free(grid->momentum[k]);
     gm_free(grid->force[k]);
@@ -337,5 +341,36 @@ gm_status gm_domain_get_time(const gm_domain *domain, double *time,
     *time = domain->time;
   if (step_count)
     *step_count = domain->step_count;
+  return GM_OK;
+}
+
+gm_status gm_domain_set_volumetric(gm_domain *domain,
+                                   gm_volumetric volumetric) {
+  if (!domain)
+    return GM_ERR_NULL;
+  if (domain->busy) /* one setting for all the passes of a step */
+    return gm_set_error(domain, GM_ERR_BUSY,
+                        "gm_domain_set_volumetric: called during a step");
+  if (volumetric != GM_VOLUMETRIC_POINT &&
+      volumetric != GM_VOLUMETRIC_CELL_MEAN)
+    return gm_set_error(domain, GM_ERR_INVALID_ARGUMENT,
+                        "gm_domain_set_volumetric: %d is not a gm_volumetric "
+                        "value",
+                        (int)volumetric);
+  /* Locking needs more constraints than a cell's nodes can meet: none in
+   * 1D (one strain component); the 3D kernels (g2p_3d.c) have no pass for
+   * it yet (docs/3d.md). */
+  if (volumetric == GM_VOLUMETRIC_CELL_MEAN && domain->dim == 1)
+    return gm_set_error(domain, GM_ERR_UNSUPPORTED,
+                        "gm_domain_set_volumetric: GM_VOLUMETRIC_CELL_MEAN "
+                        "is for plane strain and axisymmetry; a 1D domain "
+                        "has no volumetric locking to remove");
+  if (volumetric == GM_VOLUMETRIC_CELL_MEAN && domain->dim == 3)
+    return gm_set_error(domain, GM_ERR_UNSUPPORTED,
+                        "gm_domain_set_volumetric: GM_VOLUMETRIC_CELL_MEAN "
+                        "is not implemented in GM_GEOMETRY_3D in this "
+                        "version (docs/3d.md); plane strain and "
+                        "axisymmetry only");
+  domain->volumetric = volumetric;
   return GM_OK;
 }

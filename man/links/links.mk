@@ -42,6 +42,7 @@ MAN_LINKS = \
 	man/links/gm_domain_set_granular.3 \
 	man/links/gm_domain_set_rigid_velocity.3 \
 	man/links/gm_domain_set_step_hook.3 \
+	man/links/gm_domain_set_volumetric.3 \
 	man/links/gm_domain_stable_dt.3 \
 	man/links/gm_domain_view_field.3 \
 	man/links/gm_domain_view_ids.3 \

@@ -1,0 +1,510 @@
+/*
+ * test_volumetric_mean.c - gm_domain_set_volumetric(GM_VOLUMETRIC_CELL_MEAN),
+ * the cell-mean volumetric strain rate against volumetric locking
+ * (lib/grid/volumetric_mean.c):
+ *  - the equation: after one step from F = I, every point's tr L dt is its
+ *    cell's volume-weighted mean of the unaveraged tr L dt (the same scene
+ *    without the setting), the same for all the points of a cell, and the
+ *    deviatoric part of L is the point's own; in plane strain (linear MPM,
+ *    through the elastic fast path; quadratic B-splines) and in
+ *    axisymmetry, where the trace includes the hoop rate v_r / r;
+ *  - a uniform expansion is reproduced: the interior points, whose cells
+ *    see the uniform rate, keep it (the averaged field equals the point
+ *    field);
+ *  - the Mohr-Coulomb fast path gives the general path's bits with it;
+ *  - bitwise identical results for 1, 2 and 3 workers with a Mohr-Coulomb
+ *    column collapsing (the Mohr-Coulomb fast path), linear and B-spline,
+ *    plane strain and axisymmetry, and different from the run without it;
+ *  - a checkpoint records the setting (a domain without it refuses the
+ *    file) and continues bitwise;
+ *  - no allocation in a step after warm-up, and every allocation freed;
+ *  - the refusals: 1D and 3D (GM_ERR_UNSUPPORTED, named), a bad value,
+ *    NULL, a call during a step.
+ *
+ * SPDX-License-Identifier: BSD-2-Clause
+ */
+#define _POSIX_C_SOURCE 200809L /* mkstemp */
+
+#include "test_util.h"
+
+#include <check.h>
+#include <math.h>
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+enum { VARIANT_PLANE_LINEAR, VARIANT_PLANE_BSPLINE, VARIANT_AXISYM_LINEAR };
+
+static const char *variant_name(int variant) {
+  static const char *names[3] = {
+      "plane strain, linear", "plane strain, B-spline2", "axisymmetry, linear"};
+  return names[variant];
+}
+
+#define CELL 0.1 /* m */
+
+/* An elastic block 1.0 x 0.8 m, 2 x 2 points per cell, no gravity, with a
+ * velocity field set per point (the initial stress is zero, so the first
+ * step's grid velocities are the scattered ones). */
+static gm_domain *block(int variant, bool cell_mean, int *count,
+                        int64_t *first_id) {
+  gm_domain_def def = gm_domain_def_default();
+  def.cell_size = CELL;
+  def.extent[0] = def.extent[1] = 2.0;
+  if (variant == VARIANT_PLANE_BSPLINE)
+    def.shape = GM_SHAPE_BSPLINE2;
+  if (variant == VARIANT_AXISYM_LINEAR)
+    def.geometry = GM_GEOMETRY_AXISYMMETRIC;
+  gm_domain *domain = test_create_domain(&def);
+  if (cell_mean)
+    TEST_ASSERT_OK(domain,
+                   gm_domain_set_volumetric(domain, GM_VOLUMETRIC_CELL_MEAN));
+  int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+  const double lower[3] = {0.5, 0.5, 0.0}, upper[3] = {1.5, 1.3, 0.0};
+  *count = (int)test_fill_box(domain, material, lower, upper, 2, first_id);
+  return domain;
+}
+
+/* Sets v = f(x) on every point (by id order, from the positions). */
+static void set_velocity(gm_domain *domain, int count, int64_t first_id,
+                         bool uniform) {
+  double *position = malloc((size_t)count * 2 * sizeof(double));
+  double *velocity = malloc((size_t)count * 2 * sizeof(double));
+  int64_t *ids = malloc((size_t)count * sizeof(int64_t));
+  ck_assert(position && velocity && ids);
+  TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_POSITION,
+                                             position, (size_t)count * 2));
+  TEST_ASSERT_OK(domain, gm_domain_get_ids(domain, ids, (size_t)count));
+  (void)first_id;
+  for (int p = 0; p < count; p++) {
+    double x = position[2 * p], y = position[2 * p + 1]; /* m */
+    if (uniform) { /* v = e (x - c): tr L = 2 e, 1/s */
+      velocity[2 * p] = 0.05 * (x - 1.0);
+      velocity[2 * p + 1] = 0.05 * (y - 0.9);
+    } else { /* a flow with a trace that varies inside each cell */
+      velocity[2 * p] = 0.1 * sin(7.0 * x + 1.0) * cos(5.0 * y);
+      velocity[2 * p + 1] = 0.1 * cos(6.0 * x) * sin(8.0 * y + 0.5);
+    }
+  }
+  TEST_ASSERT_OK(domain, gm_domain_set_field(domain, GM_FIELD_VELOCITY,
+                                             velocity, (size_t)count * 2));
+  free(position);
+  free(velocity);
+  free(ids);
+}
+
+/* One step of dt from F = I: F (9 per point), initial positions (2) and
+ * volumes, by id. */
+typedef struct one_step {
+  double *f, *position, *volume;
+} one_step;
+
+static one_step run_one_step(int variant, bool cell_mean, bool uniform,
+                             int *count) {
+  int64_t first_id = -1;
+  gm_domain *domain = block(variant, cell_mean, count, &first_id);
+  set_velocity(domain, *count, first_id, uniform);
+  one_step out;
+  size_t n = (size_t)*count;
+  out.f = malloc(n * 9 * sizeof(double));
+  out.position = malloc(n * 2 * sizeof(double));
+  out.volume = malloc(n * sizeof(double));
+  ck_assert(out.f && out.position && out.volume);
+  test_get_field_by_id(domain, GM_FIELD_POSITION, first_id, out.position);
+  test_get_field_by_id(domain, GM_FIELD_VOLUME, first_id, out.volume);
+  TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-4));
+  test_get_field_by_id(domain, GM_FIELD_DEFORMATION_GRADIENT, first_id, out.f);
+  gm_domain_destroy(domain);
+  return out;
+}
+
+static void free_step(one_step *s) {
+  free(s->f);
+  free(s->position);
+  free(s->volume);
+}
+
+/* tr L dt of a point from F = I + L dt (hoop: F_zz = 1 + L_zz dt). */
+static double trace_dt(const double *f, bool axisymmetric) {
+  double trace = (f[0] - 1.0) + (f[4] - 1.0);
+  return axisymmetric ? trace + (f[8] - 1.0) : trace;
+}
+
+static int cell_of(const double *position) {
+  int cx = (int)floor(position[0] / CELL), cy = (int)floor(position[1] / CELL);
+  return cy * 100 + cx;
+}
+
+START_TEST(test_trace_is_the_cell_mean) {
+  int variant = _i;
+  bool axisymmetric = variant == VARIANT_AXISYM_LINEAR;
+  int count = 0, count_on = 0;
+  one_step off = run_one_step(variant, false, false, &count);
+  one_step on = run_one_step(variant, true, false, &count_on);
+  ck_assert_int_eq(count, count_on);
+  /* The per-cell means of the unaveraged rates. */
+  enum { CELLS = 100 * 100 };
+  double *sum = calloc(CELLS, sizeof(double));
+  double *weight = calloc(CELLS, sizeof(double));
+  ck_assert(sum && weight);
+  double scale = 0.0; /* largest |tr L dt| */
+  for (int p = 0; p < count; p++) {
+    int c = cell_of(off.position + 2 * p);
+    double t = trace_dt(off.f + 9 * p, axisymmetric);
+    sum[c] += off.volume[p] * t;
+    weight[c] += off.volume[p];
+    scale = fmax(scale, fabs(t));
+  }
+  ck_assert(scale > 1e-6); /* dt 1e-4 s times rates of ~0.1-1 1/s */
+  /* F = 1 + L dt rounds at 1.1e-16 per component: up to ~5e-16 on the
+   * trace, ~1e-11 of its size; the means add a few roundings of their
+   * own. 1e-9 of the largest trace leaves room for both and is 10^6 below
+   * the spread of the unaveraged traces in a cell checked below. */
+  double tolerance = 1e-9 * scale;
+  double spread = 0.0; /* largest |tr - mean| without averaging */
+  for (int p = 0; p < count; p++) {
+    int c = cell_of(off.position + 2 * p);
+    double mean = sum[c] / weight[c];
+    double own = trace_dt(off.f + 9 * p, axisymmetric);
+    double averaged = trace_dt(on.f + 9 * p, axisymmetric);
+    spread = fmax(spread, fabs(own - mean));
+    ck_assert_msg(fabs(averaged - mean) <= tolerance,
+                  "%s: point %d has tr L dt = %.12g, its cell's mean is "
+                  "%.12g",
+                  variant_name(variant), p, averaged, mean);
+    /* The deviator is the point's own: the differences of the normal
+     * components and the shears. */
+    const double *a = on.f + 9 * p, *b = off.f + 9 * p;
+    ck_assert_msg(
+        fabs((a[0] - a[4]) - (b[0] - b[4])) <= tolerance &&
+            fabs(a[1] - b[1]) <= tolerance && fabs(a[3] - b[3]) <= tolerance,
+        "%s: point %d's deviatoric rate changed", variant_name(variant), p);
+    if (axisymmetric)
+      ck_assert_msg(fabs((a[0] - a[8]) - (b[0] - b[8])) <= tolerance,
+                    "%s: point %d's hoop deviator changed",
+                    variant_name(variant), p);
+    else /* plane strain: F_zz stays 1 */
+      ck_assert(a[8] == 1.0);
+  }
+  /* The scene tests something: the traces vary within the cells. */
+  ck_assert_msg(spread > 1e3 * tolerance, "%s: spread %g",
+                variant_name(variant), spread);
+  free(sum);
+  free(weight);
+  free_step(&off);
+  free_step(&on);
+}
+END_TEST
+
+/* v = e (x - c) on every point: linear shape functions reproduce it
+ * exactly at a node whose points lie symmetrically about it, so every
+ * point of a cell whose four nodes are inside the block (one cell in from
+ * its edges) has tr L = 2 e with and without the averaging. */
+START_TEST(test_uniform_expansion_is_kept) {
+  int count = 0, count_on = 0;
+  one_step off = run_one_step(VARIANT_PLANE_LINEAR, false, true, &count);
+  one_step on = run_one_step(VARIANT_PLANE_LINEAR, true, true, &count_on);
+  ck_assert_int_eq(count, count_on);
+  const double expected = 2.0 * 0.05 * 1e-4; /* tr L dt */
+  int interior = 0;
+  for (int p = 0; p < count; p++) {
+    double x = on.position[2 * p], y = on.position[2 * p + 1];
+    if (x < 0.6 || x > 1.4 || y < 0.6 || y > 1.2)
+      continue; /* cells touching the block's edge nodes */
+    interior++;
+    double own = trace_dt(off.f + 9 * p, false);
+    double averaged = trace_dt(on.f + 9 * p, false);
+    /* 1e-9 relative: the rounding of F = 1 + L dt (see above). */
+    ck_assert_msg(fabs(own - expected) <= 1e-9 * expected &&
+                      fabs(averaged - expected) <= 1e-9 * expected,
+                  "point %d at (%g, %g): tr L dt %.15g without, %.15g with "
+                  "the cell mean, expected %.15g",
+                  p, x, y, own, averaged, expected);
+  }
+  ck_assert_int_eq(interior, 8 * 6 * 4); /* 8 x 6 cells, 4 points each */
+  free_step(&off);
+  free_step(&on);
+}
+END_TEST
+
+/* A Mohr-Coulomb column (phi 30 deg, psi 0: plastically incompressible)
+ * collapsing on a fixed floor, MUSL. */
+/* The general path: the same law through a user callback (the fast path
+ * of deform_mohr_coulomb.c takes the built-in material only). */
+static int wrapped_mohr_coulomb(const gm_material_batch *batch, void *user,
+                                char *message, size_t message_size) {
+  return gm_mohr_coulomb_update(batch, user, message, message_size);
+}
+
+static gm_mohr_coulomb_def sand; /* lives as long as the domains */
+
+static gm_domain *column_path(int variant, int workers, bool cell_mean,
+                              bool builtin) {
+  gm_domain_def def = gm_domain_def_default();
+  def.cell_size = 0.05;
+  def.extent[0] = 1.5;
+  def.extent[1] = 0.8;
+  def.gravity[1] = -9.81;
+  def.scheme = GM_SCHEME_MUSL;
+  def.walls[GM_FACE_YMIN] = GM_WALL_FIXED;
+  def.walls[GM_FACE_XMIN] = GM_WALL_SLIP;
+  def.worker_count = workers;
+  if (variant == VARIANT_PLANE_BSPLINE)
+    def.shape = GM_SHAPE_BSPLINE2;
+  if (variant == VARIANT_AXISYM_LINEAR)
+    def.geometry = GM_GEOMETRY_AXISYMMETRIC;
+  gm_domain *domain = test_create_domain(&def);
+  if (cell_mean)
+    TEST_ASSERT_OK(domain,
+                   gm_domain_set_volumetric(domain, GM_VOLUMETRIC_CELL_MEAN));
+  sand = gm_mohr_coulomb_def_default();
+  sand.youngs_modulus = 1e6; /* Pa */
+  sand.poisson_ratio = 0.3;  /* - */
+  sand.density = 1500.0;     /* kg/m^3 */
+  sand.friction_angle = 30.0 * 3.14159265358979 / 180.0;
+  sand.dilation_angle = 0.0;
+  sand.bagnold_viscosity = 0.0; /* the fast path's material */
+  int material = -1;
+  if (builtin) {
+    TEST_ASSERT_OK(domain,
+                   gm_domain_add_mohr_coulomb(domain, &sand, &material));
+  } else {
+    gm_material_def user_def = gm_material_def_default();
+    user_def.name = "mohr_coulomb";
+    user_def.update = wrapped_mohr_coulomb;
+    user_def.user = &sand;
+    user_def.state_count = GM_MOHR_COULOMB_STATE_COUNT;
+    double nu = sand.poisson_ratio; /* M = E (1 - nu) / ((1 + nu)(1 - 2 nu)) */
+    user_def.p_wave_modulus =
+        sand.youngs_modulus * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    user_def.density = sand.density;
+    TEST_ASSERT_OK(domain,
+                   gm_domain_add_material(domain, &user_def, &material));
+  }
+  const double lower[3] = {0.0, 0.0, 0.0}, upper[3] = {0.3, 0.5, 0.0};
+  test_fill_box(domain, material, lower, upper, 2, NULL);
+  return domain;
+}
+
+static gm_domain *column(int variant, int workers, bool cell_mean) {
+  return column_path(variant, workers, cell_mean, true);
+}
+
+enum { COLUMN_STEPS = 150 };
+
+static double *column_state_path(int variant, int workers, bool cell_mean,
+                                 bool builtin, size_t *length) {
+  gm_domain *domain = column_path(variant, workers, cell_mean, builtin);
+  for (int s = 0; s < COLUMN_STEPS; s++)
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
+  size_t n = gm_domain_point_count(domain);
+  *length = n * (2 + 2 + 6 + 9);
+  double *state = malloc(*length * sizeof(double));
+  ck_assert(state);
+  double *at = state;
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_POSITION, at, 2 * n));
+  at += 2 * n;
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_VELOCITY, at, 2 * n));
+  at += 2 * n;
+  TEST_ASSERT_OK(domain,
+                 gm_domain_get_field(domain, GM_FIELD_STRESS, at, 6 * n));
+  at += 6 * n;
+  TEST_ASSERT_OK(domain, gm_domain_get_field(
+                             domain, GM_FIELD_DEFORMATION_GRADIENT, at, 9 * n));
+  gm_domain_destroy(domain);
+  return state;
+}
+
+static double *column_state(int variant, int workers, bool cell_mean,
+                            size_t *length) {
+  return column_state_path(variant, workers, cell_mean, true, length);
+}
+
+/* The Mohr-Coulomb fast path reads the shifted L as the general path
+ * does: the same bits (the elastic fast path is in the equation test:
+ * its plane linear scene is built-in elastic). */
+START_TEST(test_fast_path_alike) {
+  int variant = _i;
+  size_t length = 0, other = 0;
+  double *fast = column_state_path(variant, 1, true, true, &length);
+  double *general = column_state_path(variant, 1, true, false, &other);
+  ck_assert_uint_eq(length, other);
+  ck_assert_msg(memcmp(fast, general, length * sizeof(double)) == 0,
+                "%s: the fast path differs from the general one",
+                variant_name(variant));
+  free(fast);
+  free(general);
+}
+END_TEST
+
+START_TEST(test_bitwise_across_workers) {
+  int variant = _i;
+  size_t length = 0, other = 0;
+  double *one = column_state(variant, 1, true, &length);
+  for (int workers = 2; workers <= 3; workers++) {
+    double *many = column_state(variant, workers, true, &other);
+    ck_assert_uint_eq(length, other);
+    ck_assert_msg(memcmp(one, many, length * sizeof(double)) == 0,
+                  "%s: %d workers differ from 1", variant_name(variant),
+                  workers);
+    free(many);
+  }
+  /* ... and the averaging did something to this flow. */
+  double *plain = column_state(variant, 1, false, &other);
+  ck_assert_uint_eq(length, other);
+  ck_assert_msg(memcmp(one, plain, length * sizeof(double)) != 0,
+                "%s: the cell mean changed nothing", variant_name(variant));
+  free(plain);
+  free(one);
+}
+END_TEST
+
+/* A checkpoint records the setting: it continues bitwise in a domain with
+ * the setting, and a domain without it refuses the file by naming it. */
+START_TEST(test_checkpoint_records_it) {
+  char path[] = "/tmp/test_volumetric_mean_XXXXXX";
+  int fd = mkstemp(path);
+  ck_assert_int_ge(fd, 0);
+  close(fd);
+  gm_domain *first = column(VARIANT_PLANE_LINEAR, 1, true);
+  for (int s = 0; s < 20; s++)
+    TEST_ASSERT_OK(first, gm_domain_step(first, 2e-4));
+  TEST_ASSERT_OK(first, gm_domain_save(first, path));
+  for (int s = 0; s < 20; s++)
+    TEST_ASSERT_OK(first, gm_domain_step(first, 2e-4));
+  gm_domain *second = column(VARIANT_PLANE_LINEAR, 1, true);
+  TEST_ASSERT_OK(second, gm_domain_load(second, path));
+  for (int s = 0; s < 20; s++)
+    TEST_ASSERT_OK(second, gm_domain_step(second, 2e-4));
+  size_t n = gm_domain_point_count(first);
+  ck_assert_uint_eq(n, gm_domain_point_count(second));
+  double *a = malloc(6 * n * sizeof(double));
+  double *b = malloc(6 * n * sizeof(double));
+  ck_assert(a && b);
+  TEST_ASSERT_OK(first, gm_domain_get_field(first, GM_FIELD_STRESS, a, 6 * n));
+  TEST_ASSERT_OK(second,
+                 gm_domain_get_field(second, GM_FIELD_STRESS, b, 6 * n));
+  ck_assert(memcmp(a, b, 6 * n * sizeof(double)) == 0);
+  gm_domain *without = column(VARIANT_PLANE_LINEAR, 1, false);
+  ck_assert_int_eq(gm_domain_load(without, path), GM_ERR_INVALID_ARGUMENT);
+  ck_assert_ptr_nonnull(
+      strstr(gm_domain_last_error(without), "gm_domain_set_volumetric"));
+  free(a);
+  free(b);
+  gm_domain_destroy(first);
+  gm_domain_destroy(second);
+  gm_domain_destroy(without);
+  remove(path);
+}
+END_TEST
+
+/* ------------------------------------------------------ allocation */
+
+static atomic_long allocations, releases;
+
+static void *counting_malloc(size_t size, void *user) {
+  (void)user;
+  atomic_fetch_add(&allocations, 1);
+  return malloc(size);
+}
+
+static void counting_free(void *pointer, void *user) {
+  (void)user;
+  if (pointer)
+    atomic_fetch_add(&releases, 1);
+  free(pointer);
+}
+
+START_TEST(test_no_allocation_after_warm_up) {
+  gm_allocator allocator = {sizeof(gm_allocator), counting_malloc,
+                            counting_free, NULL};
+  ck_assert_int_eq(gm_set_allocator(&allocator), GM_OK);
+  atomic_store(&allocations, 0);
+  atomic_store(&releases, 0);
+  int variant = _i % 3, workers = 1 + _i / 3;
+  gm_domain *domain = column(variant, workers, true);
+  /* The column spreads, so the grid may grow for a while: warm up over the
+   * first steps, then the same occupied blocks for a few more. */
+  for (int s = 0; s < 5; s++)
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
+  /* A short window: the column spreads by less than a cell in it. */
+  long before = atomic_load(&allocations);
+  for (int s = 0; s < 20; s++)
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
+  long during = atomic_load(&allocations) - before;
+  ck_assert_msg(during == 0, "%s, %d workers: %ld allocations in 20 steps",
+                variant_name(variant), workers, during);
+  gm_domain_destroy(domain);
+  ck_assert_msg(atomic_load(&allocations) == atomic_load(&releases),
+                "allocations %ld != frees %ld after destroy",
+                atomic_load(&allocations), atomic_load(&releases));
+  ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
+}
+END_TEST
+
+/* ------------------------------------------------------------ refusals */
+
+static int set_in_hook(gm_domain *domain, gm_hook_stage stage, void *user) {
+  if (stage == GM_HOOK_BEFORE_STEP)
+    *(gm_status *)user =
+        gm_domain_set_volumetric(domain, GM_VOLUMETRIC_CELL_MEAN);
+  return 0;
+}
+
+START_TEST(test_refusals) {
+  ck_assert_int_eq(gm_domain_set_volumetric(NULL, GM_VOLUMETRIC_CELL_MEAN),
+                   GM_ERR_NULL);
+  static const gm_geometry unsupported[2] = {GM_GEOMETRY_1D, GM_GEOMETRY_3D};
+  static const char *named[2] = {"1D", "GM_GEOMETRY_3D"};
+  for (int k = 0; k < 2; k++) {
+    gm_domain_def def = gm_domain_def_default();
+    def.geometry = unsupported[k];
+    gm_domain *domain = test_create_domain(&def);
+    ck_assert_int_eq(gm_domain_set_volumetric(domain, GM_VOLUMETRIC_CELL_MEAN),
+                     GM_ERR_UNSUPPORTED);
+    ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), named[k]));
+    /* Off stays allowed everywhere. */
+    TEST_ASSERT_OK(domain,
+                   gm_domain_set_volumetric(domain, GM_VOLUMETRIC_POINT));
+    gm_domain_destroy(domain);
+  }
+  gm_domain_def def = gm_domain_def_default();
+  gm_domain *domain = test_create_domain(&def);
+  ck_assert_int_eq(gm_domain_set_volumetric(domain, (gm_volumetric)7),
+                   GM_ERR_INVALID_ARGUMENT);
+  ck_assert_ptr_nonnull(strstr(gm_domain_last_error(domain), "7"));
+  int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
+  const double lower[3] = {0.4, 0.4, 0.0}, upper[3] = {0.6, 0.6, 0.0};
+  test_fill_box(domain, material, lower, upper, 2, NULL);
+  gm_status in_hook = GM_OK;
+  TEST_ASSERT_OK(domain,
+                 gm_domain_set_step_hook(domain, set_in_hook, &in_hook));
+  TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-4));
+  ck_assert_int_eq(in_hook, GM_ERR_BUSY);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
+static Suite *volumetric_suite(void) {
+  Suite *suite = suite_create("volumetric_mean");
+  TCase *tc = tcase_create("core");
+  tcase_set_timeout(tc, 60);
+  tcase_add_loop_test(tc, test_trace_is_the_cell_mean, 0, 3);
+  tcase_add_test(tc, test_uniform_expansion_is_kept);
+  tcase_add_loop_test(tc, test_bitwise_across_workers, 0, 3);
+  tcase_add_loop_test(tc, test_fast_path_alike, 0, 2);
+  tcase_add_loop_test(tc, test_no_allocation_after_warm_up, 0, 6);
+  tcase_add_test(tc, test_checkpoint_records_it);
+  tcase_add_test(tc, test_refusals);
+  suite_add_tcase(suite, tc);
+  return suite;
+}
+
+int main(void) {
+  return test_run_suite(volumetric_suite()) == 0 ? 0 : 1;
+}
