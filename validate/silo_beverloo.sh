@@ -10,8 +10,8 @@
 # discharged mass over 10 % to WINDOW_END of the fill (default 0.25: the run
 # stops at 30 % and costs about 0.6 of the full 10-40 % window).
 # Writes validate/results/silo_beverloo.csv (one row per geometry and D;
-# the 3D runs give a row for each of their two silos) and prints the fits
-# of validate/silo_beverloo_fit.awk. Environment: PLAN, a list of
+# the 3D runs give a row for each of their two silos) and the fits of
+# validate/silo_beverloo_fit.awk to validate/results/silo_beverloo_fit.txt. Environment: PLAN, a list of
 # geometry:cells_across_D (default: the committed runs), CELL (m, default
 # 0.05), WINDOW_END, BUILD (default build), APPEND=1 (keep the CSV's rows).
 # Cost (2026-11-28, one core): the 3D run at D/6 about 1.2 min of CPU, at
@@ -24,6 +24,9 @@ results=$top/validate/results
 mkdir -p "$results"
 CELL=${CELL:-0.05}
 WINDOW_END=${WINDOW_END:-0.25}
+# The committed CSV: this plan on 0.05 m cells, and the axisymmetric D/h
+# 6-16 on 0.1 and 0.025 m cells (CELL=... APPEND=1); 3d:10 was not run
+# (9 min of CPU, more than a loaded machine gave that session).
 PLAN=${PLAN-"3d:6 3d:8 axisym:4 axisym:6 axisym:8 axisym:10 axisym:12 axisym:16 axisym:24"}
 csv=$results/silo_beverloo.csv
 [ "${APPEND:-0}" = 1 ] && [ -f "$csv" ] ||
@@ -60,4 +63,4 @@ done
 {
   head -n 1 "$csv"
   tail -n +2 "$csv" | sort -t, -k1,1 -k2,2g -k3,3n
-} | awk -f "$top/validate/silo_beverloo_fit.awk"
+} | awk -f "$top/validate/silo_beverloo_fit.awk" | tee "$results/silo_beverloo_fit.txt"
