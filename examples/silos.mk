@@ -1,7 +1,8 @@
 # examples/silos.mk - silo discharge and filling against Beverloo and Janssen (included by Makefile.am).
 noinst_PROGRAMS += examples/papers/wieckowski1999_silo_discharge examples/papers/wieckowski2004_silo_filling_janssen
 examples_papers_wieckowski1999_silo_discharge_SOURCES = examples/papers/wieckowski1999_silo_discharge.c \
-	examples/papers/silo_discharge_3d.c examples/papers/silo_discharge_3d.h $(EXAMPLE_COMMON)
+	examples/papers/silo_discharge_3d.c examples/papers/silo_discharge_3d.h \
+	examples/papers/silo_slice_3d.c examples/papers/silo_slice_3d.h $(EXAMPLE_COMMON)
 examples_papers_wieckowski1999_silo_discharge_LDADD = lib/libgranmpm.la -lm
 examples_papers_wieckowski1999_silo_discharge_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
 # The 3D silo (a quarter square silo, circular orifice) against the
@@ -9,6 +10,10 @@ examples_papers_wieckowski1999_silo_discharge_CPPFLAGS = -I$(top_srcdir)/include
 # (issue 16 item 3; docs/3d.md).
 TESTS += tests/scripts/silo_3d_axisym.sh
 EXTRA_DIST += tests/scripts/silo_3d_axisym.sh
+# Beverloo's exponent for the circular orifice, axisymmetric silo: 2.5 +-
+# 0.15 with the cell as grain size over D = 6 to 16 cells (docs/3d.md).
+TESTS += tests/scripts/silo_beverloo_axisym.sh
+EXTRA_DIST += tests/scripts/silo_beverloo_axisym.sh
 examples_papers_wieckowski2004_silo_filling_janssen_SOURCES = examples/papers/wieckowski2004_silo_filling_janssen.c $(EXAMPLE_COMMON)
 examples_papers_wieckowski2004_silo_filling_janssen_LDADD = lib/libgranmpm.la -lm
 examples_papers_wieckowski2004_silo_filling_janssen_CPPFLAGS = -I$(top_srcdir)/include -I$(top_srcdir)/examples
