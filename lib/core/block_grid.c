@@ -149,37 +149,80 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
   return true;
 }
 
-/* The same in 3D: the block and its seven upper neighbours that exist. */
-static bool insert_with_neighbours_3d(gm_grid *grid, int64_t key) {
+/* Inserts block `key` and those of its upper neighbours (slot ox + 2 oy +
+ * 4 oz, as the links) whose bit is set in `slots` and that exist in the
+ * box; the block itself (slot 0) is always inserted. */
+static bool insert_slots(gm_grid *grid, int64_t key, unsigned slots) {
   int64_t blocks_x = grid->blocks_per_axis[0];
-  int64_t blocks_y = grid->blocks_per_axis[1];
-  int64_t block[3];
-  gm_block_coordinates_3d(grid, key, block);
-  for (int64_t dz = 0; dz <= 1; dz++)
-    for (int64_t dy = 0; dy <= 1; dy++)
-      for (int64_t dx = 0; dx <= 1; dx++)
-        if (block[0] + dx < blocks_x && block[1] + dy < blocks_y &&
-            block[2] + dz < grid->blocks_per_axis[2] &&
-            !hash_insert(grid, key + (dz * blocks_y + dy) * blocks_x + dx))
-          return false;
+  int64_t blocks_y = grid->dim > 1 ? grid->blocks_per_axis[1] : 1;
+  int64_t blocks_z = grid->dim == 3 ? grid->blocks_per_axis[2] : 1;
+  int64_t block[3] = {0, 0, 0};
+  if (grid->dim == 3)
+    gm_block_coordinates_3d(grid, key, block);
+  else
+    gm_block_coordinates(grid, key, block);
+  for (int slot = 0; slot < GM_BLOCK_NEIGHBOURS; slot++) {
+    int64_t ox = slot & 1, oy = (slot >> 1) & 1, oz = slot >> 2;
+    if ((slot != 0 && !(slots & (1u << slot))) || block[0] + ox >= blocks_x ||
+        block[1] + oy >= blocks_y || block[2] + oz >= blocks_z)
+      continue;
+    /* Within the block's own layer. */
+    if (!hash_insert(grid, key + (oz * blocks_y + oy) * blocks_x + ox))
+      return false;
+  }
   return true;
 }
 
-/* Adds the blocks whose nodes the cells of block `key` reach. */
-static bool insert_with_neighbours(gm_grid *grid, int64_t key) {
-  if (grid->dim == 3)
-    return insert_with_neighbours_3d(grid, key);
-  int64_t blocks_x = grid->blocks_per_axis[0];
-  int64_t block[2];
-  gm_block_coordinates(grid, key, block);
-  int reach_y = grid->dim > 1 ? 1 : 0;
-  for (int64_t dy = 0; dy <= reach_y; dy++)
-    for (int64_t dx = 0; dx <= 1; dx++)
-      if (block[0] + dx < blocks_x &&
-          block[1] + dy < grid->blocks_per_axis[1] &&
-          !hash_insert(grid, key + dy * blocks_x + dx)) /* same layer */
-        return false;
-  return true;
+/* Every upper neighbour: a block's cells may reach any of them. */
+static unsigned all_slots(const gm_grid *grid) {
+  return grid->dim == 3 ? 0xffu : grid->dim == 2 ? 0x0fu : 0x03u;
+}
+
+/* Whether the upper neighbours a block needs are found from its points'
+ * cells (sparse_slots). For linear shapes the support is the point's
+ * cell, and every transfer, gather, gap and rigid pass reaches the nodes
+ * through it (p2g.c, g2p.c, p2g_3d.c, g2p_3d.c, wall_gaps*.c, rigid.c; the
+ * 2D tile flush skips absent neighbours): a neighbour no cell reaches
+ * receives nothing and is read by nothing, so leaving it out changes no
+ * bit. Only the granular family uses it: its node layers hold a few points
+ * per block (the 30 %-disconnected cloud of granmpm-bench: 1 to 7 per
+ * layer block), where much of a block's ring of neighbours is empty
+ * (docs/performance.md, "Sparse node layers"). Periodic x faces keep whole
+ * rows (gm_grid_build). */
+static bool sparse_neighbours(const gm_domain *domain) {
+  return domain->def.family == GM_FAMILY_GRANULAR && domain->dim >= 2 &&
+         domain->shape_grid.shape == GM_SHAPE_LINEAR && !gm_periodic_x(domain);
+}
+
+/* The neighbour slots the cell of point i reaches: bit ox + 2 oy + 4 oz
+ * for every combination of the axes along which the cell is the block's
+ * last (its upper nodes lie in the next block). The cell is the one of
+ * gm_shape_linear_axis_inside; where it does not give the point's key
+ * (modulo the layer stride), all slots, as without the pruning. */
+static unsigned sparse_slots(const gm_domain *domain, size_t i, int64_t key) {
+  const gm_grid *grid = &domain->grid;
+  const gm_point_buffers *current = &domain->points.buffer[domain->points.cur];
+  int64_t node[3] = {0, 0, 0};
+  int64_t mask = ((int64_t)1 << grid->shift) - 1;
+  unsigned axes = 0; /* bit k: the cell is the last of its block on axis k */
+  for (int k = 0; k < domain->dim; k++) {
+    double scaled = (current->position[k][i] - domain->shape_grid.origin[k]) *
+                    domain->inv_cell; /* cells */
+    if (!(scaled >= 0.0))
+      return all_slots(grid);
+    node[k] = (int64_t)scaled;
+    axes |= (unsigned)((node[k] & mask) == mask) << k;
+  }
+  int64_t own = domain->dim == 3
+                    ? gm_block_key_of_node_3d(grid, node[0], node[1], node[2])
+                    : gm_block_key_of_node(grid, node[0], node[1]);
+  if (key < 0 || key % gm_grid_layer_stride(grid) != own)
+    return all_slots(grid);
+  unsigned slots = 0;
+  for (unsigned slot = 0; slot < GM_BLOCK_NEIGHBOURS; slot++)
+    if ((slot & ~axes) == 0) /* every axis of the slot is reached */
+      slots |= 1u << slot;
+  return slots;
 }
 
 /* The eight links of a 3D block (slot ox + 2 oy + 4 oz); none past the
@@ -244,11 +287,16 @@ gm_status gm_grid_build(gm_domain *domain) {
   const int64_t *point_key = points->block_key;
   hash_clear(grid);
   int64_t previous = -1;
+  unsigned inserted = 0; /* the slots inserted for block `previous` */
   bool periodic = gm_periodic_x(domain);
+  bool sparse = sparse_neighbours(domain);
+  unsigned every = all_slots(grid);
   int64_t blocks_x = grid->blocks_per_axis[0];
   for (size_t i = 0; i < points->count; i++) {
-    if (point_key[i] == previous)
+    unsigned slots = sparse ? sparse_slots(domain, i, point_key[i]) : every;
+    if (point_key[i] == previous && (slots & ~inserted) == 0)
       continue; /* points are sorted by block: most keys repeat */
+    inserted = point_key[i] == previous ? inserted | slots : slots;
     previous = point_key[i];
     /* Periodic x faces: the whole row of blocks, so that the owner of
      * every image node exists (grid/periodic.c). Rows are short next to
@@ -256,7 +304,7 @@ gm_status gm_grid_build(gm_domain *domain) {
     int64_t first = periodic ? previous - previous % blocks_x : previous;
     int64_t last = periodic ? first + blocks_x - 1 : previous;
     for (int64_t key = first; key <= last; key++)
-      if (!insert_with_neighbours(grid, key))
+      if (!insert_slots(grid, key, slots))
         return gm_set_error(domain, GM_ERR_NO_MEMORY,
                             "grid: out of memory for the block hash");
   }
