@@ -194,35 +194,31 @@ static bool sparse_neighbours(const gm_domain *domain) {
          domain->shape_grid.shape == GM_SHAPE_LINEAR && !gm_periodic_x(domain);
 }
 
-/* The neighbour slots the cell of point i reaches: bit ox + 2 oy + 4 oz
- * for every combination of the axes along which the cell is the block's
- * last (its upper nodes lie in the next block). The cell is the one of
- * gm_shape_linear_axis_inside; where it does not give the point's key
- * (modulo the layer stride), all slots, as without the pruning. */
-static unsigned sparse_slots(const gm_domain *domain, size_t i, int64_t key) {
-  const gm_grid *grid = &domain->grid;
+/* The neighbour slots reached from a cell that is the last of its block
+ * along the axes of bit mask `axes`: every slot ox + 2 oy + 4 oz whose
+ * axes are all among them (and slot 0). */
+static const uint8_t reached_slots[8] = {0x01, 0x03, 0x05, 0x0f,
+                                         0x11, 0x33, 0x55, 0xff};
+
+/* The neighbour slots the cell of point i reaches, `block` the coordinates
+ * of its key's block. The cell is the one of gm_shape_linear_axis_inside;
+ * where it lies outside that block (a key the position does not give),
+ * all slots, as without the pruning. */
+static unsigned sparse_slots(const gm_domain *domain, size_t i,
+                             const int64_t block[3], unsigned every) {
   const gm_point_buffers *current = &domain->points.buffer[domain->points.cur];
-  int64_t node[3] = {0, 0, 0};
-  int64_t mask = ((int64_t)1 << grid->shift) - 1;
+  int shift = domain->grid.shift;
+  int64_t mask = ((int64_t)1 << shift) - 1;
   unsigned axes = 0; /* bit k: the cell is the last of its block on axis k */
   for (int k = 0; k < domain->dim; k++) {
     double scaled = (current->position[k][i] - domain->shape_grid.origin[k]) *
                     domain->inv_cell; /* cells */
-    if (!(scaled >= 0.0))
-      return all_slots(grid);
-    node[k] = (int64_t)scaled;
-    axes |= (unsigned)((node[k] & mask) == mask) << k;
+    int64_t node = (int64_t)scaled;
+    if (!(scaled >= 0.0) || node >> shift != block[k])
+      return every;
+    axes |= (unsigned)((node & mask) == mask) << k;
   }
-  int64_t own = domain->dim == 3
-                    ? gm_block_key_of_node_3d(grid, node[0], node[1], node[2])
-                    : gm_block_key_of_node(grid, node[0], node[1]);
-  if (key < 0 || key % gm_grid_layer_stride(grid) != own)
-    return all_slots(grid);
-  unsigned slots = 0;
-  for (unsigned slot = 0; slot < GM_BLOCK_NEIGHBOURS; slot++)
-    if ((slot & ~axes) == 0) /* every axis of the slot is reached */
-      slots |= 1u << slot;
-  return slots;
+  return reached_slots[axes];
 }
 
 /* The eight links of a 3D block (slot ox + 2 oy + 4 oz); none past the
@@ -286,23 +282,29 @@ gm_status gm_grid_build(gm_domain *domain) {
   const gm_points *points = &domain->points;
   const int64_t *point_key = points->block_key;
   hash_clear(grid);
-  int64_t previous = -1;
-  unsigned inserted = 0; /* the slots inserted for block `previous` */
   bool periodic = gm_periodic_x(domain);
   bool sparse = sparse_neighbours(domain);
   unsigned every = all_slots(grid);
   int64_t blocks_x = grid->blocks_per_axis[0];
-  for (size_t i = 0; i < points->count; i++) {
-    unsigned slots = sparse ? sparse_slots(domain, i, point_key[i]) : every;
-    if (point_key[i] == previous && (slots & ~inserted) == 0)
-      continue; /* points are sorted by block: most keys repeat */
-    inserted = point_key[i] == previous ? inserted | slots : slots;
-    previous = point_key[i];
+  /* Points are sorted by block: most keys repeat. Each run of one key
+   * inserts its block with the neighbours its points' cells reach. */
+  int64_t block[3] = {0, 0, 0}; /* of the run's key (sparse only) */
+  for (size_t i = 0; i < points->count;) {
+    int64_t run_key = point_key[i];
+    unsigned slots = 1;
+    if (sparse) {
+      if (grid->dim == 3)
+        gm_block_coordinates_3d(grid, run_key, block);
+      else
+        gm_block_coordinates(grid, run_key, block);
+    }
+    for (; i < points->count && point_key[i] == run_key; i++)
+      slots |= sparse ? sparse_slots(domain, i, block, every) : every;
     /* Periodic x faces: the whole row of blocks, so that the owner of
      * every image node exists (grid/periodic.c). Rows are short next to
      * the work of a layer that fills the period. */
-    int64_t first = periodic ? previous - previous % blocks_x : previous;
-    int64_t last = periodic ? first + blocks_x - 1 : previous;
+    int64_t first = periodic ? run_key - run_key % blocks_x : run_key;
+    int64_t last = periodic ? first + blocks_x - 1 : run_key;
     for (int64_t key = first; key <= last; key++)
       if (!insert_slots(grid, key, slots))
         return gm_set_error(domain, GM_ERR_NO_MEMORY,
