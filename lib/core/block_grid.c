@@ -181,16 +181,17 @@ static unsigned all_slots(const gm_grid *grid) {
 /* Whether the upper neighbours a block needs are found from its points'
  * cells (sparse_slots). For linear shapes the support is the point's
  * cell, and every transfer, gather, gap and rigid pass reaches the nodes
- * through it (p2g.c, g2p.c, p2g_3d.c, g2p_3d.c, wall_gaps*.c, rigid.c; the
- * 2D tile flush skips absent neighbours): a neighbour no cell reaches
- * receives nothing and is read by nothing, so leaving it out changes no
- * bit. Only the granular family uses it: its node layers hold a few points
- * per block (the 30 %-disconnected cloud of granmpm-bench: 1 to 7 per
- * layer block), where much of a block's ring of neighbours is empty
- * (docs/performance.md, "Sparse node layers"). Periodic x faces keep whole
- * rows (gm_grid_build). */
+ * through it (p2g_3d.c, g2p_3d.c, wall_gaps_3d.c, rigid.c): a neighbour no
+ * cell reaches receives nothing and is read by nothing, so leaving it out
+ * changes no bit. Only the granular family in 3D uses it: its node layers
+ * hold one to three points per 4 x 4 x 4-node block (the 30 %-disconnected
+ * cloud of granmpm-bench, 8 layers), where a quarter of the blocks were
+ * neighbours no cell reached (docs/performance.md, "Sparse node layers").
+ * In 2D (8 x 8-node blocks, 3 neighbours) the cloud's layers lost only 4 %
+ * of their blocks and the step gained 2 % of instructions: not used there.
+ * Periodic x faces keep whole rows (gm_grid_build). */
 static bool sparse_neighbours(const gm_domain *domain) {
-  return domain->def.family == GM_FAMILY_GRANULAR && domain->dim >= 2 &&
+  return domain->def.family == GM_FAMILY_GRANULAR && domain->dim == 3 &&
          domain->shape_grid.shape == GM_SHAPE_LINEAR && !gm_periodic_x(domain);
 }
 
