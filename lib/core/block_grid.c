@@ -292,15 +292,18 @@ gm_status gm_grid_build(gm_domain *domain) {
   int64_t block[3] = {0, 0, 0}; /* of the run's key (sparse only) */
   for (size_t i = 0; i < points->count;) {
     int64_t run_key = point_key[i];
-    unsigned slots = 1;
+    unsigned slots = every;
     if (sparse) {
       if (grid->dim == 3)
         gm_block_coordinates_3d(grid, run_key, block);
       else
         gm_block_coordinates(grid, run_key, block);
+      for (slots = 1; i < points->count && point_key[i] == run_key; i++)
+        slots |= sparse_slots(domain, i, block, every);
+    } else { /* a loop of compares only: the plain and 2D steps */
+      for (i++; i < points->count && point_key[i] == run_key; i++)
+        continue;
     }
-    for (; i < points->count && point_key[i] == run_key; i++)
-      slots |= sparse ? sparse_slots(domain, i, block, every) : every;
     /* Periodic x faces: the whole row of blocks, so that the owner of
      * every image node exists (grid/periodic.c). Rows are short next to
      * the work of a layer that fills the period. */
