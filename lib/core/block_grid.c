@@ -173,6 +173,39 @@ static bool insert_slots(gm_grid *grid, int64_t key, unsigned slots) {
   return true;
 }
 
+/* The same in 3D: the block and its seven upper neighbours that exist. */
+static bool insert_with_neighbours_3d(gm_grid *grid, int64_t key) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  int64_t blocks_y = grid->blocks_per_axis[1];
+  int64_t block[3];
+  gm_block_coordinates_3d(grid, key, block);
+  for (int64_t dz = 0; dz <= 1; dz++)
+    for (int64_t dy = 0; dy <= 1; dy++)
+      for (int64_t dx = 0; dx <= 1; dx++)
+        if (block[0] + dx < blocks_x && block[1] + dy < blocks_y &&
+            block[2] + dz < grid->blocks_per_axis[2] &&
+            !hash_insert(grid, key + (dz * blocks_y + dy) * blocks_x + dx))
+          return false;
+  return true;
+}
+
+/* Adds the blocks whose nodes the cells of block `key` reach. */
+static bool insert_with_neighbours(gm_grid *grid, int64_t key) {
+  if (grid->dim == 3)
+    return insert_with_neighbours_3d(grid, key);
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  int64_t block[2];
+  gm_block_coordinates(grid, key, block);
+  int reach_y = grid->dim > 1 ? 1 : 0;
+  for (int64_t dy = 0; dy <= reach_y; dy++)
+    for (int64_t dx = 0; dx <= 1; dx++)
+      if (block[0] + dx < blocks_x &&
+          block[1] + dy < grid->blocks_per_axis[1] &&
+          !hash_insert(grid, key + dy * blocks_x + dx)) /* same layer */
+        return false;
+  return true;
+}
+
 /* Every upper neighbour: a block's cells may reach any of them. */
 static unsigned all_slots(const gm_grid *grid) {
   return grid->dim == 3 ? 0xffu : grid->dim == 2 ? 0x0fu : 0x03u;
@@ -278,6 +311,28 @@ static void link_blocks(gm_grid *grid) {
         (uint32_t)b;
 }
 
+/* Inserts each run of one key with the upper neighbours its points' cells
+ * reach (sparse_neighbours: never with periodic x faces). */
+static bool insert_sparse(gm_grid *grid, const gm_domain *domain) {
+  const gm_points *points = &domain->points;
+  const int64_t *point_key = points->block_key;
+  unsigned every = all_slots(grid);
+  for (size_t i = 0; i < points->count;) {
+    int64_t run_key = point_key[i];
+    int64_t block[3] = {0, 0, 0}; /* of the run's key */
+    if (grid->dim == 3)
+      gm_block_coordinates_3d(grid, run_key, block);
+    else
+      gm_block_coordinates(grid, run_key, block);
+    unsigned slots = 1;
+    for (; i < points->count && point_key[i] == run_key; i++)
+      slots |= sparse_slots(domain, i, block, every);
+    if (!insert_slots(grid, run_key, slots))
+      return false;
+  }
+  return true;
+}
+
 gm_status gm_grid_build(gm_domain *domain) {
   gm_grid *grid = &domain->grid;
   const gm_points *points = &domain->points;
@@ -285,34 +340,28 @@ gm_status gm_grid_build(gm_domain *domain) {
   hash_clear(grid);
   bool periodic = gm_periodic_x(domain);
   bool sparse = sparse_neighbours(domain);
-  unsigned every = all_slots(grid);
   int64_t blocks_x = grid->blocks_per_axis[0];
-  /* Points are sorted by block: most keys repeat. Each run of one key
-   * inserts its block with the neighbours its points' cells reach. */
-  int64_t block[3] = {0, 0, 0}; /* of the run's key (sparse only) */
-  for (size_t i = 0; i < points->count;) {
-    int64_t run_key = point_key[i];
-    unsigned slots = every;
-    if (sparse) {
-      if (grid->dim == 3)
-        gm_block_coordinates_3d(grid, run_key, block);
-      else
-        gm_block_coordinates(grid, run_key, block);
-      for (slots = 1; i < points->count && point_key[i] == run_key; i++)
-        slots |= sparse_slots(domain, i, block, every);
-    } else { /* a loop of compares only: the plain and 2D steps */
-      for (i++; i < points->count && point_key[i] == run_key; i++)
+  /* Points are sorted by block: most keys repeat. */
+  if (sparse) {
+    if (!insert_sparse(grid, domain))
+      return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                          "grid: out of memory for the block hash");
+  } else {
+    int64_t previous = -1;
+    for (size_t i = 0; i < points->count; i++) {
+      if (point_key[i] == previous)
         continue;
+      previous = point_key[i];
+      /* Periodic x faces: the whole row of blocks, so that the owner of
+       * every image node exists (grid/periodic.c). Rows are short next to
+       * the work of a layer that fills the period. */
+      int64_t first = periodic ? previous - previous % blocks_x : previous;
+      int64_t last = periodic ? first + blocks_x - 1 : previous;
+      for (int64_t key = first; key <= last; key++)
+        if (!insert_with_neighbours(grid, key))
+          return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                              "grid: out of memory for the block hash");
     }
-    /* Periodic x faces: the whole row of blocks, so that the owner of
-     * every image node exists (grid/periodic.c). Rows are short next to
-     * the work of a layer that fills the period. */
-    int64_t first = periodic ? run_key - run_key % blocks_x : run_key;
-    int64_t last = periodic ? first + blocks_x - 1 : run_key;
-    for (int64_t key = first; key <= last; key++)
-      if (!insert_slots(grid, key, slots))
-        return gm_set_error(domain, GM_ERR_NO_MEMORY,
-                            "grid: out of memory for the block hash");
   }
   if (!reserve_blocks(domain, grid->hash_used))
     return gm_set_error(domain, GM_ERR_NO_MEMORY,
