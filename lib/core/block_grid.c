@@ -340,6 +340,7 @@ gm_status gm_grid_build(gm_domain *domain) {
   hash_clear(grid);
   bool periodic = gm_periodic_x(domain);
   bool sparse = sparse_neighbours(domain);
+  grid->sparse = sparse;
   int64_t blocks_x = grid->blocks_per_axis[0];
   /* Points are sorted by block: most keys repeat. */
   if (sparse) {
