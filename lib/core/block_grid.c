@@ -149,6 +149,30 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
   return true;
 }
 
+/* Inserts block `key` and those of its upper neighbours (slot ox + 2 oy +
+ * 4 oz, as the links) whose bit is set in `slots` and that exist in the
+ * box; the block itself (slot 0) is always inserted. */
+static bool insert_slots(gm_grid *grid, int64_t key, unsigned slots) {
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  int64_t blocks_y = grid->dim > 1 ? grid->blocks_per_axis[1] : 1;
+  int64_t blocks_z = grid->dim == 3 ? grid->blocks_per_axis[2] : 1;
+  int64_t block[3] = {0, 0, 0};
+  if (grid->dim == 3)
+    gm_block_coordinates_3d(grid, key, block);
+  else
+    gm_block_coordinates(grid, key, block);
+  for (int slot = 0; slot < GM_BLOCK_NEIGHBOURS; slot++) {
+    int64_t ox = slot & 1, oy = (slot >> 1) & 1, oz = slot >> 2;
+    if ((slot != 0 && !(slots & (1u << slot))) || block[0] + ox >= blocks_x ||
+        block[1] + oy >= blocks_y || block[2] + oz >= blocks_z)
+      continue;
+    /* Within the block's own layer. */
+    if (!hash_insert(grid, key + (oz * blocks_y + oy) * blocks_x + ox))
+      return false;
+  }
+  return true;
+}
+
 /* The same in 3D: the block and its seven upper neighbours that exist. */
 static bool insert_with_neighbours_3d(gm_grid *grid, int64_t key) {
   int64_t blocks_x = grid->blocks_per_axis[0];
@@ -180,6 +204,55 @@ static bool insert_with_neighbours(gm_grid *grid, int64_t key) {
           !hash_insert(grid, key + dy * blocks_x + dx)) /* same layer */
         return false;
   return true;
+}
+
+/* Every upper neighbour: a block's cells may reach any of them. */
+static unsigned all_slots(const gm_grid *grid) {
+  return grid->dim == 3 ? 0xffu : grid->dim == 2 ? 0x0fu : 0x03u;
+}
+
+/* Whether the upper neighbours a block needs are found from its points'
+ * cells (sparse_slots). For linear shapes the support is the point's
+ * cell, and every transfer, gather, gap and rigid pass reaches the nodes
+ * through it (p2g_3d.c, g2p_3d.c, wall_gaps_3d.c, rigid.c): a neighbour no
+ * cell reaches receives nothing and is read by nothing, so leaving it out
+ * changes no bit. Only the granular family in 3D uses it: its node layers
+ * hold one to three points per 4 x 4 x 4-node block (the 30 %-disconnected
+ * cloud of granmpm-bench, 8 layers), where a quarter of the blocks were
+ * neighbours no cell reached (docs/performance.md, "Sparse node layers").
+ * In 2D (8 x 8-node blocks, 3 neighbours) the cloud's layers lost only 4 %
+ * of their blocks and the step gained 2 % of instructions: not used there.
+ * Periodic x faces keep whole rows (gm_grid_build). */
+static bool sparse_neighbours(const gm_domain *domain) {
+  return domain->def.family == GM_FAMILY_GRANULAR && domain->dim == 3 &&
+         domain->shape_grid.shape == GM_SHAPE_LINEAR && !gm_periodic_x(domain);
+}
+
+/* The neighbour slots reached from a cell that is the last of its block
+ * along the axes of bit mask `axes`: every slot ox + 2 oy + 4 oz whose
+ * axes are all among them (and slot 0). */
+static const uint8_t reached_slots[8] = {0x01, 0x03, 0x05, 0x0f,
+                                         0x11, 0x33, 0x55, 0xff};
+
+/* The neighbour slots the cell of point i reaches, `block` the coordinates
+ * of its key's block. The cell is the one of gm_shape_linear_axis_inside;
+ * where it lies outside that block (a key the position does not give),
+ * all slots, as without the pruning. */
+static unsigned sparse_slots(const gm_domain *domain, size_t i,
+                             const int64_t block[3], unsigned every) {
+  const gm_point_buffers *current = &domain->points.buffer[domain->points.cur];
+  int shift = domain->grid.shift;
+  int64_t mask = ((int64_t)1 << shift) - 1;
+  unsigned axes = 0; /* bit k: the cell is the last of its block on axis k */
+  for (int k = 0; k < domain->dim; k++) {
+    double scaled = (current->position[k][i] - domain->shape_grid.origin[k]) *
+                    domain->inv_cell; /* cells */
+    int64_t node = (int64_t)scaled;
+    if (!(scaled >= 0.0) || node >> shift != block[k])
+      return every;
+    axes |= (unsigned)((node & mask) == mask) << k;
+  }
+  return reached_slots[axes];
 }
 
 /* The eight links of a 3D block (slot ox + 2 oy + 4 oz); none past the
@@ -238,27 +311,58 @@ static void link_blocks(gm_grid *grid) {
         (uint32_t)b;
 }
 
+/* Inserts each run of one key with the upper neighbours its points' cells
+ * reach (sparse_neighbours: never with periodic x faces). */
+static bool insert_sparse(gm_grid *grid, const gm_domain *domain) {
+  const gm_points *points = &domain->points;
+  const int64_t *point_key = points->block_key;
+  unsigned every = all_slots(grid);
+  for (size_t i = 0; i < points->count;) {
+    int64_t run_key = point_key[i];
+    int64_t block[3] = {0, 0, 0}; /* of the run's key */
+    if (grid->dim == 3)
+      gm_block_coordinates_3d(grid, run_key, block);
+    else
+      gm_block_coordinates(grid, run_key, block);
+    unsigned slots = 1;
+    for (; i < points->count && point_key[i] == run_key; i++)
+      slots |= sparse_slots(domain, i, block, every);
+    if (!insert_slots(grid, run_key, slots))
+      return false;
+  }
+  return true;
+}
+
 gm_status gm_grid_build(gm_domain *domain) {
   gm_grid *grid = &domain->grid;
   const gm_points *points = &domain->points;
   const int64_t *point_key = points->block_key;
   hash_clear(grid);
-  int64_t previous = -1;
   bool periodic = gm_periodic_x(domain);
+  bool sparse = sparse_neighbours(domain);
+  grid->sparse = sparse;
   int64_t blocks_x = grid->blocks_per_axis[0];
-  for (size_t i = 0; i < points->count; i++) {
-    if (point_key[i] == previous)
-      continue; /* points are sorted by block: most keys repeat */
-    previous = point_key[i];
-    /* Periodic x faces: the whole row of blocks, so that the owner of
-     * every image node exists (grid/periodic.c). Rows are short next to
-     * the work of a layer that fills the period. */
-    int64_t first = periodic ? previous - previous % blocks_x : previous;
-    int64_t last = periodic ? first + blocks_x - 1 : previous;
-    for (int64_t key = first; key <= last; key++)
-      if (!insert_with_neighbours(grid, key))
-        return gm_set_error(domain, GM_ERR_NO_MEMORY,
-                            "grid: out of memory for the block hash");
+  /* Points are sorted by block: most keys repeat. */
+  if (sparse) {
+    if (!insert_sparse(grid, domain))
+      return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                          "grid: out of memory for the block hash");
+  } else {
+    int64_t previous = -1;
+    for (size_t i = 0; i < points->count; i++) {
+      if (point_key[i] == previous)
+        continue;
+      previous = point_key[i];
+      /* Periodic x faces: the whole row of blocks, so that the owner of
+       * every image node exists (grid/periodic.c). Rows are short next to
+       * the work of a layer that fills the period. */
+      int64_t first = periodic ? previous - previous % blocks_x : previous;
+      int64_t last = periodic ? first + blocks_x - 1 : previous;
+      for (int64_t key = first; key <= last; key++)
+        if (!insert_with_neighbours(grid, key))
+          return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                              "grid: out of memory for the block hash");
+    }
   }
   if (!reserve_blocks(domain, grid->hash_used))
     return gm_set_error(domain, GM_ERR_NO_MEMORY,

@@ -39,6 +39,10 @@ typedef struct gm_grid {
   int64_t blocks_per_axis[3]; /* blocks covering nodes 0..cells */
   size_t block_count;
   size_t block_capacity;
+  /* The last build left out the upper neighbours no point's cell reached
+   * (block_grid.c, sparse_neighbours): it depends on the cells, not only
+   * on the keys, so the next binning builds it again (bins.c). */
+  bool sparse;
   int64_t *block_key;    /* sorted; key = (bz * blocks_y + by) * blocks_x
                             + bx */
   uint32_t *neighbour;   /* block_capacity * GM_BLOCK_NEIGHBOURS */

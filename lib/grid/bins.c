@@ -135,8 +135,10 @@ gm_status gm_bin_points(gm_domain *domain) {
    * the points since: every change clears keys_valid): the grid, order[]
    * and point_block of the last binning are what a binning would give
    * (gm_grid_build reads only the keys; the counting sort below keeps
-   * index order in a block), so they are kept. */
-  bool kept = domain->points.keys_valid && domain->points.blocks_kept;
+   * index order in a block), so they are kept; not a sparse grid, which
+   * depends on the points' cells too (block_grid.c). */
+  bool kept = domain->points.keys_valid && domain->points.blocks_kept &&
+              !domain->grid.sparse;
   domain->points.blocks_kept = false; /* until this step's move sets it */
   if (!domain->points.keys_valid) {
     gm_parallel_for(&domain->pool, domain->points.count, key_ranges, domain);
