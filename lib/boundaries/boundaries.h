@@ -58,8 +58,9 @@ void gm_walls_measure_gaps(gm_domain *domain);
 int gm_gap_plane_count(const gm_domain *domain);
 /* Centre-gap records per node (grid->wall_centre_gap): as the gap records
  * with the shapes wider than a tent, the planar walls only with linear
- * shapes, whose faces need no centre gap (grid_update.c); none in 3D,
- * which has no centre-gap rule yet (walls_3d.c). */
+ * shapes, whose faces need no centre gap (grid_update.c); in 3D the
+ * planar walls of the wide shapes only (walls_3d.c: the 3D faces have no
+ * centre-gap rule), none with linear shapes. */
 int gm_centre_gap_plane_count(const gm_domain *domain);
 /* Slot of box face f (2 axis + side) in a node's gap records; -1 when
  * the face is not measured (open, or a B-spline mirror). */
@@ -94,8 +95,8 @@ int gm_gap_face_slot(const gm_domain *domain, int face);
 /* Sizes the per-block wall-force partial sums for the current walls. */
 gm_status gm_walls_reserve(gm_domain *domain);
 
-/* Planar walls in 3D (walls_3d.c, wall_gaps_3d.c; linear shapes, uGIMP
- * and cpGIMP on open box faces). An
+/* Planar walls in 3D (walls_3d.c, wall_gaps_3d.c; linear shapes, uGIMP,
+ * cpGIMP and CPDI; not the B-splines). An
  * orthonormal basis t1, t2 of the wall's plane (t2 = n x t1). */
 void gm_wall_tangents_3d(const gm_wall *wall, double t1[3], double t2[3]);
 /* Doubles of pooled sums wall w's friction patches need. */
@@ -111,16 +112,20 @@ typedef struct gm_wall_pool_record_3d {
   double tangent_before[2]; /* m/s */
 } gm_wall_pool_record_3d;
 /* gm_walls_contact in 3D: position and velocity 3-vectors, gap one per
- * wall (m), block_force 3 per wall (N). */
+ * wall (m), centre_gap one per wall (m) with the wide shapes, NULL with
+ * linear ones, block_force 3 per wall (N). */
 bool gm_walls_contact_3d(const gm_domain *domain, const double position[3],
-                         double velocity[3], const double *gap, double dt,
-                         bool friction, double *block_force,
-                         double mass_over_dt, gm_wall_pool_record_3d *record);
+                         double velocity[3], const double *gap,
+                         const double *centre_gap, double dt, bool friction,
+                         double *block_force, double mass_over_dt,
+                         gm_wall_pool_record_3d *record);
 /* gm_walls_share_friction in 3D: Coulomb's law on the sums of patches
  * one cell by one cell of the plane. Serial, block order. */
 void gm_walls_share_friction_3d(gm_domain *domain, double dt, int mode);
-/* The node gaps to every planar wall in 3D (grid->wall_gap, wall_count per
- * node), after the mass P2G (wall_gaps_3d.c). */
+/* The node gaps to every planar wall and measured box face in 3D
+ * (grid->wall_gap, gm_gap_plane_count per node) and, with the wide
+ * shapes, the centre gaps to the walls (grid->wall_centre_gap), after the
+ * mass P2G (wall_gaps_3d.c). */
 void gm_walls_measure_gaps_3d(gm_domain *domain);
 
 /* Rigid points (rigid.c). After the mass P2G (step.c's stage

@@ -11,8 +11,8 @@
  * half extent is sum_k |F r_k . n|. The nodes that get the gap are those
  * the point has
  * weight on: the 8 of its tent with linear MPM, the nodes of its GIMP
- * support (up to 3 per axis, support_3d.h) with uGIMP and cpGIMP, which
- * take walls on open box faces only (walls.c, check_wide_3d).
+ * support (up to 3 per axis, support_3d.h) with uGIMP and cpGIMP, those of
+ * its dense support with CPDI (support_cpdi_3d.h).
  *
  * The box faces that hold material (slip and fixed; not the B-splines'
  * mirrors) get the same measure after the walls, in the slots of
@@ -20,8 +20,13 @@
  * is still a fraction of a cell above the face would hang that material
  * there (grid_update_3d.c). A face acts on its face and ghost nodes only,
  * which a support reaches only from points less than a cell in front of it.
- * The centre gaps of 2D (the wide shapes' rule, wall_gaps.c) are not
- * measured in 3D.
+ *
+ * With the wide shapes (uGIMP, cpGIMP, CPDI) each node also gets, per
+ * planar wall, the smallest distance from the wall to the centre of a
+ * point it carries (grid->wall_centre_gap), as in 2D (wall_gaps.c): a
+ * wide support reaches nodes in front of the ones the wall's contact
+ * acts on, and walls_3d.c keeps those from carrying a point's centre past
+ * the wall. The box faces get no centre gap in 3D (grid_update_3d.c).
  *
  * Minima do not depend on the order they are taken in, and the blocks are
  * visited colour by colour as in p2g_3d.c (8 colours), so the result is
@@ -57,7 +62,38 @@ typedef struct gap_3d_context {
   const uint32_t *blocks; /* of the colour being measured */
   gap_plane_3d planes[GM_MAX_WALLS + 6];
   int plane_count; /* gm_gap_plane_count: the walls, then the faces */
+  /* Per wall: no centre gap (it lies on an open box face, below) */
+  bool no_centre_gap[GM_MAX_WALLS];
 } gap_3d_context;
+
+/* Does wall w lie on the plane of an open box face, its normal along that
+ * axis into the box (a frictional box face)? Before the walls of the wide
+ * shapes were taken anywhere in 3D (2026-11-28) they were taken there
+ * only, without the centre-gap rule: a point carried through such a plane
+ * leaves the grid and fails the step (GM_ERR_OUT_OF_GRID) instead of
+ * passing. Those walls keep that rule, so that their scenes (the floor of
+ * examples/column_collapse_3d, tests/physics/test_face_friction_3d.c) give
+ * the bits they gave: with the centre gaps the wall's impulse on a block
+ * dropped at 1 m/s from 0.037 m onto such a floor moved by up to 1.1e-5
+ * of itself in 300 steps (a scratch probe, uGIMP and cpGIMP, three
+ * schemes; the same block sliding on it moved by 1e-9). */
+static bool on_open_face(const gm_domain *domain, const gm_wall *wall) {
+  int axis = -1, nonzero = 0;
+  for (int k = 0; k < 3; k++)
+    if (wall->normal[k] != 0.0) {
+      axis = k;
+      nonzero++;
+    }
+  if (nonzero != 1)
+    return false;
+  double h = domain->def.cell_size;            /* m */
+  int side = wall->normal[axis] > 0.0 ? 0 : 1; /* into the box */
+  int64_t node = side ? domain->cells[axis] + GM_GHOST_LAYERS
+                      : (int64_t)GM_GHOST_LAYERS; /* the face's node plane */
+  double face = domain->shape_grid.origin[axis] + (double)node * h; /* m */
+  return fabs(wall->point[axis] - face) <= 1e-6 * h &&
+         domain->def.walls[2 * axis + side] == GM_WALL_OPEN;
+}
 
 /* The walls, then the measured box faces, in gm_gap_face_slot's order. */
 static int list_planes_3d(const gm_domain *domain, gap_plane_3d *planes) {
@@ -135,22 +171,34 @@ static bool point_support_3d(const gm_domain *domain, const double x[3],
   return true;
 }
 
-/* Lowers the gaps of node (local, in the block of links) to distance. */
+/* The distances of one point (m): to its domain per gap plane, to its
+ * centre per planar wall (wide shapes; centres = 0 otherwise). */
+typedef struct point_gaps_3d {
+  double distance[GM_MAX_WALLS + 6];
+  double centre[GM_MAX_WALLS];
+  int planes, centres;
+} point_gaps_3d;
+
+/* Lowers the gaps of node (local, in the block of links) to the point's. */
 static void lower_node_gaps(gm_grid *grid, const uint32_t *links,
-                            const int64_t local[3], const double *distance,
-                            int planes) {
+                            const int64_t local[3], const point_gaps_3d *pg) {
   size_t node = gm_block_node_3d(links, local[0], local[1], local[2]);
-  double *gap = grid->wall_gap + node * (size_t)planes;
-  for (int w = 0; w < planes; w++)
-    gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
+  double *gap = grid->wall_gap + node * (size_t)pg->planes;
+  for (int w = 0; w < pg->planes; w++)
+    gap[w] = pg->distance[w] < gap[w] ? pg->distance[w] : gap[w];
+  if (pg->centres == 0)
+    return; /* linear: no centre gaps (the array may be NULL) */
+  double *centre_gap = grid->wall_centre_gap + node * (size_t)pg->centres;
+  for (int w = 0; w < pg->centres; w++)
+    centre_gap[w] =
+        pg->centre[w] < centre_gap[w] ? pg->centre[w] : centre_gap[w];
 }
 
 /* CPDI's nodes: the entries of its dense support (support_cpdi_3d.h) that
  * have weight. */
 static void lower_cpdi_gaps(gm_domain *domain, uint32_t block,
                             const double x[3], const double f[9],
-                            const double half[3], const double *distance,
-                            int planes) {
+                            const double half[3], const point_gaps_3d *pg) {
   gm_grid *grid = &domain->grid;
   gm_cpdi_support_3d support;
   if (!gm_cpdi_support_compute_3d(&domain->shape_grid, x, f, half, &support))
@@ -168,7 +216,7 @@ static void lower_cpdi_gaps(gm_domain *domain, uint32_t block,
             support.lowest[0] - (base[0] << GM_BLOCK_SHIFT_3D) + a,
             support.lowest[1] - (base[1] << GM_BLOCK_SHIFT_3D) + b,
             support.lowest[2] - (base[2] << GM_BLOCK_SHIFT_3D) + c};
-        lower_node_gaps(grid, links, local, distance, planes);
+        lower_node_gaps(grid, links, local, pg);
       }
 }
 
@@ -177,8 +225,10 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
   const gm_points *points = &domain->points;
   const gm_point_buffers *current = &points->buffer[points->cur];
   gm_grid *grid = &domain->grid;
-  int planes = ctx->plane_count;
-  double h = domain->def.cell_size; /* m */
+  point_gaps_3d pg;
+  pg.planes = ctx->plane_count;
+  pg.centres = gm_centre_gap_plane_count(domain); /* the walls, or 0 */
+  double h = domain->def.cell_size;               /* m */
   double x[3] = {current->position[0][p], current->position[1][p],
                  current->position[2][p]}; /* m */
   double half[3];                          /* m, the box's half edges */
@@ -191,9 +241,8 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
   double f[9] = {0.0}; /* F, row-major */
   if (cpdi)
     gm_deformation_rows_3d((const double *const *)current->deformation, p, f);
-  double distance[GM_MAX_WALLS + 6]; /* m */
   bool near = false;
-  for (int w = 0; w < planes; w++) {
+  for (int w = 0; w < pg.planes; w++) {
     const gap_plane_3d *plane = &ctx->planes[w];
     double centre = 0.0, half_extent = 0.0; /* m */
     const double *n = plane->normal;
@@ -203,7 +252,10 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
                                             f[6 + k] * n[2]))
                           : half[k] * fabs(n[k]);
     }
-    distance[w] = INFINITY;
+    pg.distance[w] = INFINITY;
+    if (w < pg.centres) /* a planar wall, wide shapes (2D: wall_gaps.c) */
+      pg.centre[w] =
+          centre > reach || ctx->no_centre_gap[w] ? INFINITY : centre;
     if (centre > reach)
       continue;
     double gap = centre - half_extent; /* m */
@@ -211,13 +263,13 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
      * reaches only from less than a cell away (wall_gaps.c). */
     if (plane->face && gap >= h)
       continue;
-    distance[w] = gap;
+    pg.distance[w] = gap;
     near = true;
   }
   if (!near)
     return;
   if (cpdi) {
-    lower_cpdi_gaps(domain, block, x, f, half, distance, planes);
+    lower_cpdi_gaps(domain, block, x, f, half, &pg);
     return;
   }
   gm_box_support_3d support;
@@ -236,7 +288,7 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
             0.0)
           continue; /* no weight on this node (2D skips these as well) */
         int64_t node[3] = {local[0] + a, local[1] + b, local[2] + c};
-        lower_node_gaps(grid, links, node, distance, planes);
+        lower_node_gaps(grid, links, node, &pg);
       }
 }
 
@@ -275,6 +327,11 @@ static void clear_gaps_3d(void *context, size_t begin, size_t end, int worker) {
   double *gap = domain->grid.wall_gap;
   for (size_t k = begin * stride; k < end * stride; k++)
     gap[k] = INFINITY;
+  size_t centre_stride =
+      GM_BLOCK_NODES * (size_t)gm_centre_gap_plane_count(domain);
+  double *centre_gap = domain->grid.wall_centre_gap;
+  for (size_t k = begin * centre_stride; k < end * centre_stride; k++)
+    centre_gap[k] = INFINITY;
 }
 
 void gm_walls_measure_gaps_3d(gm_domain *domain) {
@@ -286,6 +343,8 @@ void gm_walls_measure_gaps_3d(gm_domain *domain) {
   ctx.domain = domain;
   ctx.blocks = NULL;
   ctx.plane_count = list_planes_3d(domain, ctx.planes);
+  for (int w = 0; w < domain->wall_count; w++)
+    ctx.no_centre_gap[w] = on_open_face(domain, &domain->walls[w]);
   for (int colour = 0; colour < GM_BLOCK_COLOURS; colour++) {
     size_t first = grid->color_start[colour];
     ctx.blocks = grid->color_block + first;

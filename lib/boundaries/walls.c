@@ -27,51 +27,21 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* In 3D the wide shapes' watertight rule of 2D (the centre gaps of
- * gm_walls_contact) is not there yet, so a GIMP box could be pushed
- * through a plane inside the box. uGIMP and cpGIMP take a wall on the
- * plane of an open box face only, normal into the box: a box face made
- * frictional, as in 2D (docs/3d.md, "Frictional box faces in 3D"). A
- * point pushed through that plane leaves the grid box and fails the step
- * (GM_ERR_OUT_OF_GRID) instead of passing silently. The face must be open:
- * a slip or fixed face holds its nodes before the walls act
- * (grid_update_3d.c), so the wall would see no normal impulse and give no
- * friction. Linear MPM takes any wall; the B-splines (mirrored faces,
- * bspline_faces.c) and CPDI none. */
-static gm_status check_wide_3d(gm_domain *domain, const gm_wall_def *def) {
+/* In 3D linear MPM, uGIMP, cpGIMP and CPDI take planar walls anywhere,
+ * of any normal (walls_3d.c, with the wide shapes' centre-gap rule of 2D
+ * since 2026-11-28). The B-splines do not: their 3D gaps would need their
+ * supports in wall_gaps_3d.c, and their box faces are mirrors
+ * (bspline_faces.c), which a wall on a face's plane would fight. */
+static gm_status check_wide_3d(gm_domain *domain) {
   gm_shape shape = domain->def.shape;
-  if (domain->dim != 3 || shape == GM_SHAPE_LINEAR)
+  if (domain->dim != 3 || !gm_shape_is_bspline(shape))
     return GM_OK;
-  if (shape != GM_SHAPE_UGIMP && shape != GM_SHAPE_CPGIMP)
-    return gm_set_error(domain, GM_ERR_UNSUPPORTED,
-                        "gm_domain_add_wall: planar walls in 3D are "
-                        "supported with GM_SHAPE_LINEAR only, and with "
-                        "GM_SHAPE_UGIMP or GM_SHAPE_CPGIMP on an open box "
-                        "face, in this version (gm_domain_def.shape is %d)",
-                        (int)shape);
-  int axis = -1, nonzero = 0;
-  for (int k = 0; k < 3; k++)
-    if (def->normal[k] != 0.0) {
-      axis = k;
-      nonzero++;
-    }
-  double h = domain->def.cell_size; /* m */
-  if (nonzero == 1 && isfinite(def->point[axis])) {
-    int side = def->normal[axis] > 0.0 ? 0 : 1; /* into the box from it */
-    int64_t node = side ? domain->cells[axis] + GM_GHOST_LAYERS
-                        : (int64_t)GM_GHOST_LAYERS; /* the face's node plane */
-    double face = domain->shape_grid.origin[axis] + (double)node * h; /* m */
-    gm_wall_type type = domain->def.walls[2 * axis + side];
-    if (fabs(def->point[axis] - face) <= 1e-6 * h && type == GM_WALL_OPEN)
-      return GM_OK;
-  }
   return gm_set_error(domain, GM_ERR_UNSUPPORTED,
-                      "gm_domain_add_wall: with GM_SHAPE_UGIMP or "
-                      "GM_SHAPE_CPGIMP in 3D a planar wall must lie on the "
-                      "plane of a box face left GM_WALL_OPEN, its normal "
-                      "along that axis into the box (a frictional box face); "
-                      "walls inside the box are supported with "
-                      "GM_SHAPE_LINEAR only in this version");
+                      "gm_domain_add_wall: planar walls in 3D are not "
+                      "supported with the B-spline shapes (gm_domain_def."
+                      "shape %d) in this version; use GM_SHAPE_LINEAR, "
+                      "GM_SHAPE_UGIMP, GM_SHAPE_CPGIMP or GM_SHAPE_CPDI",
+                      (int)shape);
 }
 
 gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
@@ -126,7 +96,7 @@ gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
                         "friction_kinetic = %g must satisfy 0 <= kinetic <= "
                         "static",
                         mu_s, mu_k);
-  status = check_wide_3d(domain, def);
+  status = check_wide_3d(domain);
   if (status != GM_OK)
     return status;
   gm_wall *wall = &domain->walls[domain->wall_count];

@@ -1,7 +1,7 @@
 /*
  * walls_3d.c - planar walls of any normal with Coulomb friction in 3D
- * (GM_GEOMETRY_3D; linear shapes, and uGIMP and cpGIMP on the planes of
- * open box faces): the contact of walls.c on the nodes of
+ * (GM_GEOMETRY_3D; linear shapes, uGIMP, cpGIMP and CPDI; the B-splines
+ * are refused, walls.c): the contact of walls.c on the nodes of
  * the 3D grid, and its friction pooled over patches of the plane one cell
  * by one cell instead of one-cell strips along a line.
  *
@@ -20,11 +20,16 @@
  * vector in the plane: the patch sticks when |T| <= mu_s N, otherwise
  * every node of it keeps the fraction 1 - mu_k N / |T| of its tangential
  * velocity, so the patch loses mu_k N against its sliding direction.
- * The centre-gap rule of the wide shapes (walls.c) has no 3D counterpart
- * yet: uGIMP and cpGIMP take walls on the planes of open box faces only
- * (walls.c, check_wide_3d), where a point pushed through the plane leaves
- * the grid and fails the step; their gaps are measured over their GIMP
- * supports (wall_gaps_3d.c).
+ * The wide shapes (uGIMP, cpGIMP, CPDI) get the centre-gap rule of 2D
+ * (walls.c, gm_walls_contact): their supports reach nodes in front of
+ * those that share the wall, and a point gathering from a node that
+ * shares it and from one farther out moving toward the wall could be
+ * carried through the plane. Such a node may approach the wall by at most
+ * the distance of the nearest point centre it carries, less the contact
+ * tolerance, in the step (wall_gaps_3d.c measures it); where that binds
+ * the node takes the wall's normal impulse and Coulomb friction as a node
+ * that shares the wall does, and joins its patch. Their gaps are measured
+ * over their GIMP or CPDI supports (wall_gaps_3d.c).
  *
  * Patches: a node at x has plane coordinates s = (x - p).t1 and
  * u = (x - p).t2 (t1, t2 an orthonormal basis of the plane,
@@ -38,6 +43,8 @@
  * depend on the worker count.
  */
 #include "boundaries/boundaries.h"
+
+#include "shapes/shapes.h"
 
 #include <math.h>
 #include <string.h>
@@ -131,7 +138,12 @@ static size_t patch_of(const gm_wall *wall, double t[2][3], const double x[3],
 
 bool gm_walls_near_block_3d(const gm_domain *domain, const int64_t base[3]) {
   double h = domain->def.cell_size;
-  double reach = GM_STRIP_REACH * h; /* m, as gm_walls_near_block */
+  /* m, as gm_walls_near_block: the nodes that share a wall or join its
+   * patches, and with the wide shapes those that may carry a point centre
+   * near it, as far as a 3D support reaches (5 node planes) */
+  double reach = domain->def.shape == GM_SHAPE_LINEAR
+                     ? GM_STRIP_REACH * h
+                     : (double)(GM_SUPPORT_3D_MAX_SPAN - 1) * h;
   for (int w = 0; w < domain->wall_count; w++) {
     const gm_wall *wall = &domain->walls[w];
     for (int c = 0; c < 8; c++) {
@@ -182,9 +194,10 @@ static bool contact_one_3d(const gm_wall *wall, double t[2][3],
 }
 
 bool gm_walls_contact_3d(const gm_domain *domain, const double position[3],
-                         double velocity[3], const double *gap, double dt,
-                         bool friction, double *block_force,
-                         double mass_over_dt, gm_wall_pool_record_3d *record) {
+                         double velocity[3], const double *gap,
+                         const double *centre_gap, double dt, bool friction,
+                         double *block_force, double mass_over_dt,
+                         gm_wall_pool_record_3d *record) {
   bool acted = false;
   int acting = 0, sharing = 0, shared_wall = -1;
   double shared_tangent[2] = {0.0, 0.0}; /* m/s */
@@ -208,12 +221,19 @@ bool gm_walls_contact_3d(const gm_domain *domain, const double position[3],
      * within 0.4 % of the closed form either way. */
     bool strip_only = domain->def.shape == GM_SHAPE_LINEAR && !shares &&
                       distance < GM_STRIP_REACH * h;
-    double approach =
-        gap[w] > tolerance ? (gap[w] - tolerance) / dt : 0.0; /* m/s */
+    /* A node in front that carries a point centre near the wall (wide
+     * shapes, centre_gap): its approach is bounded by that centre's
+     * distance, as in 2D (walls.c). */
+    bool by_centre = !shares && centre_gap && centre_gap[w] < INFINITY;
+    const double *material_gap = shares ? gap : centre_gap;
+    double approach = (shares || by_centre) && material_gap[w] > tolerance
+                          ? (material_gap[w] - tolerance) / dt
+                          : 0.0; /* m/s */
     double before[3] = {velocity[0], velocity[1], velocity[2]};
     double normal_change = 0.0, tangent_before[2] = {0.0, 0.0}; /* m/s */
-    if (!shares || !contact_one_3d(wall, t, velocity, approach, friction,
-                                   &normal_change, tangent_before)) {
+    if (!(shares || by_centre) ||
+        !contact_one_3d(wall, t, velocity, approach, friction, &normal_change,
+                        tangent_before)) {
       /* in front of the plane: it may join its friction patch */
       if ((shares && distance > GM_ON_ROW * h) || strip_only) {
         sharing++;

@@ -24,6 +24,33 @@ static inline void gm_apic_axis_offsets_3d(double origin, double cell,
     out[a] = node + (double)a * cell;
 }
 
+/* C = B D^-1 (1/s) for a symmetric D (m^2, row-major); C = 0 when D's
+ * determinant is not positive (a degenerate domain), as in 2D
+ * (p2g_wide.c), rather than a division by zero. */
+static inline void gm_apic_solve_3d(const double d[9], const double b[9],
+                                    double c[9]) {
+  /* The inverse by cofactors (symmetric, so the adjugate's rows are its
+   * columns). */
+  double co[9] = {d[4] * d[8] - d[5] * d[7], d[5] * d[6] - d[3] * d[8],
+                  d[3] * d[7] - d[4] * d[6], d[2] * d[7] - d[1] * d[8],
+                  d[0] * d[8] - d[2] * d[6], d[1] * d[6] - d[0] * d[7],
+                  d[1] * d[5] - d[2] * d[4], d[2] * d[3] - d[0] * d[5],
+                  d[0] * d[4] - d[1] * d[3]};
+  double det = d[0] * co[0] + d[1] * co[1] + d[2] * co[2]; /* m^6 */
+  for (int k = 0; k < 9; k++)
+    c[k] = 0.0;
+  if (!(det > 0.0 && det < INFINITY))
+    return;
+  double inverse[9]; /* 1/m^2: D^-1_jk = co_kj / det */
+  for (int j = 0; j < 3; j++)
+    for (int k = 0; k < 3; k++)
+      inverse[3 * j + k] = co[3 * k + j] / det;
+  for (int r = 0; r < 3; r++)
+    for (int k = 0; k < 3; k++)
+      c[3 * r + k] = b[3 * r] * inverse[k] + b[3 * r + 1] * inverse[3 + k] +
+                     b[3 * r + 2] * inverse[6 + k];
+}
+
 /* C = B D^-1 (1/s) for a box support (uGIMP, cpGIMP) from its axis
  * factors: the weight of node (a, b, c) is w_x[a] w_y[b] w_z[c], so the
  * entries of D_p = sum_i N_ip o_i o_i^T factor into per-axis sums,
@@ -56,26 +83,38 @@ gm_apic_box_velocity_3d(const gm_box_support_3d *support,
       d[3 * r + k] = r == k ? s2[r] * s0[(r + 1) % 3] * s0[(r + 2) % 3]
                             : s1[r] * s1[k] * s0[other];
     }
-  /* The inverse by cofactors (symmetric, so the adjugate's rows are its
-   * columns). */
-  double co[9] = {d[4] * d[8] - d[5] * d[7], d[5] * d[6] - d[3] * d[8],
-                  d[3] * d[7] - d[4] * d[6], d[2] * d[7] - d[1] * d[8],
-                  d[0] * d[8] - d[2] * d[6], d[1] * d[6] - d[0] * d[7],
-                  d[1] * d[5] - d[2] * d[4], d[2] * d[3] - d[0] * d[5],
-                  d[0] * d[4] - d[1] * d[3]};
-  double det = d[0] * co[0] + d[1] * co[1] + d[2] * co[2]; /* m^6 */
-  for (int k = 0; k < 9; k++)
-    c[k] = 0.0;
-  if (!(det > 0.0 && det < INFINITY))
-    return;
-  double inverse[9]; /* 1/m^2: D^-1_jk = co_kj / det */
-  for (int j = 0; j < 3; j++)
-    for (int k = 0; k < 3; k++)
-      inverse[3 * j + k] = co[3 * k + j] / det;
-  for (int r = 0; r < 3; r++)
-    for (int k = 0; k < 3; k++)
-      c[3 * r + k] = b[3 * r] * inverse[k] + b[3 * r + 1] * inverse[3 + k] +
-                     b[3 * r + 2] * inverse[6 + k];
+  gm_apic_solve_3d(d, b, c);
+}
+
+/* C = B D^-1 (1/s) for CPDI's dense support (support_cpdi_3d.h): its
+ * weights are no product of axis factors, so D_p = sum_i N_ip o_i o_i^T
+ * is summed node by node over the span (entry (c span_y + b) span_x + a,
+ * offsets o_i per axis as gm_apic_axis_offsets_3d gives them), the 2D
+ * code's rule for CPDI (p2g_wide.c) in 3D. The corner-based weights are a
+ * partition of unity that reproduces x, so sum_i N_ip o_i = 0 and the
+ * affine momentum adds exactly the point's affine angular momentum, as
+ * with the boxes. */
+static inline void
+gm_apic_dense_velocity_3d(const double *weight, const int span[3],
+                          const double offset[3][GM_SUPPORT_3D_MAX_SPAN],
+                          const double b[9], double c[9]) {
+  double d[9] = {0}; /* m^2, symmetric */
+  int entry = 0;
+  for (int z = 0; z < span[2]; z++)
+    for (int y = 0; y < span[1]; y++)
+      for (int x = 0; x < span[0]; x++, entry++) {
+        double w = weight[entry];
+        if (w == 0.0)
+          continue;
+        double o[3] = {offset[0][x], offset[1][y], offset[2][z]}; /* m */
+        for (int r = 0; r < 3; r++)
+          for (int k = r; k < 3; k++)
+            d[3 * r + k] += w * o[r] * o[k];
+      }
+  d[3] = d[1];
+  d[6] = d[2];
+  d[7] = d[5];
+  gm_apic_solve_3d(d, b, c);
 }
 
 /* C = B D^-1 (1/s) for the B-splines, whose D_p is a constant: Jiang et

@@ -117,8 +117,10 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
         found = local[axis] >= 0 &&
                 local[axis] + dense.span[axis] <= 2 * GM_BLOCK_EDGE_3D;
       }
-      for (int axis = 0; axis < 3; axis++)
+      for (int axis = 0; axis < 3; axis++) { /* APIC's offsets use them */
         support.span[axis] = dense.span[axis];
+        support.lowest[axis] = dense.lowest[axis];
+      }
     } else if (wide) {
       double x[3] = {current->position[0][p], current->position[1][p],
                      current->position[2][p]}; /* m */
@@ -266,7 +268,7 @@ static void gather_chunk_3d(const gm_domain *domain, gm_worker_scratch *scratch,
   if (shape == GM_SHAPE_LINEAR)
     gather_chunk_3d_shape(domain, scratch, first, count, out, flip, deform,
                           false, false);
-  else if (shape == GM_SHAPE_CPDI) /* never with APIC (domain.c) */
+  else if (shape == GM_SHAPE_CPDI)
     gather_chunk_3d_shape(domain, scratch, first, count, out, flip, deform,
                           true, true);
   else /* uGIMP, cpGIMP, B-splines */
@@ -432,7 +434,7 @@ static void flip_chunk_3d(gm_domain *domain, size_t first, size_t count,
              count * sizeof(double));
     if (linear)
       light_nodes_chunk_3d(domain, first, count, dt);
-    else
+    else if (domain->shape_grid.shape != GM_SHAPE_CPDI)
       light_nodes_box_3d(domain, first, count, dt);
     return;
   }

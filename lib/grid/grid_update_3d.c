@@ -25,7 +25,8 @@
  *
  * Planar walls of any normal act after the faces, on the nodes near them
  * (walls_3d.c: the contact and Coulomb friction of walls.c, with the
- * friction pooled over patches of the plane after the nodal update).
+ * friction pooled over patches of the plane after the nodal update, and
+ * the wide shapes' centre-gap rule of the 2D walls).
  *
  * Rigid points act last, as in 2D (rigid.c): a node a rigid point reaches
  * takes the rigid material's prescribed velocity, all three components,
@@ -63,9 +64,12 @@ static void apply_walls_3d(const update_3d_context *ctx, size_t node,
   bool full = ctx->mode == GM_GRID_FULL;
   const double *gap =
       grid->wall_gap + node * (size_t)gm_gap_plane_count(domain);
+  int centres = gm_centre_gap_plane_count(domain); /* wide shapes: walls */
+  const double *centre_gap =
+      centres > 0 ? grid->wall_centre_gap + node * (size_t)centres : NULL;
   gm_wall_pool_record_3d record = {-1, 0.0, {0.0, 0.0}};
-  bool acted = gm_walls_contact_3d(domain, position, velocity, gap, ctx->dt,
-                                   full, full ? block_force : NULL,
+  bool acted = gm_walls_contact_3d(domain, position, velocity, gap, centre_gap,
+                                   ctx->dt, full, full ? block_force : NULL,
                                    grid->mass[node] / ctx->dt, &record);
   if (record.wall >= 0) { /* its friction is shared over a patch */
     grid->pool_wall[node] = record.wall + 1;

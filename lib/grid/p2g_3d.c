@@ -168,11 +168,13 @@ static void report_support_3d(const gm_domain *domain,
 
 /* APIC's C_p (1/s) of point p and the offsets x_i - x_p (m) of its
  * support per axis: the stored C_p for linear MPM, B_p D_p^-1 for a box
- * (see the top of the file). */
+ * or CPDI's dense support (dense, when cpdi; see the top of the file). */
 static GM_ALWAYS_INLINE void
 affine_of_point_3d(const p2g_3d_context *ctx, const double *const position[3],
-                   size_t p, const gm_box_support_3d *support, const bool wide,
-                   double offset[3][GM_SUPPORT_3D_MAX_SPAN], double c[9]) {
+                   size_t p, const gm_box_support_3d *support,
+                   const gm_cpdi_support_3d *dense, const bool wide,
+                   const bool cpdi, double offset[3][GM_SUPPORT_3D_MAX_SPAN],
+                   double c[9]) {
   const gm_domain *domain = ctx->domain;
   double cell = domain->def.cell_size; /* m */
   if (!wide) {
@@ -185,11 +187,16 @@ affine_of_point_3d(const p2g_3d_context *ctx, const double *const position[3],
   double b[9]; /* m^2/s */
   for (int k = 0; k < 9; k++)
     b[k] = ctx->affine[k][p];
+  const int64_t *lowest = cpdi ? dense->lowest : support->lowest;
+  const int *span = cpdi ? dense->span : support->span;
   for (int axis = 0; axis < 3; axis++)
-    gm_apic_axis_offsets_3d(domain->shape_grid.origin[axis], cell,
-                            support->lowest[axis], support->span[axis],
-                            position[axis][p], offset[axis]);
-  if (gm_shape_is_bspline(domain->shape_grid.shape))
+    gm_apic_axis_offsets_3d(domain->shape_grid.origin[axis], cell, lowest[axis],
+                            span[axis], position[axis][p], offset[axis]);
+  if (cpdi)
+    gm_apic_dense_velocity_3d(dense->weight, dense->span,
+                              (const double(*)[GM_SUPPORT_3D_MAX_SPAN])offset,
+                              b, c);
+  else if (gm_shape_is_bspline(domain->shape_grid.shape))
     gm_apic_bspline_velocity_3d(domain->shape_grid.shape, cell, b, c);
   else
     gm_apic_box_velocity_3d(
@@ -199,8 +206,8 @@ affine_of_point_3d(const p2g_3d_context *ctx, const double *const position[3],
 /* do_mass, do_momentum, do_forces, wide, apic and cpdi are constants in
  * each specialisation below (scatter_block_3d), so each pass kind and
  * support gets its own loop; each field is summed alone, so leaving the
- * others out changes no bit. CPDI (wide, never with APIC: domain.c) reads
- * its dense weights and gradients instead of the axis products. */
+ * others out changes no bit. CPDI (wide) reads its dense weights and
+ * gradients instead of the axis products. */
 static GM_ALWAYS_INLINE void
 scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
                       uint32_t block, const bool do_mass,
@@ -259,7 +266,8 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
     double offset[3][GM_SUPPORT_3D_MAX_SPAN]; /* m, x_i - x_p per axis */
     double affine[9];                         /* 1/s, C_p */
     if (do_momentum && apic)
-      affine_of_point_3d(ctx, position, p, &support, wide, offset, affine);
+      affine_of_point_3d(ctx, position, p, &support, &dense, wide, cpdi, offset,
+                         affine);
     size_t entry = 0; /* CPDI: (c span_y + b) span_x + a */
     for (int c = 0; c < span_z; c++) {
       for (int b = 0; b < span_y; b++) {
@@ -335,10 +343,11 @@ static void scatter_block_3d(const p2g_3d_context *ctx,
                              gm_worker_scratch *scratch, uint32_t block) {
   bool wide = ctx->domain->shape_grid.shape != GM_SHAPE_LINEAR;
   bool apic = ctx->affine[0] != NULL;
-  /* uGIMP, cpGIMP, the B-splines and CPDI are the wide shapes (domain.c
-   * refuses APIC with CPDI in 3D) */
-  if (ctx->domain->shape_grid.shape == GM_SHAPE_CPDI)
+  /* uGIMP, cpGIMP, the B-splines and CPDI are the wide shapes */
+  if (ctx->domain->shape_grid.shape == GM_SHAPE_CPDI && !apic)
     scatter_block_3d_shape(ctx, scratch, block, true, false, true);
+  else if (ctx->domain->shape_grid.shape == GM_SHAPE_CPDI)
+    scatter_block_3d_shape(ctx, scratch, block, true, true, true);
   else if (!wide && !apic)
     scatter_block_3d_shape(ctx, scratch, block, false, false, false);
   else if (!wide)

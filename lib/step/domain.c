@@ -22,22 +22,14 @@ static const char *face_name(int face) {
 
 /* What GM_GEOMETRY_3D runs in this version (docs/3d.md): linear, uGIMP,
  * cpGIMP, the B-spline shapes and CPDI, every family (plain, stress_free,
- * granular: granular/components.c in 3D), FLIP/PIC/APIC (FLIP/PIC with
- * CPDI), open, slip, fixed and
- * periodic x box faces; every scheme, gravity,
- * damping, host forces. The rest is refused by name here (or by the call
- * that would add it: planar walls with GIMP shapes and CPDI, walls and
- * rigid materials beside periodic faces, rigid materials with CPDI). */
-static gm_status validate_3d(const gm_domain_def *def) {
-  if (def->shape != GM_SHAPE_CPDI)
-    return GM_OK;
-  if (def->transfer == GM_TRANSFER_APIC)
-    CREATE_FAIL(GM_ERR_UNSUPPORTED,
-                "gm_domain_def.transfer GM_TRANSFER_APIC with shape "
-                "GM_SHAPE_CPDI is not supported in GM_GEOMETRY_3D in this "
-                "version; use GM_TRANSFER_FLIP (any pic_fraction)");
-  return GM_OK;
-}
+ * granular: granular/components.c in 3D), FLIP/PIC/APIC with every shape
+ * (APIC with CPDI since 2026-11-28), open, slip, fixed and periodic x box
+ * faces; every scheme, gravity, damping, host forces; planar walls with
+ * linear MPM, uGIMP, cpGIMP and CPDI (since 2026-11-28), rigid materials
+ * with every shape. Refused by name, by the call that would add them:
+ * planar walls with the B-splines (gm_domain_add_wall), and, as in 2D,
+ * walls and rigid materials beside periodic x faces. Periodic y and z
+ * faces are refused below for every geometry. */
 
 static gm_status validate_def(const gm_domain_def *def) {
   int dim = gm_geometry_dimension(def->geometry);
@@ -160,11 +152,6 @@ static gm_status validate_def(const gm_domain_def *def) {
                 "GM_TRANSFER_APIC (its point velocity is already the PIC "
                 "one, sum N_i v_i)",
                 def->pic_fraction);
-  if (dim == 3) {
-    gm_status status = validate_3d(def);
-    if (status != GM_OK)
-      return status;
-  }
   if ((def->enqueue_task == NULL) != (def->finish_task == NULL))
     CREATE_FAIL(GM_ERR_INVALID_ARGUMENT,
                 "gm_domain_def.enqueue_task and finish_task must be set "

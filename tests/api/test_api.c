@@ -311,11 +311,11 @@ static const bad_domain_case bad_domain_cases[] = {
     {"geometry 99", DOMAIN_GEOMETRY, 99, INVALID, "geometry"},
     /* GM_GEOMETRY_3D runs linear MPM, uGIMP, cpGIMP, the B-splines
      * (test_bspline_3d.c) and CPDI (test_cpdi_3d.c), every family
-     * (test_granular_3d.c), FLIP and APIC (not APIC with CPDI), closed
-     * and periodic x faces (docs/3d.md); the rest (periodic y and z faces
-     * as in 2D: test_periodic.c) is refused by name. */
-    {"3D CPDI APIC", DOMAIN_3D_CPDI_TRANSFER, GM_TRANSFER_APIC,
-     ONLY(GM_ERR_UNSUPPORTED), "GM_TRANSFER_APIC with shape GM_SHAPE_CPDI"},
+     * (test_granular_3d.c), FLIP and APIC (with CPDI too since
+     * 2026-11-28: test_apic.c), closed and periodic x faces (docs/3d.md);
+     * the rest (periodic y and z faces as in 2D: test_periodic.c) is
+     * refused by name. */
+    {"3D CPDI transfer 99", DOMAIN_3D_CPDI_TRANSFER, 99, INVALID, "transfer"},
     {"3D family 99", DOMAIN_3D_FAMILY, 99, INVALID, "family"},
     {"cfl 0", DOMAIN_CFL, 0.0, INVALID, "cfl"},
     {"cfl < 0", DOMAIN_CFL, -0.5, INVALID, "cfl"},
@@ -1295,16 +1295,20 @@ START_TEST(test_3d_refuses_what_it_lacks) {
       gm_domain_get_wall_tractions(domain, id, NULL, 0, &traction_count),
       ONLY(GM_ERR_UNSUPPORTED), "gm_domain_get_wall_tractions",
       "3D wall tractions");
-  /* ... with linear shapes only inside the box: a 3D uGIMP domain
-   * refuses this wall (it takes walls on open box faces only,
-   * tests/physics/test_face_friction_3d.c). */
+  /* ... and with uGIMP (anywhere since 2026-11-28,
+   * tests/physics/test_walls_3d.c), not with the B-splines. */
   gm_domain_def gimp_def = def;
   gimp_def.shape = GM_SHAPE_UGIMP;
   gm_domain *gimp = test_create_domain(&gimp_def);
-  check_domain_error(gimp, gm_domain_add_wall(gimp, &wall, &id),
-                     ONLY(GM_ERR_UNSUPPORTED), "GM_SHAPE_LINEAR only",
-                     "3D wall with uGIMP");
+  TEST_ASSERT_OK(gimp, gm_domain_add_wall(gimp, &wall, &id));
   gm_domain_destroy(gimp);
+  gm_domain_def spline_def = def;
+  spline_def.shape = GM_SHAPE_BSPLINE2;
+  gm_domain *spline = test_create_domain(&spline_def);
+  check_domain_error(spline, gm_domain_add_wall(spline, &wall, &id),
+                     ONLY(GM_ERR_UNSUPPORTED), "B-spline shapes",
+                     "3D wall with a B-spline");
+  gm_domain_destroy(spline);
   /* Rigid materials work in 3D (tests/physics/test_rigid.c); a
    * non-finite z velocity is refused by name. */
   gm_rigid_def rigid = gm_rigid_def_default();

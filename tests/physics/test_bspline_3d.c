@@ -671,7 +671,7 @@ START_TEST(test_unsupported_refused_3d) {
   gm_domain *domain = NULL;
   /* The B-splines are accepted now, with every family (the granular one
    * since test_granular_3d.c). */
-  /* Planar walls take linear shapes only in 3D. */
+  /* Planar walls are refused with the B-splines in 3D (walls.c). */
   for (int i = 0; i < 2; i++) {
     def = gm_domain_def_default();
     def.geometry = GM_GEOMETRY_3D;
@@ -682,7 +682,7 @@ START_TEST(test_unsupported_refused_3d) {
     ck_assert_int_eq(gm_domain_add_wall(domain, &wall, &id),
                      GM_ERR_UNSUPPORTED);
     ck_assert_ptr_nonnull(
-        strstr(gm_domain_last_error(domain), "GM_SHAPE_LINEAR only"));
+        strstr(gm_domain_last_error(domain), "B-spline shapes"));
     ck_assert_int_eq(id, -1);
     gm_domain_destroy(domain);
   }

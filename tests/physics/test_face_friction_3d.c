@@ -266,11 +266,12 @@ START_TEST(test_workers) {
 }
 END_TEST
 
-/* Which walls the wide shapes take in 3D (walls.c, check_wide_3d): those
- * on the plane of an open box face, normal into the box; a slip face
- * under the wall (which would hold the nodes first and leave the wall no
- * normal impulse, so no friction), a plane off the face, an oblique
- * normal and the B-splines are refused by name. */
+/* Which walls the wide shapes take in 3D (walls.c, check_wide_3d): any
+ * wall since 2026-11-28, as linear MPM (a wall off the face, facing out of
+ * the box, of an oblique normal, or over a slip face, which holds its
+ * nodes before the walls act as it does with linear MPM); the B-splines
+ * are refused by name. Until then uGIMP and cpGIMP took the planes of
+ * open box faces only. */
 typedef struct wall_row {
   gm_shape shape;
   gm_wall_type ymin;         /* the ymin face's condition */
@@ -283,10 +284,11 @@ START_TEST(test_which_walls) {
       {GM_SHAPE_UGIMP, GM_WALL_OPEN, 0.0, {0, 1, 0}, true},
       {GM_SHAPE_CPGIMP, GM_WALL_OPEN, 0.0, {0, 2, 0}, true},
       {GM_SHAPE_UGIMP, GM_WALL_OPEN, 0.4, {0, -1, 0}, true}, /* ymax */
-      {GM_SHAPE_UGIMP, GM_WALL_SLIP, 0.0, {0, 1, 0}, false},
-      {GM_SHAPE_UGIMP, GM_WALL_OPEN, 0.01, {0, 1, 0}, false},
-      {GM_SHAPE_UGIMP, GM_WALL_OPEN, 0.0, {0, -1, 0}, false},
-      {GM_SHAPE_UGIMP, GM_WALL_OPEN, 0.0, {0.1, 1, 0}, false},
+      {GM_SHAPE_UGIMP, GM_WALL_SLIP, 0.0, {0, 1, 0}, true},
+      {GM_SHAPE_UGIMP, GM_WALL_OPEN, 0.01, {0, 1, 0}, true},
+      {GM_SHAPE_CPGIMP, GM_WALL_OPEN, 0.0, {0, -1, 0}, true},
+      {GM_SHAPE_CPDI, GM_WALL_OPEN, 0.01, {0.1, 1, 0}, true},
+      {GM_SHAPE_BSPLINE3, GM_WALL_OPEN, 0.2, {0.1, 1, 0}, false},
       {GM_SHAPE_BSPLINE2, GM_WALL_OPEN, 0.0, {0, 1, 0}, false},
       {GM_SHAPE_LINEAR, GM_WALL_OPEN, 0.01, {0.1, 1, 0}, true},
   };

@@ -18,6 +18,12 @@
  * velocity, ~1e-4 m per step here, far above rounding). Before the fix
  * every case but linear MPM failed at the first check.
  *
+ * In 3D (test_no_centre_through_oblique_wall): the same fall onto a wall
+ * inside the grid box whose normal lies along no grid axis, with uGIMP,
+ * cpGIMP and CPDI (FLIP) and uGIMP with APIC, which take such walls
+ * since 2026-11-28 with the centre-gap rule of 2D (walls_3d.c). Linear
+ * MPM as the control.
+ *
  * SPDX-License-Identifier: BSD-2-Clause
  */
 #include <math.h>
@@ -112,10 +118,115 @@ START_TEST(test_no_centre_through_floor) {
 }
 END_TEST
 
+static const leak_case CASES_3D[] = {
+    {GM_SHAPE_UGIMP, GM_TRANSFER_FLIP},
+    {GM_SHAPE_UGIMP, GM_TRANSFER_APIC},
+    {GM_SHAPE_CPGIMP, GM_TRANSFER_FLIP},
+    {GM_SHAPE_CPDI, GM_TRANSFER_FLIP},
+};
+enum { CASE_COUNT_3D = sizeof CASES_3D / sizeof CASES_3D[0] };
+
+/* The lowest signed distance (m) of a point centre from the plane through
+ * `point` with unit normal n. */
+static double lowest_distance_3d(const gm_domain *domain, const double point[3],
+                                 const double n[3]) {
+  size_t count = gm_domain_point_count(domain);
+  double *position = malloc(count * 3 * sizeof *position);
+  ck_assert_ptr_nonnull(position);
+  TEST_ASSERT_OK(domain, gm_domain_get_field(domain, GM_FIELD_POSITION,
+                                             position, count * 3));
+  double lowest = INFINITY;
+  for (size_t p = 0; p < count; p++) {
+    double distance = 0.0;
+    for (int k = 0; k < 3; k++)
+      distance += (position[3 * p + k] - point[k]) * n[k];
+    lowest = distance < lowest ? distance : lowest;
+  }
+  free(position);
+  return lowest;
+}
+
+/* A block of 4 x 4 x 2 cells (2 x 2 x 2 points per cell), its bottom
+ * layer's centres on the plane through node (6, 6, 4) with normal
+ * (0.25, 0.35, 1) / |.|, falling onto it at 1 m/s along -n under gravity
+ * along -n. Asserted: no point centre behind the plane after every 2 ms
+ * of 20 ms, to 1e-12 m (the rounding of the plane distance of centres
+ * placed on it, ~1e-17 m; a leak moves a centre by ~1e-4 m per step). */
+START_TEST(test_no_centre_through_oblique_wall) {
+  const leak_case *c = &CASES_3D[_i];
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.shape = c->shape;
+  def.transfer = c->transfer;
+  def.cell_size = CELL;
+  double n[3] = {0.25, 0.35, 1.0}, length = sqrt(0.25 * 0.25 + 0.35 * 0.35 + 1);
+  for (int k = 0; k < 3; k++) {
+    n[k] /= length;
+    def.extent[k] = 0.24;
+    def.gravity[k] = -9.81 * n[k];
+  }
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, YOUNGS, 0.3, DENSITY);
+  double point[3] = {6 * CELL, 6 * CELL, 4 * CELL}; /* m */
+  gm_wall_def wall = gm_wall_def_default();
+  for (int k = 0; k < 3; k++) {
+    wall.point[k] = point[k];
+    wall.normal[k] = n[k];
+  }
+  wall.friction_static = wall.friction_kinetic = 0.5;
+  int wall_id = -1;
+  TEST_ASSERT_OK(domain, gm_domain_add_wall(domain, &wall, &wall_id));
+  /* the plane's axes: d = x projected onto it, e = n x d */
+  double d[3] = {1.0 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2]};
+  double d_length = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  for (int k = 0; k < 3; k++)
+    d[k] /= d_length;
+  double e[3] = {n[1] * d[2] - n[2] * d[1], n[2] * d[0] - n[0] * d[2],
+                 n[0] * d[1] - n[1] * d[0]};
+  enum { ALONG = 8, UP = 4, COUNT = ALONG * ALONG * UP };
+  double spacing = CELL / 2.0; /* m */
+  static double position[COUNT * 3], volume[COUNT], velocity[COUNT * 3];
+  int p = 0;
+  for (int j = 0; j < UP; j++)
+    for (int b = 0; b < ALONG; b++)
+      for (int a = 0; a < ALONG; a++, p++) {
+        double s = (a - 0.5 * (ALONG - 1)) * spacing; /* m, along d */
+        double r = (b - 0.5 * (ALONG - 1)) * spacing; /* m, along e */
+        for (int k = 0; k < 3; k++) {
+          position[3 * p + k] =
+              point[k] + s * d[k] + r * e[k] + j * spacing * n[k];
+          velocity[3 * p + k] = -SPEED * n[k];
+        }
+        volume[p] = spacing * spacing * spacing;
+      }
+  gm_points_def points = gm_points_def_default();
+  points.count = COUNT;
+  points.material = material;
+  points.position = position;
+  points.velocity = velocity;
+  points.volume = volume;
+  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  for (int k = 1; k <= 10; k++) {
+    TEST_ASSERT_OK(domain,
+                   gm_domain_advance(domain, 0.002 * k, 0.0, NULL, NULL));
+    double lowest = lowest_distance_3d(domain, point, n);
+    ck_assert_msg(lowest >= -1e-12,
+                  "3D %s, %s: a point centre %g m behind the oblique wall "
+                  "at t = %g s",
+                  test_shape_name(c->shape),
+                  c->transfer == GM_TRANSFER_APIC ? "APIC" : "FLIP", lowest,
+                  0.002 * k);
+  }
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 int main(void) {
   Suite *suite = suite_create("wall_watertight");
   TCase *tc = tcase_create("floor");
   tcase_add_loop_test(tc, test_no_centre_through_floor, 0, CASE_COUNT);
+  tcase_add_loop_test(tc, test_no_centre_through_oblique_wall, 0,
+                      CASE_COUNT_3D);
   suite_add_tcase(suite, tc);
   return test_run_suite(suite) ? 1 : 0;
 }
