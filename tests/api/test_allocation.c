@@ -178,21 +178,25 @@ static gm_domain *resting_block(gm_update_scheme scheme, int workers,
   return domain;
 }
 
-START_TEST(test_no_allocation_after_warm_up) {
+/* Scene numbers: 0..5 linear MPM; 6..11 granular CPDI with a planar wall;
+ * 12..17 the periodic layer; 18..35 the 3D block, linear, uGIMP, cpGIMP;
+ * 36..41 the linear 3D block with APIC; 42..47 the 3D periodic layer;
+ * within each six, USL, MUSL, USF with one worker, then with two. */
+static void check_no_allocation_after_warm_up(int scene) {
   static const gm_update_scheme schemes[3] = {GM_SCHEME_USL, GM_SCHEME_MUSL,
                                               GM_SCHEME_USF};
-  gm_update_scheme scheme = schemes[_i % 3];
-  int workers = 1 + _i / 3 % 2;
-  bool granular = _i >= 6 && _i < 12;
-  bool periodic = _i >= 12 && _i < 18;
+  gm_update_scheme scheme = schemes[scene % 3];
+  int workers = 1 + scene / 3 % 2;
+  bool granular = scene >= 6 && scene < 12;
+  bool periodic = scene >= 12 && scene < 18;
   /* GM_GEOMETRY_3D: linear, uGIMP, cpGIMP, then linear with APIC */
-  bool solid = _i >= 18 && _i < 42;
-  bool apic = _i >= 36 && _i < 42;
-  bool layer_3d = _i >= 42; /* the 3D periodic layer */
+  bool solid = scene >= 18 && scene < 42;
+  bool apic = scene >= 36 && scene < 42;
+  bool layer_3d = scene >= 42; /* the 3D periodic layer */
   static const gm_shape solid_shapes[4] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
                                            GM_SHAPE_CPGIMP, GM_SHAPE_LINEAR};
   gm_shape shape = layer_3d ? GM_SHAPE_UGIMP
-                   : solid  ? solid_shapes[(_i - 18) / 6]
+                   : solid  ? solid_shapes[(scene - 18) / 6]
                             : GM_SHAPE_LINEAR;
   install_counting_allocator();
   gm_domain *domain =
@@ -223,6 +227,22 @@ START_TEST(test_no_allocation_after_warm_up) {
                 "allocations %ld != frees %ld after destroy",
                 atomic_load(&allocations), atomic_load(&releases));
   ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
+}
+
+START_TEST(test_no_allocation_after_warm_up) {
+  check_no_allocation_after_warm_up(_i);
+}
+END_TEST
+
+/* The 3D scenes in USL (scene 18 + 3 j). */
+START_TEST(test_no_allocation_3d_usl) {
+  check_no_allocation_after_warm_up(18 + 3 * _i);
+}
+END_TEST
+
+/* The 3D scenes in MUSL and USF (scenes 18 + 3 j + 1 and + 2). */
+START_TEST(test_no_allocation_3d_musl_usf) {
+  check_no_allocation_after_warm_up(18 + 3 * (_i / 2) + 1 + _i % 2);
 }
 END_TEST
 
@@ -441,14 +461,21 @@ int main(void) {
   Suite *suite = suite_create("allocation");
   TCase *tcase = tcase_create("steady_state");
   tcase_set_timeout(tcase, 60);
-  /* 0..5: linear MPM; 6..11: granular CPDI with a planar wall; 12..17:
-   * periodic layer; 18..35: 3D block, linear, uGIMP, cpGIMP; 36..41: the
-   * linear 3D block with APIC; 42..47: the 3D periodic layer. */
-  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 48);
+  /* Every 2D scene, and every 3D one in USL with one and two workers. */
+  tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 18);
+  tcase_add_loop_test(tcase, test_no_allocation_3d_usl, 0, 10);
   tcase_add_test(tcase, test_out_of_memory_while_growing_the_grid);
   tcase_add_test(tcase, test_out_of_memory_while_widening_state);
   /* 0: plain, 1: granular family. */
   tcase_add_loop_test(tcase, test_memory_is_the_sum_of_its_parts, 0, 2);
   suite_add_tcase(suite, tcase);
+  /* The 3D scenes in MUSL and USF, about 120 s of this test's 200 under
+   * AddressSanitizer: tagged slow (tests/README.md), so the sanitize stage
+   * keeps every 2D scheme and the 3D scenes in USL. */
+  TCase *schemes_3d = tcase_create("3D schemes");
+  tcase_set_tags(schemes_3d, "slow");
+  tcase_set_timeout(schemes_3d, 60);
+  tcase_add_loop_test(schemes_3d, test_no_allocation_3d_musl_usf, 0, 20);
+  suite_add_tcase(suite, schemes_3d);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
