@@ -28,6 +28,13 @@
  * Minima do not depend on the order they are taken in, and the blocks are
  * visited colour by colour as in p2g.c, so the result is deterministic and
  * free of races.
+ *
+ * Records are stored only for the blocks the measure visits and the
+ * blocks they link (gm_walls_map_gaps, below); every other node reads one
+ * sentinel node's records, infinite like a record no point lowered: a
+ * granular cloud's node layers far above the floor took 28 B per point in
+ * 2D and 78 in 3D for records nothing wrote (docs/performance.md, "Gap
+ * records per block").
  */
 #include "boundaries/boundaries.h"
 

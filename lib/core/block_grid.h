@@ -97,8 +97,9 @@ typedef struct gm_grid {
    * tangential momentum (kg m/s), wall_bins pairs per wall. */
   double *pool_sums;
   size_t pool_sums_capacity; /* doubles allocated */
-  /* Per node and planar wall (node * wall_stride + wall): the smallest
-   * distance (m) from the wall to the domain of a point the node carries;
+  /* Per node and gap plane (gm_gap_node(grid, node) * gm_gap_plane_count
+   * + plane: the planar walls, then the measured box faces): the smallest
+   * distance (m) from the plane to the domain of a point the node carries;
    * the node may approach the wall by that much in a step (walls.c). */
   double *wall_gap;
   size_t wall_gap_capacity; /* doubles allocated */
