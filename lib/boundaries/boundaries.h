@@ -54,6 +54,22 @@ void gm_walls_share_friction(gm_domain *domain, double dt, int mode);
  * the faces) from the committed point domains, after the mass P2G
  * (wall_gaps.c; step.c's stage MEASURE_WALL_GAPS). */
 void gm_walls_measure_gaps(gm_domain *domain);
+/* Gives a gap slot (grid->gap_slot) to every block a measured point may
+ * lower a gap record in: the blocks the measure visits and their linked
+ * neighbours (with periodic x faces every block, whose images fold into
+ * their owners' records, grid/periodic.c), in block order; returns the
+ * nodes with records, the sentinel included (wall_gaps.c). After each
+ * grid build, before the measure. */
+size_t gm_walls_map_gaps(gm_domain *domain);
+/* The same marking in 3D (wall_gaps_3d.c): gap_slot 0 for each block to
+ * give a slot (gm_walls_map_gaps numbers them). */
+void gm_walls_mark_gaps_3d(gm_domain *domain);
+/* Marks block b and the blocks it links (its points' supports reach) for
+ * a gap slot (wall_gaps.c). */
+void gm_walls_mark_linked(gm_grid *grid, size_t b);
+/* Sets the gap and centre-gap records of nodes [begin, end) (gap record
+ * indices, gm_gap_node) to infinity (wall_gaps.c). */
+void gm_clear_gap_records(gm_domain *domain, size_t begin, size_t end);
 /* Gap records per node: the planar walls and the measured box faces. */
 int gm_gap_plane_count(const gm_domain *domain);
 /* Centre-gap records per node (grid->wall_centre_gap): as the gap records

@@ -182,7 +182,9 @@ typedef struct point_gaps_3d {
 /* Lowers the gaps of node (local, in the block of links) to the point's. */
 static void lower_node_gaps(gm_grid *grid, const uint32_t *links,
                             const int64_t local[3], const point_gaps_3d *pg) {
-  size_t node = gm_block_node_3d(links, local[0], local[1], local[2]);
+  size_t node =
+      gm_gap_node(/* a block with a slot (gm_walls_map_gaps) */
+                  grid, gm_block_node_3d(links, local[0], local[1], local[2]));
   double *gap = grid->wall_gap + node * (size_t)pg->planes;
   for (int w = 0; w < pg->planes; w++)
     gap[w] = pg->distance[w] < gap[w] ? pg->distance[w] : gap[w];
@@ -292,6 +294,32 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
       }
 }
 
+/* The reach of a point's gap (m): as in measure_point_3d. */
+static double gap_reach_3d(const gm_domain *domain) {
+  return (domain->def.shape == GM_SHAPE_LINEAR ? GM_GAP_REACH_3D
+                                               : GM_GAP_REACH_WIDE_3D) *
+         domain->def.cell_size;
+}
+
+void gm_walls_mark_gaps_3d(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  gap_3d_context ctx;
+  ctx.domain = domain;
+  ctx.blocks = NULL;
+  ctx.plane_count = list_planes_3d(domain, ctx.planes);
+  double reach = gap_reach_3d(domain); /* m */
+  for (size_t b = 0; b < grid->block_count; b++) {
+    int64_t base[3];
+    gm_block_coordinates_3d(grid, grid->block_key[b], base);
+    for (int k = 0; k < 3; k++)
+      base[k] <<= GM_BLOCK_SHIFT_3D;
+    /* measure_blocks_3d visits such a block; its points write the nodes
+     * of their supports, in it and the blocks it links. */
+    if (block_may_reach_3d(domain, &ctx, base, reach))
+      gm_walls_mark_linked(grid, b);
+  }
+}
+
 static void measure_blocks_3d(void *context, size_t begin, size_t end,
                               int worker) {
   (void)worker;
@@ -305,10 +333,7 @@ static void measure_blocks_3d(void *context, size_t begin, size_t end,
     gm_block_coordinates_3d(grid, grid->block_key[block], base);
     for (int k = 0; k < 3; k++)
       base[k] <<= GM_BLOCK_SHIFT_3D;
-    double reach =
-        (domain->def.shape == GM_SHAPE_LINEAR ? GM_GAP_REACH_3D
-                                              : GM_GAP_REACH_WIDE_3D) *
-        domain->def.cell_size; /* m */
+    double reach = gap_reach_3d(domain); /* m */
     if (!block_may_reach_3d(domain, ctx, base, reach))
       continue;
     for (uint32_t k = grid->point_start[block];
@@ -320,25 +345,20 @@ static void measure_blocks_3d(void *context, size_t begin, size_t end,
   }
 }
 
+/* Blocks [begin, end) of the gap slots: records to infinity. */
 static void clear_gaps_3d(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
-  gm_domain *domain = context;
-  size_t stride = GM_BLOCK_NODES * (size_t)gm_gap_plane_count(domain);
-  double *gap = domain->grid.wall_gap;
-  for (size_t k = begin * stride; k < end * stride; k++)
-    gap[k] = INFINITY;
-  size_t centre_stride =
-      GM_BLOCK_NODES * (size_t)gm_centre_gap_plane_count(domain);
-  double *centre_gap = domain->grid.wall_centre_gap;
-  for (size_t k = begin * centre_stride; k < end * centre_stride; k++)
-    centre_gap[k] = INFINITY;
+  gm_clear_gap_records(context, begin * GM_BLOCK_NODES, end * GM_BLOCK_NODES);
 }
 
 void gm_walls_measure_gaps_3d(gm_domain *domain) {
   gm_grid *grid = &domain->grid;
   if (grid->block_count == 0)
     return; /* no nodes; and the block lists may be NULL */
-  gm_parallel_for(&domain->pool, grid->block_count, clear_gaps_3d, domain);
+  size_t sentinel = grid->gap_sentinel; /* gm_walls_map_gaps */
+  gm_parallel_for(&domain->pool, sentinel / GM_BLOCK_NODES, clear_gaps_3d,
+                  domain);
+  gm_clear_gap_records(domain, sentinel, sentinel + 1);
   gap_3d_context ctx;
   ctx.domain = domain;
   ctx.blocks = NULL;

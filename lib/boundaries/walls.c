@@ -475,9 +475,16 @@ gm_status gm_walls_reserve(gm_domain *domain) {
     if (status != GM_OK)
       return status;
   }
-  size_t gaps = grid->block_capacity * GM_BLOCK_NODES *
-                (size_t)gm_gap_plane_count(domain); /* doubles */
+  /* The records of the blocks a measured point may reach, not of every
+   * block (gm_walls_map_gaps): the granular cloud's node layers far above
+   * the floor took 28 bytes per point in 2D, 78 in 3D (docs/performance.md,
+   * "Gap records per block"). That set moves with the material, so it is
+   * grown with headroom (an eighth and 4 blocks, as the grid's blocks). */
+  size_t nodes = gm_walls_map_gaps(domain);
+  size_t room = nodes + (nodes / 8 + 4 * GM_BLOCK_NODES);
+  size_t gaps = nodes * (size_t)gm_gap_plane_count(domain); /* doubles */
   if (gaps > grid->wall_gap_capacity) {
+    gaps = room * (size_t)gm_gap_plane_count(domain);
     double *grown = gm_alloc(gaps * sizeof(double));
     if (!grown)
       return gm_set_error(domain, GM_ERR_NO_MEMORY,
@@ -486,9 +493,10 @@ gm_status gm_walls_reserve(gm_domain *domain) {
     grid->wall_gap = grown;
     grid->wall_gap_capacity = gaps;
   }
-  size_t centre_gaps = grid->block_capacity * GM_BLOCK_NODES *
-                       (size_t)gm_centre_gap_plane_count(domain); /* doubles */
+  size_t centre_gaps =
+      nodes * (size_t)gm_centre_gap_plane_count(domain); /* doubles */
   if (centre_gaps > grid->wall_centre_gap_capacity) {
+    centre_gaps = room * (size_t)gm_centre_gap_plane_count(domain);
     double *grown = gm_alloc(centre_gaps * sizeof(double));
     if (!grown)
       return gm_set_error(domain, GM_ERR_NO_MEMORY,
@@ -648,8 +656,9 @@ void gm_walls_share_friction(gm_domain *domain, double dt, int mode) {
         double *sum = grid->pool_sums + first[w] +
                       GM_STRIP_SUMS * (size_t)strip_of(domain, w, x, y,
                                                        lowest[w], count[w]);
-        double mass = grid->mass[node];                                 /* kg */
-        double gap = grid->wall_gap[node * (size_t)planes + (size_t)w]; /* m */
+        double mass = grid->mass[node]; /* kg */
+        double gap = grid->wall_gap[gm_gap_node(grid, node) * (size_t)planes +
+                                    (size_t)w]; /* m */
         bool pushed = grid->pool_normal[node] > 0.0;
         if (pass == 0) {
           if (pushed && gap > sum[2])

@@ -312,8 +312,9 @@ void gm_walls_share_friction_3d(gm_domain *domain, double dt, int mode) {
         double *sum =
             grid->pool_sums + first[w] +
             GM_PATCH_SUMS * patch_of(wall, t, x, h, lowest[w], count[w]);
-        double mass = grid->mass[node];                                 /* kg */
-        double gap = grid->wall_gap[node * (size_t)planes + (size_t)w]; /* m */
+        double mass = grid->mass[node]; /* kg */
+        double gap = grid->wall_gap[gm_gap_node(grid, node) * (size_t)planes +
+                                    (size_t)w]; /* m */
         bool pushed = grid->pool_normal[node] > 0.0;
         double tangent_before[2] = {grid->pool_tangent[node],
                                     grid->pool_tangent_3d[node]}; /* m/s */

@@ -139,8 +139,7 @@ static bool reserve_blocks(gm_domain *domain, size_t block_count) {
       {(void **)&grid->block_key, sizeof(int64_t), old, capacity},
       {(void **)&grid->point_start, sizeof(uint32_t), old + 1, capacity + 1},
       {(void **)&grid->color_block, sizeof(uint32_t), old, capacity},
-      {(void **)&grid->chunk_counts, GM_BIN_CHUNKS * sizeof(uint32_t), old,
-       capacity}};
+      {(void **)&grid->gap_slot, sizeof(uint32_t), old, capacity}};
   for (size_t a = 0; a < sizeof links / sizeof links[0]; a++)
     if (!gm_grow(links[a].array, links[a].element, links[a].old_count,
                  links[a].new_count))

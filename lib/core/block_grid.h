@@ -29,8 +29,10 @@
 /* Block colours: the parities of the block coordinates (4 in 2D, 8 in
  * 3D). */
 #define GM_BLOCK_COLOURS 8
-/* Points are binned in this many fixed chunks (not per worker), so the
- * order of points inside a block never depends on the worker count. */
+/* Points are binned in at most this many fixed chunks (not per worker;
+ * bins.c, bin_chunks): the chunks are consecutive index ranges, so the
+ * order of points inside a block is index order whatever the worker count
+ * and the number of chunks. */
 #define GM_BIN_CHUNKS 32
 
 typedef struct gm_grid {
@@ -50,7 +52,11 @@ typedef struct gm_grid {
   uint32_t *color_block; /* block indices grouped by colour */
   size_t color_start[GM_BLOCK_COLOURS + 1]; /* colour c: color_block
                                                [start[c]..start[c+1]) */
-  uint32_t *chunk_counts;                   /* GM_BIN_CHUNKS * block_capacity */
+  /* Per block and chunk of the binning, chunks * blocks of this binning
+   * (bins.c); chunk_capacity counters allocated. */
+  uint32_t *chunk_counts;
+  size_t chunk_capacity;
+  size_t chunks; /* of the binning in progress */
   /* Open-addressing hash: block key -> block index. */
   int64_t *hash_key;
   uint32_t *hash_value;
@@ -91,11 +97,23 @@ typedef struct gm_grid {
    * tangential momentum (kg m/s), wall_bins pairs per wall. */
   double *pool_sums;
   size_t pool_sums_capacity; /* doubles allocated */
-  /* Per node and planar wall (node * wall_stride + wall): the smallest
-   * distance (m) from the wall to the domain of a point the node carries;
+  /* Per node and gap plane (gm_gap_node(grid, node) * gm_gap_plane_count
+   * + plane: the planar walls, then the measured box faces): the smallest
+   * distance (m) from the plane to the domain of a point the node carries;
    * the node may approach the wall by that much in a step (walls.c). */
   double *wall_gap;
   size_t wall_gap_capacity; /* doubles allocated */
+  /* The gap records (wall_gap, wall_centre_gap) are stored only for the
+   * blocks a measured point may write them in (wall_gaps.c,
+   * gm_walls_map_gaps): per block (block_capacity), its slot among those
+   * blocks or GM_NO_BLOCK; the records of node (slot * GM_BLOCK_NODES +
+   * local) follow, then one sentinel node (index gap_sentinel) whose
+   * records stay infinite and stand for every node of a block without a
+   * slot: those are never lowered, so they read as before (infinite) and
+   * the granular cloud's node layers, far from the floor, cost no gap
+   * records (docs/performance.md, "Gap records per block"). */
+  uint32_t *gap_slot;
+  size_t gap_sentinel; /* nodes with gap records = index of the sentinel */
   /* Per node and gap plane, as wall_gap (the planar walls only with
    * linear shapes, gm_centre_gap_plane_count): the smallest distance (m) from
    * the wall or box face to the centre of a point the node carries
@@ -266,6 +284,16 @@ static inline size_t gm_block_node(const uint32_t *links, int shift, int64_t x,
   int neighbour = (int)(x >> shift) + 2 * (int)(y >> shift);
   return (size_t)links[neighbour] * GM_BLOCK_NODES +
          (size_t)((x & mask) + ((y & mask) << shift));
+}
+
+/* Index of node's gap records (in nodes: wall_gap + index * planes,
+ * wall_centre_gap + index * centre planes); the sentinel's, infinite, for
+ * a node of a block without gap records. */
+static inline size_t gm_gap_node(const gm_grid *grid, size_t node) {
+  uint32_t slot = grid->gap_slot[node / GM_BLOCK_NODES];
+  return slot == GM_NO_BLOCK
+             ? grid->gap_sentinel
+             : (size_t)slot * GM_BLOCK_NODES + node % GM_BLOCK_NODES;
 }
 
 /* Block index of key this step, or GM_NO_BLOCK. */

@@ -7,8 +7,41 @@
 
 #include <string.h>
 
-static size_t chunk_begin(size_t count, size_t chunk) {
-  return count * chunk / GM_BIN_CHUNKS;
+static size_t chunk_begin(size_t count, size_t chunks, size_t chunk) {
+  return count * chunk / chunks;
+}
+
+/* Chunks of this binning: GM_BIN_CHUNKS, fewer where the counters (4
+ * bytes per block and chunk) would outnumber half the points, at least 2
+ * (two workers still share the work). The granular cloud's node layers
+ * hold 1-3 points per 3D block, where 32 counters per block took 20
+ * bytes per point (docs/performance.md, "Gap records per block"). Any
+ * number of consecutive chunks gives the same order[]: index order inside
+ * each block. */
+static size_t bin_chunks(size_t points, size_t blocks) {
+  size_t chunks = blocks ? points / (2 * blocks) : GM_BIN_CHUNKS;
+  return chunks < 2 ? 2 : chunks > GM_BIN_CHUNKS ? GM_BIN_CHUNKS : chunks;
+}
+
+/* Room for the counters of this binning: at first those and 4 blocks'
+ * worth, then grown by an eighth more, as the grid's blocks
+ * (block_grid.c, reserve_blocks). */
+static gm_status reserve_chunks(gm_domain *domain) {
+  gm_grid *grid = &domain->grid;
+  grid->chunks = bin_chunks(domain->points.count, grid->block_count);
+  size_t needed = grid->chunks * grid->block_count;
+  if (needed <= grid->chunk_capacity)
+    return GM_OK;
+  size_t room =
+      needed + 4 * GM_BIN_CHUNKS + (grid->chunk_capacity ? needed / 8 : 0);
+  uint32_t *grown = gm_alloc(room * sizeof(uint32_t));
+  if (!grown)
+    return gm_set_error(domain, GM_ERR_NO_MEMORY,
+                        "grid: out of memory for the binning's counters");
+  gm_free(grid->chunk_counts);
+  grid->chunk_counts = grown;
+  grid->chunk_capacity = room;
+  return GM_OK;
 }
 
 /* Block of every point of the chunks, and per-chunk counts per block. */
@@ -18,20 +51,21 @@ static void locate_chunks(void *context, size_t begin, size_t end, int worker) {
   gm_grid *grid = &domain->grid;
   gm_points *points = &domain->points;
   const int64_t *point_key = points->block_key;
+  size_t chunks = grid->chunks;
   for (size_t chunk = begin; chunk < end; chunk++) {
     uint32_t *counts = grid->chunk_counts;
     for (size_t b = 0; b < grid->block_count; b++)
-      counts[b * GM_BIN_CHUNKS + chunk] = 0;
+      counts[b * chunks + chunk] = 0;
     int64_t cached_key = -1;
     uint32_t cached_block = GM_NO_BLOCK;
-    size_t last = chunk_begin(points->count, chunk + 1);
-    for (size_t i = chunk_begin(points->count, chunk); i < last; i++) {
+    size_t last = chunk_begin(points->count, chunks, chunk + 1);
+    for (size_t i = chunk_begin(points->count, chunks, chunk); i < last; i++) {
       if (point_key[i] != cached_key) {
         cached_key = point_key[i];
         cached_block = gm_grid_find(grid, cached_key);
       }
       points->point_block[i] = cached_block;
-      counts[(size_t)cached_block * GM_BIN_CHUNKS + chunk]++;
+      counts[(size_t)cached_block * chunks + chunk]++;
     }
   }
 }
@@ -43,10 +77,11 @@ static void scatter_chunks(void *context, size_t begin, size_t end,
   gm_domain *domain = context;
   gm_points *points = &domain->points;
   uint32_t *counts = domain->grid.chunk_counts;
+  size_t chunks = domain->grid.chunks;
   for (size_t chunk = begin; chunk < end; chunk++) {
-    size_t last = chunk_begin(points->count, chunk + 1);
-    for (size_t i = chunk_begin(points->count, chunk); i < last; i++) {
-      size_t slot = (size_t)points->point_block[i] * GM_BIN_CHUNKS + chunk;
+    size_t last = chunk_begin(points->count, chunks, chunk + 1);
+    for (size_t i = chunk_begin(points->count, chunks, chunk); i < last; i++) {
+      size_t slot = (size_t)points->point_block[i] * chunks + chunk;
       points->order[counts[slot]++] = (uint32_t)i;
     }
   }
@@ -154,24 +189,27 @@ gm_status gm_bin_points(gm_domain *domain) {
     status = gm_rigid_reserve(domain);
   if (status == GM_OK)
     status = gm_volumetric_reserve(domain);
+  if (status == GM_OK && !kept)
+    status = reserve_chunks(domain);
   if (status != GM_OK || kept)
     return status;
   gm_grid *grid = &domain->grid;
-  gm_parallel_for(&domain->pool, GM_BIN_CHUNKS, locate_chunks, domain);
+  size_t chunks = grid->chunks;
+  gm_parallel_for(&domain->pool, chunks, locate_chunks, domain);
   /* Exclusive prefix over (block, chunk): points keep index order inside
    * a block whatever the worker count. */
   uint32_t running = 0;
   for (size_t b = 0; b < grid->block_count; b++) {
     grid->point_start[b] = running;
-    uint32_t *counts = grid->chunk_counts + b * GM_BIN_CHUNKS;
-    for (size_t chunk = 0; chunk < GM_BIN_CHUNKS; chunk++) {
+    uint32_t *counts = grid->chunk_counts + b * chunks;
+    for (size_t chunk = 0; chunk < chunks; chunk++) {
       uint32_t in_chunk = counts[chunk];
       counts[chunk] = running;
       running += in_chunk;
     }
   }
   grid->point_start[grid->block_count] = running;
-  gm_parallel_for(&domain->pool, GM_BIN_CHUNKS, scatter_chunks, domain);
+  gm_parallel_for(&domain->pool, chunks, scatter_chunks, domain);
   return GM_OK;
 }
 

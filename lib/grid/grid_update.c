@@ -120,9 +120,11 @@ static void constrain_faces(const gm_domain *domain, size_t node, int64_t ix,
       if (wall == GM_WALL_OPEN || wall == GM_WALL_PERIODIC)
         continue; /* periodic: the images take their owners' values */
       int slot = gm_gap_face_slot(domain, face);
-      double gap = slot >= 0 && grid->mass[node] > 0.0
-                       ? grid->wall_gap[node * (size_t)planes + (size_t)slot]
-                       : 0.0;                           /* m */
+      double gap =
+          slot >= 0 && grid->mass[node] > 0.0
+              ? grid->wall_gap[gm_gap_node(grid, node) * (size_t)planes +
+                               (size_t)slot]
+              : 0.0;                                    /* m */
       if (gap <= release || wall == GM_WALL_SYMMETRY) { /* touching */
         if (wall == GM_WALL_FIXED)
           held[0] = held[1] = true;
@@ -164,7 +166,8 @@ static void limit_face_centres(const gm_domain *domain, size_t node, int64_t ix,
   const gm_grid *grid = &domain->grid;
   const double *centre_gap =
       grid->wall_centre_gap +
-      node * (size_t)gm_centre_gap_plane_count(domain); /* wide: all planes */
+      gm_gap_node(grid, node) *
+          (size_t)gm_centre_gap_plane_count(domain); /* wide: all planes */
   double tolerance = GM_CONTACT_TOLERANCE * domain->def.cell_size; /* m */
   int64_t index[2] = {ix, iy};
   for (int axis = 0; axis < domain->dim; axis++) {
@@ -224,10 +227,12 @@ static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
   bool full = ctx->mode == GM_GRID_FULL;
   double before[2] = {velocity[0], velocity[1]};
   int first_wall = -1;
+  size_t records = gm_gap_node(grid, node);
   const double *gap =
-      grid->wall_gap + node * (size_t)gm_gap_plane_count(domain);
+      grid->wall_gap + records * (size_t)gm_gap_plane_count(domain);
   const double *centre_gap =
-      grid->wall_centre_gap + node * (size_t)gm_centre_gap_plane_count(domain);
+      grid->wall_centre_gap +
+      records * (size_t)gm_centre_gap_plane_count(domain);
   gm_wall_pool_record record = {-1, 0.0, 0.0};
   bool acted =
       gm_walls_contact(domain, position, velocity, gap, centre_gap, ctx->dt,

@@ -62,11 +62,12 @@ static void apply_walls_3d(const update_3d_context *ctx, size_t node,
     velocity[k] = grid->momentum[k][node];
   }
   bool full = ctx->mode == GM_GRID_FULL;
+  size_t records = gm_gap_node(grid, node);
   const double *gap =
-      grid->wall_gap + node * (size_t)gm_gap_plane_count(domain);
+      grid->wall_gap + records * (size_t)gm_gap_plane_count(domain);
   int centres = gm_centre_gap_plane_count(domain); /* wide shapes: walls */
   const double *centre_gap =
-      centres > 0 ? grid->wall_centre_gap + node * (size_t)centres : NULL;
+      centres > 0 ? grid->wall_centre_gap + records * (size_t)centres : NULL;
   gm_wall_pool_record_3d record = {-1, 0.0, {0.0, 0.0}};
   bool acted = gm_walls_contact_3d(domain, position, velocity, gap, centre_gap,
                                    ctx->dt, full, full ? block_force : NULL,
@@ -107,9 +108,11 @@ static void constrain_faces_3d(const gm_domain *domain, size_t node,
       if (wall == GM_WALL_OPEN || wall == GM_WALL_PERIODIC)
         continue; /* periodic: the images take their owners' values */
       int slot = gm_gap_face_slot(domain, face);
-      double gap = slot >= 0 && grid->mass[node] > 0.0
-                       ? grid->wall_gap[node * (size_t)planes + (size_t)slot]
-                       : 0.0;                           /* m */
+      double gap =
+          slot >= 0 && grid->mass[node] > 0.0
+              ? grid->wall_gap[gm_gap_node(grid, node) * (size_t)planes +
+                               (size_t)slot]
+              : 0.0;                                    /* m */
       if (gap <= release || wall == GM_WALL_SYMMETRY) { /* touching */
         if (wall == GM_WALL_FIXED)
           held[0] = held[1] = held[2] = true;

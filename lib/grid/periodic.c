@@ -91,8 +91,12 @@ static void image_node(const periodic_context *ctx, size_t image, size_t owner,
         grid->force[k][image] = grid->force[k][owner];
     }
   } else {
-    double *owner_gap = grid->wall_gap + owner * (size_t)planes;
-    const double *image_gap = grid->wall_gap + image * (size_t)planes;
+    /* Every block has gap records with periodic x faces
+     * (gm_walls_map_gaps). */
+    double *owner_gap =
+        grid->wall_gap + gm_gap_node(grid, owner) * (size_t)planes;
+    const double *image_gap =
+        grid->wall_gap + gm_gap_node(grid, image) * (size_t)planes;
     for (int w = 0; w < planes; w++)
       owner_gap[w] = image_gap[w] < owner_gap[w] ? image_gap[w] : owner_gap[w];
   }

@@ -249,6 +249,7 @@ static void free_grid(gm_grid *grid) {
   gm_free(grid->neighbour);
   gm_free(grid->point_start);
   gm_free(grid->color_block);
+  gm_free(grid->gap_slot);
   gm_free(grid->chunk_counts);
   gm_free(grid->hash_key);
   gm_free(grid->hash_value);
