@@ -25,11 +25,18 @@ down to the lowest bin:
         the two columns x < D/12 and D/12 <= x < D/6: (sigma_xy(next) -
         sigma_xy(axis)) / (D/12) (< 0: the slower sides hold the core
         back);
+(the balance is printed from the lowest bin to y = D and to y = 2D;)
   R     KE - (G + P + S), the residual: the steady Eulerian balance
         v dv/dy = -g + (1/rho)(d sigma_yy/dy + d sigma_xy/dx) closes
         only as well as bin means of point stresses stand for the grid's
         divergence (and the flow is not exactly steady).
-Shares are of G = g D."""
+Shares are of G = g (top - y_0).
+
+Part 3, the stress-free zone above the orifice (profiles that have the
+stress-free column): in the axis column, the mass share of points with
+p <= 0 in the lowest bin, its mass-weighted mean below D/2, and the
+highest y below 2D where it (mean of two bins) exceeds 10 %, in m and
+in cells."""
 import math
 import sys
 
@@ -64,13 +71,15 @@ def edge(rows):
 
     def cols(r):
         return [r[1], r[9], r[10], abs(r[9]) / r[10], r[11], -r[4]]
-    return [v_c, x50] + cols(near) + cols(peak)
+    loose = [sum(r[12] * r[3] for r in centre) / sum(r[3] for r in centre),
+             near[12]] if len(near) > 12 else [-1, -1]
+    return [v_c, x50] + cols(near) + cols(peak) + loose
 
 
-def balance(path):
+def balance(path, top):
     rows = [[float(t) for t in line.split(",")]
             for line in open(path + "_axis.csv") if not line.startswith("y")]
-    rows = [r for r in rows if r[2] > 0 and r[0] <= D + 1e-9]
+    rows = [r for r in rows if r[2] > 0 and r[0] <= top + 1e-9]
     ke = 0.5 * (rows[0][3] ** 2 - rows[-1][3] ** 2)
     g = G * (rows[-1][0] - rows[0][0])
     p = s = 0.0
@@ -88,16 +97,39 @@ def balance(path):
 args = sys.argv[1:]
 runs = list(zip(args[0::2], args[1::2]))
 print("# part 1: core edge; label,y,v_c,x50,[x,sxy,p,|sxy|/p,mobilised,v]"
-      " at x50 then at max |sxy|")
+      " at x50 then at max |sxy|, then the stress-free mass share in the"
+      " centre x < D/12 and at x50 (-1: profile without it)")
 for label, path in runs:
     b = bands(path)
     for h in sorted(b):
         if 0 < h <= D + 1e-9:
             print(",".join([label, f"{h:g}"] + [f"{v:.4g}" for v in edge(b[h])]))
-print("# part 2: axis column balance y_0..D, J/kg and shares of g D;"
-      " label,KE,G,P,S,R,KE/G,P/G,S/G,R/G,v_0,v_D,syy_D,syy_0")
+print("# part 2: axis column balance y_0..top (D, 2D), J/kg and shares of"
+      " g (top - y_0); label@top,KE,G,P,S,R,KE/G,P/G,S/G,R/G,v_0,v_top,"
+      "syy_top,syy_0")
 for label, path in runs:
-    ke, g, p, s, r, v0, vd, syd, sy0 = balance(path)
-    print(",".join([label] + [f"{v:.4g}" for v in (ke, g, p, s, r)] +
-                   [f"{v / g:.3f}" for v in (ke, p, s, r)] +
-                   [f"{v:.4g}" for v in (v0, vd, syd, sy0)]))
+    for top in (D, 2 * D):
+        ke, g, p, s, r, v0, vd, syd, sy0 = balance(path, top)
+        print(",".join([label + f"@{top / D:g}D"] +
+                       [f"{v:.4g}" for v in (ke, g, p, s, r)] +
+                       [f"{v / g:.3f}" for v in (ke, p, s, r)] +
+                       [f"{v:.4g}" for v in (v0, vd, syd, sy0)]))
+print("# part 3: stress-free points (p <= 0) in the axis column x < D/12;"
+      " label,share in the lowest 0.0125 m,mean share over 0..D/2,"
+      "y where the share (mean of two bins) last exceeds 10 % (m),"
+      "same in cells")
+for label, path in runs:
+    rows = [[float(t) for t in line.split(",")]
+            for line in open(path + "_axis.csv") if not line.startswith("y")]
+    if len(rows[0]) < 11:
+        continue
+    low = [r for r in rows if r[0] < D / 2 and r[2] > 0]
+    mean = sum(r[10] * r[2] for r in low) / sum(r[2] for r in low)
+    top = 0.0
+    for a, b in zip(rows, rows[1:]):
+        if b[0] < 2 * D and 0.5 * (a[10] + b[10]) > 0.1:
+            top = b[0]
+    with open(path) as f:
+        cell = float(f.readline().split()[2])
+    print(",".join([label, f"{rows[0][10]:.3f}", f"{mean:.3f}",
+                    f"{top:.4g}", f"{top / cell:.3g}"]))
