@@ -50,7 +50,7 @@ def read(path):
         if line.startswith(("#", "height")):
             continue
         h, x, _, rho, vy, flux, filled, ratio = (
-            float(v) for v in line.split(","))
+            float(v) for v in line.split(",")[:8])
         bands.setdefault(h, []).append((x, rho, vy, flux, filled, ratio))
     for rows in bands.values():
         rows.sort()

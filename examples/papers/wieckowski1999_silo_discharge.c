@@ -69,6 +69,12 @@
  * --drop L lowers the sinks L below the orifice (whole cells): the points
  * leave the opening in free fall instead of being removed at its plane
  * (docs/convergence.md sec. 25: the rate's growth is the same).
+ * --youngs E sets the fill's Young's modulus (Pa; 002's 1 MPa by default),
+ * and --profile also records, per bin, the mass-weighted sigma_yy,
+ * sigma_xy, pressure, q / (m p) (1 at yield) and the mass share of
+ * stress-free points (p <= 0), and on the axis sigma_yy, sigma_xy and
+ * that share of the column x < D/12 and v_y and sigma_xy of the next,
+ * D/12 <= x < D/6 (docs/convergence.md sec. 27).
  *
  * --geometry 3d (issue 16 items 3-4): a square silo of side 2B with a
  * circular orifice of diameter D in its flat floor, y up. Only the quarter
@@ -130,6 +136,7 @@ typedef struct silo {
   double fluidity;        /* 1/s, > 0: the Perzyna rate term; 0: rate-free */
   double reference;       /* Pa, sigma_ref of the Perzyna normaliser */
   double grain;           /* m, > 0: mu(I) with this grain diameter */
+  double youngs;          /* Pa, > 0: E in place of 002's 1 MPa */
   const char *profile;    /* path of the steady profiles' CSV; "" = none */
   double cfl;             /* -, Courant number of the stable dt */
   double drop;            /* m, free fall below the orifice before the sink
@@ -219,6 +226,8 @@ static gm_status add_material(gm_domain *domain, const silo *s, int *material) {
   dp.density = DENSITY;
   dp.poisson_ratio = POISSON_RATIO;
   dp.friction_angle = FRICTION_ANGLE * PI / 180.0;
+  if (s->youngs > 0.0)
+    dp.youngs_modulus = s->youngs; /* --youngs (docs/convergence.md sec. 27) */
   gm_status status;
   if (s->grain > 0.0) {
     /* mu(I) (Jop et al. 2006) on the same cone: mu_s = sin(phi), the
@@ -692,16 +701,48 @@ typedef struct profile_sums {
   double momentum[PROFILE_HEIGHTS][PROFILE_BINS]; /* kg m/s, m v_y */
   double volume[PROFILE_HEIGHTS][PROFILE_BINS];   /* m^2, current */
   double initial[PROFILE_HEIGHTS][PROFILE_BINS];  /* m^2, at creation */
+  /* Mass times stress (tension positive) and mobilised friction: the
+   * stresses that hold the flowing core back (docs/convergence.md
+   * sec. 27). */
+  double syy[PROFILE_HEIGHTS][PROFILE_BINS];       /* kg Pa, m sigma_yy */
+  double sxy[PROFILE_HEIGHTS][PROFILE_BINS];       /* kg Pa, m sigma_xy */
+  double pressure[PROFILE_HEIGHTS][PROFILE_BINS];  /* kg Pa, m p */
+  double mobilised[PROFILE_HEIGHTS][PROFILE_BINS]; /* kg, m q / (m_DP p) */
+  double loose[PROFILE_HEIGHTS][PROFILE_BINS];     /* kg, points at p <= 0 */
   /* The column x < D/12 above the orifice, by height (the free-fall arch):
    * mass, vertical momentum and mass times pressure. */
   double axis_mass[AXIS_BINS];     /* kg */
   double axis_momentum[AXIS_BINS]; /* kg m/s */
   double axis_pressure[AXIS_BINS]; /* kg Pa, m p, p = -tr(sigma)/3 */
+  double axis_syy[AXIS_BINS];      /* kg Pa, m sigma_yy */
+  double axis_sxy[AXIS_BINS];      /* kg Pa, m sigma_xy */
+  double axis_loose[AXIS_BINS];    /* kg, points at p <= 0 (stress-free) */
+  /* The next column, D/12 <= x < D/6: its shear stress over the distance
+   * between the columns' centres is d sigma_xy / dx on the axis. */
+  double next_mass[AXIS_BINS];     /* kg */
+  double next_momentum[AXIS_BINS]; /* kg m/s */
+  double next_sxy[AXIS_BINS];      /* kg Pa, m sigma_xy */
 } profile_sums;
 
 static double profile_height(const silo *s, int k) {
   static const double share[PROFILE_HEIGHTS] = {0.0, 0.5, 1.0, 2.0};
   return share[k] * s->orifice; /* m */
+}
+
+/* q / (m p) of a stress (Pa, tension positive): 1 on the Drucker-Prager
+ * cone q = m p of --friction 25 deg (002 sec 2.2, drucker_prager.c), 0
+ * where p <= 0. With --grain or --fluidity the same cone's slope. */
+static double mobilised_share(const double sigma[6]) {
+  double sin_phi = sin(FRICTION_ANGLE * PI / 180.0);
+  double slope = 18.0 * sin_phi / (9.0 - sin_phi * sin_phi);      /* - */
+  double p = -(sigma[GM_XX] + sigma[GM_YY] + sigma[GM_ZZ]) / 3.0; /* Pa */
+  if (!(p > 0.0))
+    return 0.0;
+  double sxx = sigma[GM_XX] + p, syy = sigma[GM_YY] + p; /* Pa */
+  double szz = sigma[GM_ZZ] + p;                         /* Pa */
+  double j2 = 0.5 * (sxx * sxx + syy * syy + szz * szz) +
+              sigma[GM_XY] * sigma[GM_XY]; /* Pa^2, 2D: yz = zx = 0 */
+  return sqrt(3.0 * j2) / (slope * p);
 }
 
 /* Adds the granular points of one sample to the bins. */
@@ -736,12 +777,20 @@ static gm_status add_profile(const gm_domain *domain, const silo *s,
     if (material[i] != 0.0 || bin < 0 || bin >= PROFILE_BINS)
       continue; /* material 0 is the fill (added first) */
     long row = (long)floor(position[2 * i + 1] / AXIS_BIN);
+    const double *sigma = stress + 6 * i; /* Pa */
+    double pressure = -(sigma[GM_XX] + sigma[GM_YY] + sigma[GM_ZZ]) / 3.0;
     if (position[2 * i] < s->orifice / 12.0 && row >= 0 && row < AXIS_BINS) {
-      const double *sigma = stress + 6 * i; /* Pa */
-      double pressure = -(sigma[GM_XX] + sigma[GM_YY] + sigma[GM_ZZ]) / 3.0;
       sums->axis_mass[row] += mass[i];
       sums->axis_momentum[row] += mass[i] * velocity[2 * i + 1];
       sums->axis_pressure[row] += mass[i] * pressure;
+      sums->axis_syy[row] += mass[i] * sigma[GM_YY];
+      sums->axis_sxy[row] += mass[i] * sigma[GM_XY];
+      sums->axis_loose[row] += pressure > 0.0 ? 0.0 : mass[i];
+    } else if (position[2 * i] < s->orifice / 6.0 && row >= 0 &&
+               row < AXIS_BINS) {
+      sums->next_mass[row] += mass[i];
+      sums->next_momentum[row] += mass[i] * velocity[2 * i + 1];
+      sums->next_sxy[row] += mass[i] * sigma[GM_XY];
     }
     for (int k = 0; k < PROFILE_HEIGHTS; k++) {
       double above = position[2 * i + 1] - profile_height(s, k); /* m */
@@ -751,6 +800,11 @@ static gm_status add_profile(const gm_domain *domain, const silo *s,
       sums->momentum[k][bin] += mass[i] * velocity[2 * i + 1];
       sums->volume[k][bin] += volume[i];
       sums->initial[k][bin] += initial[i];
+      sums->syy[k][bin] += mass[i] * sigma[GM_YY];
+      sums->sxy[k][bin] += mass[i] * sigma[GM_XY];
+      sums->pressure[k][bin] += mass[i] * pressure;
+      sums->mobilised[k][bin] += mass[i] * mobilised_share(sigma);
+      sums->loose[k][bin] += pressure > 0.0 ? 0.0 : mass[i];
     }
   }
   sums->samples += 1.0;
@@ -772,17 +826,22 @@ static void write_profile(const silo *s, const profile_sums *sums) {
           s->options.cell, s->options.ppc, s->orifice, sums->samples,
           PROFILE_BAND);
   fprintf(csv, "height_m,x_m,x_over_D,areal_density_kg_m3,vy_m_s,flux_kg_m2_"
-               "s,filled,volume_ratio\n");
+               "s,filled,volume_ratio,sigma_yy_Pa,sigma_xy_Pa,pressure_Pa,"
+               "mobilised,loose\n");
   double area = sums->bin * PROFILE_BAND * fmax(sums->samples, 1.0); /* m^2 */
   for (int k = 0; k < PROFILE_HEIGHTS; k++)
     for (int b = 0; b < PROFILE_BINS && (b + 0.5) * sums->bin < s->half_width;
          b++) {
       double m = sums->mass[k][b], x = (b + 0.5) * sums->bin; /* kg, m */
-      fprintf(csv, "%g,%g,%g,%g,%g,%g,%g,%g\n", profile_height(s, k), x,
-              x / s->orifice, m / area, m > 0 ? sums->momentum[k][b] / m : 0.0,
-              sums->momentum[k][b] / area, sums->volume[k][b] / area,
-              sums->initial[k][b] > 0 ? sums->volume[k][b] / sums->initial[k][b]
-                                      : 0.0);
+      double w = m > 0 ? 1.0 / m : 0.0; /* 1/kg: mass-weighted means */
+      fprintf(
+          csv, "%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g\n", profile_height(s, k),
+          x, x / s->orifice, m / area, sums->momentum[k][b] * w,
+          sums->momentum[k][b] / area, sums->volume[k][b] / area,
+          sums->initial[k][b] > 0 ? sums->volume[k][b] / sums->initial[k][b]
+                                  : 0.0,
+          sums->syy[k][b] * w, sums->sxy[k][b] * w, sums->pressure[k][b] * w,
+          sums->mobilised[k][b] * w, sums->loose[k][b] * w);
     }
   fclose(csv);
   /* The axis column, in PROFILE_axis.csv: by height, the areal density,
@@ -793,14 +852,19 @@ static void write_profile(const silo *s, const profile_sums *sums) {
   if (!csv)
     return;
   fprintf(csv, "y_m,y_over_D,areal_density_kg_m3,vy_m_s,flux_kg_m2_s,"
-               "pressure_Pa\n");
+               "pressure_Pa,sigma_yy_Pa,sigma_xy_Pa,next_vy_m_s,next_sigma_"
+               "xy_Pa,loose\n");
   double column = s->orifice / 12.0 * AXIS_BIN * fmax(sums->samples, 1.0);
   for (int b = 0; b < AXIS_BINS; b++) {
     double m = sums->axis_mass[b], y = (b + 0.5) * AXIS_BIN; /* kg, m */
-    fprintf(csv, "%g,%g,%g,%g,%g,%g\n", y, y / s->orifice, m / column,
-            m > 0 ? sums->axis_momentum[b] / m : 0.0,
-            sums->axis_momentum[b] / column,
-            m > 0 ? sums->axis_pressure[b] / m : 0.0);
+    double w = m > 0 ? 1.0 / m : 0.0;                        /* 1/kg */
+    double n = sums->next_mass[b] > 0 ? 1.0 / sums->next_mass[b] : 0.0;
+    fprintf(csv, "%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g\n", y, y / s->orifice,
+            m / column, sums->axis_momentum[b] * w,
+            sums->axis_momentum[b] / column, sums->axis_pressure[b] * w,
+            sums->axis_syy[b] * w, sums->axis_sxy[b] * w,
+            sums->next_momentum[b] * n, sums->next_sxy[b] * n,
+            sums->axis_loose[b] * w);
   }
   fclose(csv);
 }
@@ -1039,6 +1103,7 @@ static int configure(silo *s, int argc, char **argv) {
   double orifice = 0.3, sample = 0.01;      /* m, s */
   double fluidity = 0.0, reference = 0.0;   /* 1/s, Pa */
   double grain = 0.0;                       /* m */
+  double youngs = 0.0;                      /* Pa, 0: 002's 1 MPa */
   double fill = 2.0;                        /* full silo widths */
   double t_max = 0.0;                       /* s, 0: none */
   double window_end = WINDOW_END;           /* - */
@@ -1067,6 +1132,10 @@ static int configure(silo *s, int argc, char **argv) {
        "> 0: mu(I) with this grain diameter, m, on the same cone (0: "
        "Drucker-Prager)",
        &grain, NULL},
+      {"youngs",
+       "> 0: Young's modulus E, Pa, in place of 002's 1 MPa (the dt "
+       "shrinks as 1/sqrt(E))",
+       &youngs, NULL},
       {"drop",
        "free fall below the orifice before the sink, m (whole cells; 0: the "
        "sink at the orifice)",
@@ -1152,6 +1221,11 @@ static int configure(silo *s, int argc, char **argv) {
   s->fluidity = fluidity;
   s->reference = reference;
   s->grain = grain;
+  if (!(youngs >= 0.0 && youngs < 1e12)) {
+    fprintf(stderr, "--youngs must be >= 0 (0: 1 MPa) and finite\n");
+    return 2;
+  }
+  s->youngs = youngs;
   s->profile = profile;
   if (!(cfl > 0.0 && cfl <= 1.0)) {
     fprintf(stderr, "--cfl must be in (0, 1]\n");
