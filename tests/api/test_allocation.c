@@ -23,35 +23,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "test_counting_allocator.h"
 #include "test_util.h"
-
-static atomic_long allocations; /* calls to the hook's malloc */
-static atomic_long releases;    /* calls to the hook's free (non-NULL) */
-static atomic_long fail_countdown = -1; /* >= 0: that many more succeed */
-
-static void *counting_malloc(size_t size, void *user) {
-  (void)user;
-  if (atomic_load(&fail_countdown) >= 0 &&
-      atomic_fetch_sub(&fail_countdown, 1) == 0)
-    return NULL; /* the injected out-of-memory */
-  atomic_fetch_add(&allocations, 1);
-  return malloc(size);
-}
-
-static void counting_free(void *pointer, void *user) {
-  (void)user;
-  if (pointer)
-    atomic_fetch_add(&releases, 1);
-  free(pointer);
-}
-
-static void install_counting_allocator(void) {
-  gm_allocator allocator = {sizeof(gm_allocator), counting_malloc,
-                            counting_free, NULL};
-  ck_assert_int_eq(gm_set_allocator(&allocator), GM_OK);
-  atomic_store(&allocations, 0);
-  atomic_store(&releases, 0);
-}
 
 /* An elastic block resting on a fixed floor under gravity: it compresses
  * and oscillates but stays in the same cells, so after warm-up the set of
@@ -198,7 +171,7 @@ static void check_no_allocation_after_warm_up(int scene) {
   gm_shape shape = layer_3d ? GM_SHAPE_UGIMP
                    : solid  ? solid_shapes[(scene - 18) / 6]
                             : GM_SHAPE_LINEAR;
-  install_counting_allocator();
+  test_install_counting_allocator();
   gm_domain *domain =
       layer_3d ? sliding_layer_3d(scheme, workers)
       : solid  ? resting_block_3d(scheme, workers, shape,
@@ -207,10 +180,10 @@ static void check_no_allocation_after_warm_up(int scene) {
   enum { WARM_UP_STEPS = 5, MEASURED_STEPS = 200 };
   for (int step = 0; step < WARM_UP_STEPS; step++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
-  long before = atomic_load(&allocations);
+  long before = atomic_load(&test_allocations);
   for (int step = 0; step < MEASURED_STEPS; step++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
-  long during = atomic_load(&allocations) - before;
+  long during = atomic_load(&test_allocations) - before;
   ck_assert_msg(during == 0,
                 "%s, %d workers%s (%s): %ld allocations in %d steps after "
                 "warm-up",
@@ -223,9 +196,9 @@ static void check_no_allocation_after_warm_up(int scene) {
                            : "",
                 test_shape_name(shape), during, MEASURED_STEPS);
   gm_domain_destroy(domain);
-  ck_assert_msg(atomic_load(&allocations) == atomic_load(&releases),
+  ck_assert_msg(atomic_load(&test_allocations) == atomic_load(&test_releases),
                 "allocations %ld != frees %ld after destroy",
-                atomic_load(&allocations), atomic_load(&releases));
+                atomic_load(&test_allocations), atomic_load(&test_releases));
   ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
 }
 
@@ -252,7 +225,7 @@ END_TEST
  * works. (Regression: a half-grown grid kept a freed pointer; ASan in CI
  * reports such a use-after-free.) */
 START_TEST(test_out_of_memory_while_growing_the_grid) {
-  install_counting_allocator();
+  test_install_counting_allocator();
   for (long failing = 0; failing < 40; failing++) {
     gm_domain_def def = gm_domain_def_default();
     def.extent[0] = def.extent[1] = 10.0;
@@ -279,9 +252,9 @@ START_TEST(test_out_of_memory_while_growing_the_grid) {
     double before[42], after[42];
     TEST_ASSERT_OK(domain,
                    gm_domain_get_field(domain, GM_FIELD_POSITION, before, 42));
-    atomic_store(&fail_countdown, failing);
+    atomic_store(&test_fail_countdown, failing);
     gm_status status = gm_domain_step(domain, 1e-5);
-    atomic_store(&fail_countdown, -1);
+    atomic_store(&test_fail_countdown, -1);
     ck_assert_msg(status == GM_OK || status == GM_ERR_NO_MEMORY,
                   "allocation %ld failing: step returned %d", failing,
                   (int)status);
@@ -313,7 +286,7 @@ static int state_as_stress(const gm_material_batch *batch, void *user,
  * fails with GM_ERR_NO_MEMORY and the first material's state is intact.
  * (Regression: one pool was widened before the other failed.) */
 START_TEST(test_out_of_memory_while_widening_state) {
-  install_counting_allocator();
+  test_install_counting_allocator();
   for (long failing = 0; failing < 6; failing++) {
     gm_domain_def def = gm_domain_def_default();
     gm_domain *domain = test_create_domain(&def);
@@ -330,9 +303,9 @@ START_TEST(test_out_of_memory_while_widening_state) {
     size_t count = test_fill_box(domain, first, lower, upper, 2, NULL);
     material.state_count = 2;
     material.initial_state = NULL;
-    atomic_store(&fail_countdown, failing);
+    atomic_store(&test_fail_countdown, failing);
     gm_status status = gm_domain_add_material(domain, &material, &second);
-    atomic_store(&fail_countdown, -1);
+    atomic_store(&test_fail_countdown, -1);
     ck_assert(status == GM_OK || status == GM_ERR_NO_MEMORY);
     TEST_ASSERT_OK(domain, gm_domain_step(domain, 1e-6));
     double *stress = malloc(count * 6 * sizeof(double));

@@ -27,6 +27,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "test_counting_allocator.h"
 #include "test_util.h"
 
 static const double PI = 3.14159265358979323846;
@@ -409,35 +410,20 @@ START_TEST(test_restart_bitwise_bspline_3d) {
 END_TEST
 
 /* ---------------------------------------------------------- allocation */
-static atomic_long allocations; /* calls to the hook's malloc */
-
-static void *counting_malloc(size_t size, void *user) {
-  (void)user;
-  atomic_fetch_add(&allocations, 1);
-  return malloc(size);
-}
-
-static void counting_free(void *pointer, void *user) {
-  (void)user;
-  free(pointer);
-}
-
 /* _i: shape (_i % 2), scheme (_i / 2 % 3), workers (_i / 6 + 1); APIC
  * (its affine arrays too). The bar's faces stay where they are and its
  * points within their blocks' reach, so after warm-up the grid keeps its
  * blocks and every work array its size. */
 START_TEST(test_no_allocation_bspline_3d) {
-  gm_allocator allocator = {sizeof(gm_allocator), counting_malloc,
-                            counting_free, NULL};
-  ck_assert_int_eq(gm_set_allocator(&allocator), GM_OK);
+  test_install_counting_allocator();
   gm_shape shape = shape_of(_i);
   gm_update_scheme scheme = (gm_update_scheme)(_i / 2 % 3);
   gm_domain *domain =
       bar_3d(shape, scheme, GM_TRANSFER_APIC, _i / 6 + 1, JITTER);
   run(domain, 5);
-  long before = atomic_load(&allocations);
+  long before = atomic_load(&test_allocations);
   run(domain, 30);
-  long after = atomic_load(&allocations);
+  long after = atomic_load(&test_allocations);
   gm_domain_destroy(domain);
   ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
   ck_assert_msg(after == before,

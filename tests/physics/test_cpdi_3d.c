@@ -31,6 +31,7 @@
 #include "core/domain.h" /* white box: the rotated F of the granular case */
 #include "shapes/shapes.h"
 
+#include "test_counting_allocator.h"
 #include "test_random.h"
 #include "test_util.h"
 
@@ -534,32 +535,17 @@ START_TEST(test_restart_bitwise_cpdi_3d) {
 }
 END_TEST
 
-static atomic_long allocations; /* calls to the hook's malloc */
-
-static void *counting_malloc(size_t size, void *user) {
-  (void)user;
-  atomic_fetch_add(&allocations, 1);
-  return malloc(size);
-}
-
-static void counting_free(void *pointer, void *user) {
-  (void)user;
-  free(pointer);
-}
-
 /* _i: scheme (_i % 3), workers (_i / 3 + 1). The bar keeps its points
  * within their blocks' reach, so after warm-up the grid keeps its blocks
  * and every work array its size. */
 START_TEST(test_no_allocation_cpdi_3d) {
-  gm_allocator allocator = {sizeof(gm_allocator), counting_malloc,
-                            counting_free, NULL};
-  ck_assert_int_eq(gm_set_allocator(&allocator), GM_OK);
+  test_install_counting_allocator();
   gm_update_scheme scheme = (gm_update_scheme)(_i % 3);
   gm_domain *domain = block(scheme, _i / 3 + 1);
   run(domain, 5);
-  long before = atomic_load(&allocations);
+  long before = atomic_load(&test_allocations);
   run(domain, 20);
-  long after = atomic_load(&allocations);
+  long after = atomic_load(&test_allocations);
   gm_domain_destroy(domain);
   ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
   ck_assert_msg(after == before, "%s, %d workers: %ld allocations in 20 steps",

@@ -55,6 +55,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "test_counting_allocator.h"
 #include "test_util.h"
 
 static const double YOUNGS_MODULUS = 1e5; /* Pa */
@@ -317,19 +318,6 @@ END_TEST
 
 /* ------------------------------------------------------- allocation */
 
-static atomic_long allocations;
-
-static void *counting_malloc(size_t size, void *user) {
-  (void)user;
-  atomic_fetch_add(&allocations, 1);
-  return malloc(size);
-}
-
-static void counting_free(void *pointer, void *user) {
-  (void)user;
-  free(pointer);
-}
-
 /* _i: shape index * 4 + (workers - 1) * 2 + merged. At rest, a gap of 0.3
  * cell (the supports share nodes, the domains of interaction, 0.0363
  * cell longer than the points' boxes, do not meet: two layers), or 0
@@ -338,23 +326,21 @@ START_TEST(test_no_allocation_after_warm_up) {
   gm_shape shape = SHAPES[_i / 4];
   int workers = 1 + (_i / 2) % 2;
   bool merged = _i % 2;
-  gm_allocator allocator = {sizeof(gm_allocator), counting_malloc,
-                            counting_free, NULL};
-  ck_assert_int_eq(gm_set_allocator(&allocator), GM_OK);
+  test_install_counting_allocator();
   double cell = 0.05; /* m */
   scene s = build(shape, cell, workers, BOTH, 0.0, merged ? 0.0 : 0.3 * cell);
   for (int step = 0; step < 5; step++)
     TEST_ASSERT_OK(s.domain, gm_domain_step(s.domain, TIME_STEP));
-  atomic_store(&allocations, 0);
+  atomic_store(&test_allocations, 0);
   for (int step = 0; step < 20; step++)
     TEST_ASSERT_OK(s.domain, gm_domain_step(s.domain, TIME_STEP));
   gm_granular_summary summary = summary_of(&s);
   ck_assert_uint_eq(summary.component_count, merged ? 1 : 2);
   ck_assert_uint_eq(summary.layer_count, merged ? 1 : 2);
-  ck_assert_msg(atomic_load(&allocations) == 0,
+  ck_assert_msg(atomic_load(&test_allocations) == 0,
                 "%s, %d workers, %s: %ld allocations in 20 steps",
                 test_shape_name(shape), workers, merged ? "merged" : "apart",
-                (long)atomic_load(&allocations));
+                (long)atomic_load(&test_allocations));
   gm_domain_destroy(s.domain);
   ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
 }

@@ -25,6 +25,7 @@
  */
 #define _POSIX_C_SOURCE 200809L /* mkstemp */
 
+#include "test_counting_allocator.h"
 #include "test_util.h"
 
 #include <check.h>
@@ -405,27 +406,8 @@ END_TEST
 
 /* ------------------------------------------------------ allocation */
 
-static atomic_long allocations, releases;
-
-static void *counting_malloc(size_t size, void *user) {
-  (void)user;
-  atomic_fetch_add(&allocations, 1);
-  return malloc(size);
-}
-
-static void counting_free(void *pointer, void *user) {
-  (void)user;
-  if (pointer)
-    atomic_fetch_add(&releases, 1);
-  free(pointer);
-}
-
 START_TEST(test_no_allocation_after_warm_up) {
-  gm_allocator allocator = {sizeof(gm_allocator), counting_malloc,
-                            counting_free, NULL};
-  ck_assert_int_eq(gm_set_allocator(&allocator), GM_OK);
-  atomic_store(&allocations, 0);
-  atomic_store(&releases, 0);
+  test_install_counting_allocator();
   int variant = _i % 3, workers = 1 + _i / 3;
   gm_domain *domain = column(variant, workers, true);
   /* The column spreads, so the grid may grow for a while: warm up over the
@@ -433,16 +415,16 @@ START_TEST(test_no_allocation_after_warm_up) {
   for (int s = 0; s < 5; s++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
   /* A short window: the column spreads by less than a cell in it. */
-  long before = atomic_load(&allocations);
+  long before = atomic_load(&test_allocations);
   for (int s = 0; s < 20; s++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, -1.0));
-  long during = atomic_load(&allocations) - before;
+  long during = atomic_load(&test_allocations) - before;
   ck_assert_msg(during == 0, "%s, %d workers: %ld allocations in 20 steps",
                 variant_name(variant), workers, during);
   gm_domain_destroy(domain);
-  ck_assert_msg(atomic_load(&allocations) == atomic_load(&releases),
+  ck_assert_msg(atomic_load(&test_allocations) == atomic_load(&test_releases),
                 "allocations %ld != frees %ld after destroy",
-                atomic_load(&allocations), atomic_load(&releases));
+                atomic_load(&test_allocations), atomic_load(&test_releases));
   ck_assert_int_eq(gm_set_allocator(NULL), GM_OK);
 }
 END_TEST
