@@ -42,51 +42,56 @@
 
 #include "grid/transfer.h"
 
+#include <stdbool.h>
 #include <stdint.h>
 #include <string.h>
 
 #define NO_CELL SIZE_MAX
 
+/* Two new arrays of count elements of the given sizes in *first and
+ * *second; false, with nothing allocated, when either fails. */
+static bool alloc_pair(size_t count, size_t first_size, size_t second_size,
+                       void **first, void **second) {
+  *first = gm_alloc(count * first_size);
+  *second = gm_alloc(count * second_size);
+  if (*first && *second)
+    return true;
+  gm_free(*first);
+  gm_free(*second);
+  return false;
+}
+
 gm_status gm_volumetric_reserve(gm_domain *domain) {
   if (domain->volumetric != GM_VOLUMETRIC_CELL_MEAN)
     return GM_OK;
   gm_grid *grid = &domain->grid;
+  void *first = NULL, *second = NULL;
   size_t nodes = grid->block_capacity * GM_BLOCK_NODES;
   if (nodes > grid->cell_capacity) { /* scratch: nothing to keep */
-    double *rate_volume = gm_alloc(nodes * sizeof(double));
-    double *volume = gm_alloc(nodes * sizeof(double));
-    if (!rate_volume || !volume) {
-      gm_free(rate_volume);
-      gm_free(volume);
+    if (!alloc_pair(nodes, sizeof(double), sizeof(double), &first, &second))
       return gm_set_error(domain, GM_ERR_NO_MEMORY,
                           "volumetric averaging: out of memory for %zu "
                           "nodes",
                           nodes);
-    }
     gm_free(grid->cell_rate_volume);
     gm_free(grid->cell_volume);
-    grid->cell_rate_volume = rate_volume;
-    grid->cell_volume = volume;
+    grid->cell_rate_volume = first;
+    grid->cell_volume = second;
     grid->cell_capacity = nodes;
   }
   /* The points' capacity, not their count: a scene that gains points
    * (sources) reallocates as rarely as the points' own arrays. */
   size_t points = domain->points.capacity;
   if (points > grid->point_capacity) {
-    double *rate = gm_alloc(points * sizeof(double));
-    size_t *cell = gm_alloc(points * sizeof(size_t));
-    if (!rate || !cell) {
-      gm_free(rate);
-      gm_free(cell);
+    if (!alloc_pair(points, sizeof(double), sizeof(size_t), &first, &second))
       return gm_set_error(domain, GM_ERR_NO_MEMORY,
                           "volumetric averaging: out of memory for %zu "
                           "points",
                           points);
-    }
     gm_free(grid->point_rate);
     gm_free(grid->point_cell);
-    grid->point_rate = rate;
-    grid->point_cell = cell;
+    grid->point_rate = first;
+    grid->point_cell = second;
     grid->point_capacity = points;
   }
   return GM_OK;
