@@ -60,9 +60,10 @@ int gm_gap_plane_count(const gm_domain *domain) {
 /* A plane whose gaps are measured: a point on it and its unit normal
  * into the material's side. */
 int gm_centre_gap_plane_count(const gm_domain *domain) {
-  if (domain->dim == 3) /* the planar walls of the wide shapes only: the 3D
-                           faces have no centre-gap rule (walls_3d.c) */
-    return domain->def.shape == GM_SHAPE_LINEAR ? 0 : domain->wall_count;
+  if (domain->dim == 3) /* the planar walls, linear MPM's too (walls_3d.c,
+                           oblique planes); the 3D faces have no
+                           centre-gap rule */
+    return domain->wall_count;
   return domain->def.shape == GM_SHAPE_LINEAR ? domain->wall_count
                                               : gm_gap_plane_count(domain);
 }

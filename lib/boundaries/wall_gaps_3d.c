@@ -21,12 +21,13 @@
  * there (grid_update_3d.c). A face acts on its face and ghost nodes only,
  * which a support reaches only from points less than a cell in front of it.
  *
- * With the wide shapes (uGIMP, cpGIMP, CPDI) each node also gets, per
- * planar wall, the smallest distance from the wall to the centre of a
- * point it carries (grid->wall_centre_gap), as in 2D (wall_gaps.c): a
- * wide support reaches nodes in front of the ones the wall's contact
- * acts on, and walls_3d.c keeps those from carrying a point's centre past
- * the wall. The box faces get no centre gap in 3D (grid_update_3d.c).
+ * Each node also gets, per planar wall, the smallest distance from the
+ * wall to the centre of a point it carries (grid->wall_centre_gap), as in
+ * 2D (wall_gaps.c): a wide support (uGIMP, cpGIMP, CPDI), and a linear
+ * tent where the plane is oblique, reaches nodes in front of the ones the
+ * wall's contact acts on, and walls_3d.c keeps those from carrying a
+ * point's centre past the wall. The box faces get no centre gap in 3D
+ * (grid_update_3d.c).
  *
  * Minima do not depend on the order they are taken in, and the blocks are
  * visited colour by colour as in p2g_3d.c (8 colours), so the result is
@@ -172,7 +173,7 @@ static bool point_support_3d(const gm_domain *domain, const double x[3],
 }
 
 /* The distances of one point (m): to its domain per gap plane, to its
- * centre per planar wall (wide shapes; centres = 0 otherwise). */
+ * centre per planar wall. */
 typedef struct point_gaps_3d {
   double distance[GM_MAX_WALLS + 6];
   double centre[GM_MAX_WALLS];
@@ -187,7 +188,7 @@ static void lower_node_gaps(gm_grid *grid, const uint32_t *links,
   for (int w = 0; w < pg->planes; w++)
     gap[w] = pg->distance[w] < gap[w] ? pg->distance[w] : gap[w];
   if (pg->centres == 0)
-    return; /* linear: no centre gaps (the array may be NULL) */
+    return; /* no walls: no centre gaps (the array may be NULL) */
   double *centre_gap = grid->wall_centre_gap + node * (size_t)pg->centres;
   for (int w = 0; w < pg->centres; w++)
     centre_gap[w] =
@@ -227,7 +228,7 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
   gm_grid *grid = &domain->grid;
   point_gaps_3d pg;
   pg.planes = ctx->plane_count;
-  pg.centres = gm_centre_gap_plane_count(domain); /* the walls, or 0 */
+  pg.centres = gm_centre_gap_plane_count(domain); /* the walls */
   double h = domain->def.cell_size;               /* m */
   double x[3] = {current->position[0][p], current->position[1][p],
                  current->position[2][p]}; /* m */
@@ -253,7 +254,7 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
                           : half[k] * fabs(n[k]);
     }
     pg.distance[w] = INFINITY;
-    if (w < pg.centres) /* a planar wall, wide shapes (2D: wall_gaps.c) */
+    if (w < pg.centres) /* a planar wall (2D: wall_gaps.c) */
       pg.centre[w] =
           centre > reach || ctx->no_centre_gap[w] ? INFINITY : centre;
     if (centre > reach)
