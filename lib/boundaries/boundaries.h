@@ -75,8 +75,8 @@ int gm_gap_plane_count(const gm_domain *domain);
 /* Centre-gap records per node (grid->wall_centre_gap): as the gap records
  * with the shapes wider than a tent, the planar walls only with linear
  * shapes, whose faces need no centre gap (grid_update.c); in 3D the
- * planar walls of the wide shapes only (walls_3d.c: the 3D faces have no
- * centre-gap rule), none with linear shapes. */
+ * planar walls only, with every shape (walls_3d.c: linear MPM uses them
+ * on oblique planes only; the 3D faces have no centre-gap rule). */
 int gm_centre_gap_plane_count(const gm_domain *domain);
 /* Slot of box face f (2 axis + side) in a node's gap records; -1 when
  * the face is not measured (open, or a B-spline mirror). */
@@ -139,8 +139,8 @@ bool gm_walls_contact_3d(const gm_domain *domain, const double position[3],
  * one cell by one cell of the plane. Serial, block order. */
 void gm_walls_share_friction_3d(gm_domain *domain, double dt, int mode);
 /* The node gaps to every planar wall and measured box face in 3D
- * (grid->wall_gap, gm_gap_plane_count per node) and, with the wide
- * shapes, the centre gaps to the walls (grid->wall_centre_gap), after the
+ * (grid->wall_gap, gm_gap_plane_count per node) and the centre gaps to
+ * the walls (grid->wall_centre_gap), after the
  * mass P2G (wall_gaps_3d.c). */
 void gm_walls_measure_gaps_3d(gm_domain *domain);
 

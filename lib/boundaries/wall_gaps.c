@@ -67,9 +67,9 @@ int gm_gap_plane_count(const gm_domain *domain) {
 /* A plane whose gaps are measured: a point on it and its unit normal
  * into the material's side. */
 int gm_centre_gap_plane_count(const gm_domain *domain) {
-  if (domain->dim == 3) /* the planar walls of the wide shapes only: the 3D
-                           faces have no centre-gap rule (walls_3d.c) */
-    return domain->def.shape == GM_SHAPE_LINEAR ? 0 : domain->wall_count;
+  /* Linear MPM: the planar walls only (2D: unused; 3D: oblique planes,
+   * walls_3d.c); its box faces need none (a point on a face has no weight
+   * on the node a cell in front). */
   return domain->def.shape == GM_SHAPE_LINEAR ? domain->wall_count
                                               : gm_gap_plane_count(domain);
 }

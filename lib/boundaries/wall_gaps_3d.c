@@ -21,12 +21,20 @@
  * there (grid_update_3d.c). A face acts on its face and ghost nodes only,
  * which a support reaches only from points less than a cell in front of it.
  *
- * With the wide shapes (uGIMP, cpGIMP, CPDI) each node also gets, per
- * planar wall, the smallest distance from the wall to the centre of a
- * point it carries (grid->wall_centre_gap), as in 2D (wall_gaps.c): a
- * wide support reaches nodes in front of the ones the wall's contact
- * acts on, and walls_3d.c keeps those from carrying a point's centre past
- * the wall. The box faces get no centre gap in 3D (grid_update_3d.c).
+ * Each node also gets, per planar wall, the smallest distance from the
+ * wall to the centre of a point it carries (grid->wall_centre_gap), as in
+ * 2D (wall_gaps.c): a wide support (uGIMP, cpGIMP, CPDI), and a linear
+ * tent where the plane is oblique, reaches nodes in front of the ones the
+ * wall's contact acts on, and walls_3d.c keeps those from carrying a
+ * point's centre past the wall. With the wide shapes the measured box
+ * faces get it too, after the walls, from the points whose centres lie
+ * less than a cell from the face (grid_update_3d.c, limit_face_centres_3d:
+ * the face holds only its face and ghost nodes, and a point on it gathers
+ * from the node a cell in front as well), as in 2D. A wall on the plane
+ * of an open box face gets the centre gaps as every wall does (from
+ * 2026-11-28; before, it kept the rule of the frictional floors written
+ * before walls anywhere, and a uGIMP, cpGIMP or CPDI centre on it was
+ * carried out of the grid, failing the step: docs/3d.md).
  *
  * Minima do not depend on the order they are taken in, and the blocks are
  * visited colour by colour as in p2g_3d.c (8 colours), so the result is
@@ -62,38 +70,7 @@ typedef struct gap_3d_context {
   const uint32_t *blocks; /* of the colour being measured */
   gap_plane_3d planes[GM_MAX_WALLS + 6];
   int plane_count; /* gm_gap_plane_count: the walls, then the faces */
-  /* Per wall: no centre gap (it lies on an open box face, below) */
-  bool no_centre_gap[GM_MAX_WALLS];
 } gap_3d_context;
-
-/* Does wall w lie on the plane of an open box face, its normal along that
- * axis into the box (a frictional box face)? Before the walls of the wide
- * shapes were taken anywhere in 3D (2026-11-28) they were taken there
- * only, without the centre-gap rule: a point carried through such a plane
- * leaves the grid and fails the step (GM_ERR_OUT_OF_GRID) instead of
- * passing. Those walls keep that rule, so that their scenes (the floor of
- * examples/column_collapse_3d, tests/physics/test_face_friction_3d.c) give
- * the bits they gave: with the centre gaps the wall's impulse on a block
- * dropped at 1 m/s from 0.037 m onto such a floor moved by up to 1.1e-5
- * of itself in 300 steps (a scratch probe, uGIMP and cpGIMP, three
- * schemes; the same block sliding on it moved by 1e-9). */
-static bool on_open_face(const gm_domain *domain, const gm_wall *wall) {
-  int axis = -1, nonzero = 0;
-  for (int k = 0; k < 3; k++)
-    if (wall->normal[k] != 0.0) {
-      axis = k;
-      nonzero++;
-    }
-  if (nonzero != 1)
-    return false;
-  double h = domain->def.cell_size;            /* m */
-  int side = wall->normal[axis] > 0.0 ? 0 : 1; /* into the box */
-  int64_t node = side ? domain->cells[axis] + GM_GHOST_LAYERS
-                      : (int64_t)GM_GHOST_LAYERS; /* the face's node plane */
-  double face = domain->shape_grid.origin[axis] + (double)node * h; /* m */
-  return fabs(wall->point[axis] - face) <= 1e-6 * h &&
-         domain->def.walls[2 * axis + side] == GM_WALL_OPEN;
-}
 
 /* The walls, then the measured box faces, in gm_gap_face_slot's order. */
 static int list_planes_3d(const gm_domain *domain, gap_plane_3d *planes) {
@@ -172,10 +149,10 @@ static bool point_support_3d(const gm_domain *domain, const double x[3],
 }
 
 /* The distances of one point (m): to its domain per gap plane, to its
- * centre per planar wall (wide shapes; centres = 0 otherwise). */
+ * centre per planar wall. */
 typedef struct point_gaps_3d {
   double distance[GM_MAX_WALLS + 6];
-  double centre[GM_MAX_WALLS];
+  double centre[GM_MAX_WALLS + 6];
   int planes, centres;
 } point_gaps_3d;
 
@@ -189,7 +166,7 @@ static void lower_node_gaps(gm_grid *grid, const uint32_t *links,
   for (int w = 0; w < pg->planes; w++)
     gap[w] = pg->distance[w] < gap[w] ? pg->distance[w] : gap[w];
   if (pg->centres == 0)
-    return; /* linear: no centre gaps (the array may be NULL) */
+    return; /* no walls: no centre gaps (the array may be NULL) */
   double *centre_gap = grid->wall_centre_gap + node * (size_t)pg->centres;
   for (int w = 0; w < pg->centres; w++)
     centre_gap[w] =
@@ -229,7 +206,7 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
   gm_grid *grid = &domain->grid;
   point_gaps_3d pg;
   pg.planes = ctx->plane_count;
-  pg.centres = gm_centre_gap_plane_count(domain); /* the walls, or 0 */
+  pg.centres = gm_centre_gap_plane_count(domain); /* walls (, faces) */
   double h = domain->def.cell_size;               /* m */
   double x[3] = {current->position[0][p], current->position[1][p],
                  current->position[2][p]}; /* m */
@@ -255,9 +232,11 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
                           : half[k] * fabs(n[k]);
     }
     pg.distance[w] = INFINITY;
-    if (w < pg.centres) /* a planar wall, wide shapes (2D: wall_gaps.c) */
-      pg.centre[w] =
-          centre > reach || ctx->no_centre_gap[w] ? INFINITY : centre;
+    /* A planar wall, or with the wide shapes a box face: within a cell
+     * only (2D: wall_gaps.c; a point farther away would need a node
+     * faster than a cell per step to be carried past the face). */
+    if (w < pg.centres)
+      pg.centre[w] = centre > (plane->face ? h : reach) ? INFINITY : centre;
     if (centre > reach)
       continue;
     double gap = centre - half_extent; /* m */
@@ -363,8 +342,6 @@ void gm_walls_measure_gaps_3d(gm_domain *domain) {
   ctx.domain = domain;
   ctx.blocks = NULL;
   ctx.plane_count = list_planes_3d(domain, ctx.planes);
-  for (int w = 0; w < domain->wall_count; w++)
-    ctx.no_centre_gap[w] = on_open_face(domain, &domain->walls[w]);
   for (int colour = 0; colour < GM_BLOCK_COLOURS; colour++) {
     size_t first = grid->color_start[colour];
     ctx.blocks = grid->color_block + first;
