@@ -39,22 +39,13 @@ D/2 and D (Pa)."""
 import math
 import sys
 
-D = 0.3  # m, the example's orifice
-G = 9.81  # m/s^2
+from silo_profile import D, G, read_axis, read_bands
 
 
 def read(path):
-    """Bands {height: [(x, rho, vy, flux), ...]} and the bin width."""
-    bands = {}
-    for line in open(path):
-        if line.startswith(("#", "height")):
-            continue
-        h, x, _, rho, vy, flux, filled, ratio = (
-            float(v) for v in line.split(",")[:8])
-        bands.setdefault(h, []).append((x, rho, vy, flux, filled, ratio))
-    for rows in bands.values():
-        rows.sort()
-    return bands
+    """Bands {height: [(x, rho, vy, flux, filled, ratio), ...]} by x."""
+    return {h: [(r[1], r[3], r[4], r[5], r[6], r[7]) for r in rows]
+            for h, rows in read_bands(path).items()}
 
 
 def crossing(rows, level):
@@ -108,8 +99,7 @@ for height in (0.0, 0.5 * D, D):
 
 
 def axis_row(label, path):
-    rows = [[float(v) for v in line.split(",")]
-            for line in open(path + "_axis.csv") if not line.startswith("y")]
+    rows = read_axis(path)
 
     def at(y, k):  # the bin whose centre is nearest y
         return min(rows, key=lambda r: abs(r[0] - y))[k]

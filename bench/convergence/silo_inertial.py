@@ -21,7 +21,9 @@ for I_1 < I < I_2; both are printed (found here by bisection)."""
 import math
 import sys
 
-D, RHO_S = 0.3, 2650.0
+from silo_profile import D, read_axis, read_bands
+
+RHO_S = 2650.0
 MU_S = math.sin(math.radians(25.0))
 MU_2, I_0 = MU_S + (0.6435 - 0.3819), 0.279
 
@@ -48,16 +50,11 @@ args = sys.argv[2:]
 print(f"# well posed for {I1:.4f} < I < {I2:.4f}; d = {grain} m")
 print("label,band_y,I_max,x_at_max,gammadot_at_max,p_at_max,I_at_x50,x50")
 for label, path in zip(args[0::2], args[1::2]):
-    bands = {}
-    for line in open(path):
-        if line.startswith(("#", "height")):
-            continue
-        v = [float(t) for t in line.split(",")]
-        bands.setdefault(v[0], []).append(v)
+    bands = read_bands(path)
     for h in sorted(bands):
         if h > D + 1e-9:
             continue
-        rows = sorted(bands[h], key=lambda r: r[1])
+        rows = bands[h]
         v_c = -rows[0][4]
         best, x50 = None, None
         for a, b, c in zip(rows, rows[1:], rows[2:]):
@@ -72,8 +69,7 @@ for label, path in zip(args[0::2], args[1::2]):
                     x50 = (i, b[1])
         print(",".join([label, f"{h:g}"] + [f"{v:.4g}" for v in best] +
                        [f"{v:.4g}" for v in (x50 or (0, 0))]))
-    axis = [[float(t) for t in line.split(",")]
-            for line in open(path + "_axis.csv") if not line.startswith("y")]
+    axis = read_axis(path)
     out = []
     for a, b, c in zip(axis, axis[1:], axis[2:]):
         if b[0] > D:

@@ -40,20 +40,7 @@ in cells."""
 import math
 import sys
 
-D = 0.3  # m, the example's orifice
-G = 9.81  # m/s^2
-
-
-def bands(path):
-    out = {}
-    for line in open(path):
-        if line.startswith(("#", "height")):
-            continue
-        v = [float(t) for t in line.split(",")]
-        out.setdefault(v[0], []).append(v)
-    for rows in out.values():
-        rows.sort(key=lambda r: r[1])
-    return out
+from silo_profile import D, G, read_axis, read_bands
 
 
 def edge(rows):
@@ -77,8 +64,7 @@ def edge(rows):
 
 
 def balance(path, top):
-    rows = [[float(t) for t in line.split(",")]
-            for line in open(path + "_axis.csv") if not line.startswith("y")]
+    rows = read_axis(path)
     rows = [r for r in rows if r[2] > 0 and r[0] <= top + 1e-9]
     ke = 0.5 * (rows[0][3] ** 2 - rows[-1][3] ** 2)
     g = G * (rows[-1][0] - rows[0][0])
@@ -100,7 +86,7 @@ print("# part 1: core edge; label,y,v_c,x50,[x,sxy,p,|sxy|/p,mobilised,v]"
       " at x50 then at max |sxy|, then the stress-free mass share in the"
       " centre x < D/12 and at x50 (-1: profile without it)")
 for label, path in runs:
-    b = bands(path)
+    b = read_bands(path)
     for h in sorted(b):
         if 0 < h <= D + 1e-9:
             print(",".join([label, f"{h:g}"] + [f"{v:.4g}" for v in edge(b[h])]))
@@ -119,8 +105,7 @@ print("# part 3: stress-free points (p <= 0) in the axis column x < D/12;"
       "y where the share (mean of two bins) last exceeds 10 % (m),"
       "same in cells")
 for label, path in runs:
-    rows = [[float(t) for t in line.split(",")]
-            for line in open(path + "_axis.csv") if not line.startswith("y")]
+    rows = read_axis(path)
     if len(rows[0]) < 11:
         continue
     low = [r for r in rows if r[0] < D / 2 and r[2] > 0]

@@ -1,7 +1,8 @@
 /*
  * boundaries.h - the boundaries folder: planar walls (walls.c) and their
  * gaps to the material (wall_gaps.c), rigid material points (rigid.c),
- * sources and sinks (sources.c), and what walls and rigid materials report
+ * the box faces' centre-gap rule (face_centres.c), sources and sinks
+ * (sources.c), and what walls and rigid materials report
  * (force_report.c). The conditions are applied node by node from the grid
  * update (grid/grid_update.c), which calls down into this folder. Private
  * to the library.
@@ -166,6 +167,22 @@ bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,
 /* Adds the committed sub-step's wall forces (summed per block in block
  * order) times dt to the impulse of the gm_domain_step call in progress. */
 void gm_walls_add_impulse(gm_domain *domain, double dt);
+
+/* The box faces' centre-gap rule (face_centres.c), for the shapes wider
+ * than a tent: a node with mass at index (node indices, domain->dim of
+ * them) in front of a measured slip or fixed face may approach it by at
+ * most its nearest point centre's distance (centre_gap: the node's
+ * centre-gap records), less the contact tolerance, in dt (s); velocity
+ * (m/s) is changed in place. The face's own nodes are left to the grid
+ * update's face rule. */
+void gm_limit_face_centres(const gm_domain *domain, const double *centre_gap,
+                           const int64_t *index, double dt, double *velocity);
+/* Can the block with lower corner node base (edge nodes a side) hold a
+ * node gm_limit_face_centres acts on? Only with the wide shapes, and only
+ * within reach (nodes: a support's span) of a measured face: a point less
+ * than a cell from the face reaches no farther. */
+bool gm_block_near_faces(const gm_domain *domain, const int64_t *base,
+                         int64_t edge, int64_t reach);
 
 /* Sources and sinks (sources.c). The sources' state before an injection,
  * to undo it when the step then fails. */

@@ -21,7 +21,7 @@
  * They get the centre gap too, from the points whose centres are less
  * than a cell from the face: the face holds only its face and ghost
  * nodes, and a point on it gathered from the node a cell in front as
- * well (grid_update.c, limit_face_centres).
+ * well (face_centres.c, gm_limit_face_centres).
  * The faces of the B-splines are mirrors (bspline_faces.c) and are not
  * measured.
  *

@@ -28,7 +28,7 @@
  * wall's contact acts on, and walls_3d.c keeps those from carrying a
  * point's centre past the wall. With the wide shapes the measured box
  * faces get it too, after the walls, from the points whose centres lie
- * less than a cell from the face (grid_update_3d.c, limit_face_centres_3d:
+ * less than a cell from the face (face_centres.c, gm_limit_face_centres:
  * the face holds only its face and ghost nodes, and a point on it gathers
  * from the node a cell in front as well), as in 2D. A wall on the plane
  * of an open box face gets the centre gaps as every wall does (from

@@ -144,72 +144,6 @@ static void constrain_faces(const gm_domain *domain, size_t node, int64_t ix,
     held[0] = true;
 }
 
-/* The box faces against the point centres a node carries (wall_gaps.c,
- * the centre gaps of the points less than a cell from a face): a node
- * that is not a face or ghost node of a face may carry a point toward it
- * by at most the distance of the nearest point centre, less the contact
- * tolerance, in the step (velocity, changed in place). The face holds its
- * face and ghost nodes only, and with the shapes wider than a tent
- * (uGIMP, cpGIMP, CPDI; the B-splines' faces are mirrors) a point on the
- * face gathers from the node a cell in front too (uGIMP, 2 x 2 points per
- * cell: 1/16 of its velocity): the uGIMP granular slot silo of
- * examples/papers/wieckowski1999_silo_discharge.c (cell 0.0125 m) lost a
- * point through its slip symmetry face at x = 0 (x = -7.6e-7 m at
- * t = 0.619 s, just after the orifice opened), its face and ghost nodes
- * held at zero and the node in front moving toward the face with the
- * flow converging on the axis (tests/physics/test_face_gaps.c). This is
- * the planar walls' centre-gap rule (walls.c, gm_walls_contact) for the
- * box faces, normal component only: such a node does not touch the face,
- * so a fixed face holds no tangential component of it. */
-static void limit_face_centres(const gm_domain *domain, size_t node, int64_t ix,
-                               int64_t iy, double dt, double velocity[2]) {
-  const gm_grid *grid = &domain->grid;
-  const double *centre_gap =
-      grid->wall_centre_gap +
-      gm_gap_node(grid, node) *
-          (size_t)gm_centre_gap_plane_count(domain); /* wide: all planes */
-  double tolerance = GM_CONTACT_TOLERANCE * domain->def.cell_size; /* m */
-  int64_t index[2] = {ix, iy};
-  for (int axis = 0; axis < domain->dim; axis++) {
-    int64_t upper = domain->cells[axis] + GM_GHOST_LAYERS; /* box face node */
-    for (int side = 0; side < 2; side++) {
-      int slot = gm_gap_face_slot(domain, 2 * axis + side);
-      if (slot < 0 || !(centre_gap[slot] < INFINITY))
-        continue;
-      if (side ? index[axis] >= upper : index[axis] <= GM_GHOST_LAYERS)
-        continue; /* the face's own nodes: constrain_faces */
-      double inward = side ? -1.0 : 1.0; /* the face's normal */
-      double approach = centre_gap[slot] > tolerance
-                            ? (centre_gap[slot] - tolerance) / dt
-                            : 0.0; /* m/s */
-      if (inward * velocity[axis] < -approach)
-        velocity[axis] = -inward * approach;
-    }
-  }
-}
-
-/* Can block (base_x, base_y) hold a node that limit_face_centres acts on?
- * Only with the wide shapes, and only within a support's span of a
- * measured face: a point less than a cell from the face reaches no
- * farther. */
-static bool block_near_faces(const gm_domain *domain, int64_t base_x,
-                             int64_t base_y, int64_t edge) {
-  if (domain->def.shape == GM_SHAPE_LINEAR)
-    return false;
-  int64_t base[2] = {base_x, base_y};
-  int64_t reach = GM_SUPPORT_MAX_SPAN; /* nodes */
-  for (int axis = 0; axis < domain->dim; axis++) {
-    int64_t upper = domain->cells[axis] + GM_GHOST_LAYERS; /* box face node */
-    if (gm_gap_face_slot(domain, 2 * axis) >= 0 &&
-        base[axis] <= GM_GHOST_LAYERS + reach)
-      return true;
-    if (gm_gap_face_slot(domain, 2 * axis + 1) >= 0 &&
-        base[axis] + edge - 1 >= upper - reach)
-      return true;
-  }
-  return false;
-}
-
 /* The planar walls (walls.c) on one node with mass; the acceleration is
  * made consistent with the constrained velocity again. */
 static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
@@ -308,7 +242,8 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
         (dim > 1 && (base_y <= GM_GHOST_LAYERS || base_y + edge - 1 >= face_y));
     bool near_walls =
         domain->wall_count > 0 && gm_walls_near_block(domain, base_x, base_y);
-    bool near_faces = block_near_faces(domain, base_x, base_y, edge);
+    bool near_faces =
+        gm_block_near_faces(domain, base, edge, GM_SUPPORT_MAX_SPAN);
     double *block_force = NULL;
     if (domain->wall_count > 0) { /* this block's share of the wall forces */
       block_force = grid->wall_force + b * (size_t)grid->wall_stride * 2;
@@ -359,8 +294,15 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
                               dim > 1 ? grid->momentum[1][node] : 0.0};
         if (on_face)
           constrain_faces(domain, node, ix, iy, dt, velocity, held);
-        if (centres)
-          limit_face_centres(domain, node, ix, iy, dt, velocity);
+        if (centres) {
+          int64_t index[2] = {ix, iy};
+          gm_limit_face_centres(domain,
+                                grid->wall_centre_gap +
+                                    gm_gap_node(grid, node) *
+                                        (size_t)gm_centre_gap_plane_count(
+                                            domain), /* wide: all planes */
+                                index, dt, velocity);
+        }
         for (int k = 0; k < dim; k++) {
           if (held[k]) {
             grid->momentum[k][node] = 0.0;

@@ -21,7 +21,7 @@
  * condition changes a velocity the acceleration becomes (v_new - v_old)/dt,
  * so particle (FLIP) and nodal velocities agree on the faces. With the
  * wide shapes the nodes in front of a measured face carry a point centre
- * at most to it (limit_face_centres_3d, the 2D faces' rule).
+ * at most to it (boundaries/face_centres.c, the 2D faces' rule).
  *
  * Planar walls of any normal act after the faces, on the nodes near them
  * (walls_3d.c: the contact and Coulomb friction of walls.c, with the
@@ -128,65 +128,6 @@ static void constrain_faces_3d(const gm_domain *domain, size_t node,
   }
 }
 
-/* The wide shapes' centre-gap rule of the 2D faces (grid_update.c,
- * limit_face_centres) in 3D: a slip or fixed face holds only its face and
- * ghost nodes, but a uGIMP, cpGIMP or CPDI point on the face gathers from
- * the node a cell in front as well (uGIMP with 2 points per cell: 1/16 of
- * its velocity per axis), which moving toward the face carried the point
- * out of the box (docs/3d.md, "Linear MPM through oblique walls, and the
- * 3D box faces' centre gaps": a block of uGIMP points moving onto a slip
- * face at 1 m/s failed its first step with a point at x = -1.25e-5 m). A
- * node in front of a face with mass may approach the face by at most the
- * distance of the nearest point centre it carries (wall_gaps_3d.c, points
- * less than a cell from the face), less the contact tolerance, in the
- * step. The face's own nodes are constrain_faces_3d's. */
-static void limit_face_centres_3d(const gm_domain *domain, size_t node,
-                                  const int64_t index[3], double dt,
-                                  double velocity[3]) {
-  const gm_grid *grid = &domain->grid;
-  const double *centre_gap =
-      grid->wall_centre_gap +
-      node * (size_t)gm_centre_gap_plane_count(domain); /* wide: all planes */
-  double tolerance = GM_CONTACT_TOLERANCE * domain->def.cell_size; /* m */
-  for (int axis = 0; axis < 3; axis++) {
-    int64_t upper = domain->cells[axis] + GM_GHOST_LAYERS; /* face node */
-    for (int side = 0; side < 2; side++) {
-      int slot = gm_gap_face_slot(domain, 2 * axis + side);
-      if (slot < 0 || !(centre_gap[slot] < INFINITY))
-        continue;
-      if (side ? index[axis] >= upper : index[axis] <= GM_GHOST_LAYERS)
-        continue; /* the face's own nodes: constrain_faces_3d */
-      double inward = side ? -1.0 : 1.0; /* the face's normal */
-      double approach = centre_gap[slot] > tolerance
-                            ? (centre_gap[slot] - tolerance) / dt
-                            : 0.0; /* m/s */
-      if (inward * velocity[axis] < -approach)
-        velocity[axis] = -inward * approach;
-    }
-  }
-}
-
-/* Can the block at base (node indices) hold a node that
- * limit_face_centres_3d acts on? Only with the wide shapes, and only
- * within a support's span of a measured face: a point less than a cell
- * from the face reaches no farther. */
-static bool block_near_faces_3d(const gm_domain *domain,
-                                const int64_t base[3]) {
-  if (domain->def.shape == GM_SHAPE_LINEAR)
-    return false;
-  int64_t reach = GM_SUPPORT_3D_MAX_SPAN; /* nodes */
-  for (int axis = 0; axis < 3; axis++) {
-    int64_t upper = domain->cells[axis] + GM_GHOST_LAYERS; /* face node */
-    if (gm_gap_face_slot(domain, 2 * axis) >= 0 &&
-        base[axis] <= GM_GHOST_LAYERS + reach)
-      return true;
-    if (gm_gap_face_slot(domain, 2 * axis + 1) >= 0 &&
-        base[axis] + GM_BLOCK_EDGE_3D - 1 >= upper - reach)
-      return true;
-  }
-  return false;
-}
-
 static void update_blocks_3d(void *context, size_t begin, size_t end,
                              int worker) {
   (void)worker;
@@ -207,7 +148,8 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
     }
     bool near_walls =
         domain->wall_count > 0 && gm_walls_near_block_3d(domain, base);
-    bool near_faces = block_near_faces_3d(domain, base);
+    bool near_faces = gm_block_near_faces(domain, base, GM_BLOCK_EDGE_3D,
+                                          GM_SUPPORT_3D_MAX_SPAN);
     double *block_force = NULL;
     if (domain->wall_count > 0) { /* this block's share of the wall forces */
       block_force = grid->wall_force + b * (size_t)grid->wall_stride * 3;
@@ -241,7 +183,11 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
                             grid->momentum[2][node]}; /* m/s */
       constrain_faces_3d(domain, node, index, dt, velocity, held);
       if (near_faces && mass > 0.0)
-        limit_face_centres_3d(domain, node, index, dt, velocity);
+        gm_limit_face_centres(domain,
+                              grid->wall_centre_gap +
+                                  node * (size_t)gm_centre_gap_plane_count(
+                                             domain), /* wide: all planes */
+                              index, dt, velocity);
       for (int k = 0; k < 3; k++) {
         if (held[k]) {
           grid->momentum[k][node] = 0.0;

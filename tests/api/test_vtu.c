@@ -774,12 +774,7 @@ START_TEST(test_domains_1d_lines) {
   int material = test_add_elastic(domain, 1e6, 0.3, 1000.0);
   const double position[POINT_COUNT] = {0.3, 0.55, 1.0, 1.4, 1.7};  /* m */
   const double volume[POINT_COUNT] = {0.1, 0.05, 0.2, 0.125, 0.15}; /* m */
-  gm_points_def points_def = gm_points_def_default();
-  points_def.count = POINT_COUNT;
-  points_def.material = material;
-  points_def.position = position;
-  points_def.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points_def, NULL));
+  test_add_points(domain, material, POINT_COUNT, position, NULL, volume);
   char path[512];
   snprintf(path, sizeof path, "%s/lines.vtu", temp_dir);
   TEST_ASSERT_OK(domain, gm_domain_write_domains_vtu(domain, path));

@@ -88,6 +88,23 @@ static inline int test_add_elastic(gm_domain *domain, double youngs_modulus,
   return material;
 }
 
+/* Adds count points of `material` at position (m, count * dim) with
+ * velocity (m/s, count * dim; NULL: at rest) and volume (per point, in
+ * gm_points_def's units: m^2 per unit thickness in plane strain, m^3 in
+ * 3D); fails the test if the library refuses them. */
+static inline void test_add_points(gm_domain *domain, int material,
+                                   size_t count, const double *position,
+                                   const double *velocity,
+                                   const double *volume) {
+  gm_points_def points = gm_points_def_default();
+  points.count = count;
+  points.material = material;
+  points.position = position;
+  points.velocity = velocity;
+  points.volume = volume;
+  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+}
+
 /* Fills the box [lower, upper] (m) with points of `material` at rest, n per
  * cell per axis; returns the number of points added, *first_id the first id
  * (may be NULL). Unused components of lower/upper are ignored by 1D/2D. */

@@ -440,12 +440,7 @@ static gm_domain *plane_or_solid_bar(bool solid) {
         position[dim * p + 2] = 0.5 * BAR_CELL;
       volume[p] = 0.25 * (solid ? BAR_CELL : 1.0); /* m^3 (per m in 2D) */
     }
-  gm_points_def points = gm_points_def_default();
-  points.count = count;
-  points.material = material;
-  points.position = position;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, count, position, NULL, volume);
   free(position);
   free(volume);
   set_mode_one_velocity(domain);

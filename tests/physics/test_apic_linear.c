@@ -205,13 +205,7 @@ static gm_domain *soft_disc(int dim, gm_shape shape, gm_update_scheme scheme) {
         }
         volume[count++] = pow(CELL / 2, dim);
       }
-  gm_points_def points = gm_points_def_default();
-  points.count = count;
-  points.material = material;
-  points.position = position;
-  points.velocity = velocity;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, count, position, velocity, volume);
   free(position);
   free(velocity);
   free(volume);

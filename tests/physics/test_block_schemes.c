@@ -154,12 +154,7 @@ START_TEST(test_falling_block) {
       position[2 * p + 1] = floor_y + gap + (j + 0.5) * spacing;
       volume[p] = spacing * spacing;
     }
-  gm_points_def points = gm_points_def_default();
-  points.count = SIDE * SIDE;
-  points.material = material;
-  points.position = position;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, SIDE * SIDE, position, NULL, volume);
   double wave = sqrt(youngs * (1.0 - POISSON) /
                      ((1.0 + POISSON) * (1.0 - 2.0 * POISSON)) / DENSITY);
   double dt = 0.5 * CELL / wave; /* s */

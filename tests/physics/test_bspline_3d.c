@@ -213,13 +213,7 @@ static gm_domain *ball(gm_shape shape, gm_update_scheme scheme,
         }
         volume[count++] = pow(BALL_CELL / 2, 3); /* m^3 */
       }
-  gm_points_def points = gm_points_def_default();
-  points.count = count;
-  points.material = material;
-  points.position = position;
-  points.velocity = velocity;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, count, position, velocity, volume);
   free(position);
   free(velocity);
   free(volume);

@@ -169,13 +169,7 @@ START_TEST(test_no_centre_through_face) {
       velocity[2 * p + 1] = 0.0;
       volume[p] = spacing * spacing;
     }
-  gm_points_def points = gm_points_def_default();
-  points.count = COLUMNS * ROWS;
-  points.material = material;
-  points.position = position;
-  points.velocity = velocity;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, COLUMNS * ROWS, position, velocity, volume);
   const char *name = test_shape_name(def.shape);
   const char *transfer = def.transfer == GM_TRANSFER_APIC ? "APIC" : "FLIP";
   for (int k = 1; k <= 10; k++) {

@@ -67,12 +67,7 @@ static void add_block(gm_domain *domain, int material, double gap) {
         position[3 * p + 2] = gap + (k + 0.5) * spacing;
         volume[p] = spacing * spacing * spacing;
       }
-  gm_points_def points = gm_points_def_default();
-  points.count = count;
-  points.material = material;
-  points.position = position;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, count, position, NULL, volume);
   free(position);
   free(volume);
 }
@@ -265,13 +260,7 @@ START_TEST(test_no_centre_through_face_3d) {
         velocity[3 * p + 1] = velocity[3 * p + 2] = 0.0;
         volume[p] = spacing * spacing * spacing;
       }
-  gm_points_def points = gm_points_def_default();
-  points.count = COUNT;
-  points.material = material;
-  points.position = position;
-  points.velocity = velocity;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, COUNT, position, velocity, volume);
   const char *name = test_shape_name(c->shape);
   const char *transfer = c->transfer == GM_TRANSFER_APIC ? "APIC" : "FLIP";
   const char *face = c->face == GM_WALL_FIXED  ? "fixed"

@@ -156,13 +156,7 @@ static gm_domain *create_avalanche(gm_family family, int refuse) {
     }
     volume[p] = spacing * spacing;
   }
-  gm_points_def points = gm_points_def_default();
-  points.count = COUNT;
-  points.material = material;
-  points.position = position;
-  points.velocity = velocity;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, COUNT, position, velocity, volume);
   return domain;
 }
 

@@ -100,13 +100,7 @@ START_TEST(test_no_centre_through_floor) {
       velocity[2 * p + 1] = -SPEED;
       volume[p] = spacing * spacing;
     }
-  gm_points_def points = gm_points_def_default();
-  points.count = COLUMNS * ROWS;
-  points.material = material;
-  points.position = position;
-  points.velocity = velocity;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, COLUMNS * ROWS, position, velocity, volume);
   for (int k = 1; k <= 10; k++) {
     TEST_ASSERT_OK(domain,
                    gm_domain_advance(domain, 0.002 * k, 0.0, NULL, NULL));
@@ -202,13 +196,7 @@ START_TEST(test_no_centre_through_oblique_wall) {
         }
         volume[p] = spacing * spacing * spacing;
       }
-  gm_points_def points = gm_points_def_default();
-  points.count = COUNT;
-  points.material = material;
-  points.position = position;
-  points.velocity = velocity;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, COUNT, position, velocity, volume);
   for (int k = 1; k <= 10; k++) {
     TEST_ASSERT_OK(domain,
                    gm_domain_advance(domain, 0.002 * k, 0.0, NULL, NULL));

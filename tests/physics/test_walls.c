@@ -134,13 +134,7 @@ START_TEST(test_single_point_stops_at_fixed_wall) {
   int material = test_add_elastic(domain, 1e4, 0.3, 1000.0);
   const double position[2] = {0.5 * CELL, 0.55}, velocity[2] = {-SPEED, 0.0};
   const double volume = 0.25 * CELL * CELL; /* m^2 per m */
-  gm_points_def point = gm_points_def_default();
-  point.count = 1;
-  point.material = material;
-  point.position = position;
-  point.velocity = velocity;
-  point.volume = &volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &point, NULL));
+  test_add_points(domain, material, 1, position, velocity, &volume);
   for (int step = 0; step < STEPS; step++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, DT));
   double x = smallest_x(domain), v[2];

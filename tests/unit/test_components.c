@@ -815,13 +815,7 @@ static gm_domain *rain_domain(gm_family family, int workers) {
       velocity[2 * p + 1] = lcg_between(-1.0, 1.0);
       volume[p] = 0.025 * 0.025;
     }
-  gm_points_def drops = gm_points_def_default();
-  drops.count = DROPS;
-  drops.material = material;
-  drops.position = position;
-  drops.velocity = velocity;
-  drops.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &drops, NULL));
+  test_add_points(domain, material, DROPS, position, velocity, volume);
   return domain;
 }
 

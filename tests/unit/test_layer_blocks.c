@@ -64,13 +64,7 @@ static gm_domain *build(int dim, gm_family family, int workers,
     }
     volume[p] = dim == 3 ? cell * cell * cell / 8 : cell * cell / 4;
   }
-  gm_points_def points = gm_points_def_default();
-  points.count = 3;
-  points.material = material;
-  points.position = position;
-  points.velocity = velocity;
-  points.volume = volume;
-  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+  test_add_points(domain, material, 3, position, velocity, volume);
   return domain;
 }
 
