@@ -82,6 +82,11 @@ int gm_centre_gap_plane_count(const gm_domain *domain);
 /* Slot of box face f (2 axis + side) in a node's gap records; -1 when
  * the face is not measured (open, or a B-spline mirror). */
 int gm_gap_face_slot(const gm_domain *domain, int face);
+/* Cells (less GM_ON_ROW) in front of the wall within which a node's linear
+ * tent reaches behind an oblique plane, |n_x| + |n_y| + |n_z|: linear MPM's
+ * nodes beyond GM_WALL_REACH but within it get the centre-gap bound, in 2D
+ * (gm_walls_contact) and 3D (gm_walls_contact_3d) alike (walls.c). */
+double gm_wall_tent_reach(const gm_wall *wall);
 /* Distance (cells) in front of a wall within which a node shares the wall
  * (see gm_walls_contact): one cell less GM_ON_ROW, so that the next node
  * row in front of a wall on a node row stays out. A wall placed a rounding

@@ -227,6 +227,34 @@ static bool contact_one(const gm_wall *wall, double velocity[2],
   return true;
 }
 
+/* Cells (less GM_ON_ROW) in front of the plane within which a node's
+ * linear tent, the square (2D) or cube (3D) of half edge h about it,
+ * reaches behind the plane: |n_x| + |n_y| + |n_z| (n_z = 0 in 2D), 1 for
+ * a normal along an axis, up to sqrt(2) in 2D and sqrt(3) in 3D for an
+ * oblique one. The contact's sharing nodes are those within one cell
+ * (GM_WALL_REACH); a node between one cell and this reach is a corner of
+ * a cell that the plane cuts, so it carries points whose centres lie on
+ * the plane, with weight, and moving toward the wall unchecked it carried
+ * them through it: in 3D with the normal (0.25, 0.35, 1) such a node lies
+ * up to 1.47 cells in front, and a block of linear points falling onto
+ * that plane at 1 m/s had a centre 3.3e-5 m behind it within 2 ms; in 2D
+ * with the normal (0.6, -1) 4.4e-5 m (FLIP) and 3.9e-5 m (APIC) at the
+ * first 2 ms (tests/physics/test_wall_watertight.c; docs/3d.md, "Linear
+ * MPM through oblique walls"). Such a node gets the wide shapes'
+ * centre-gap bound: it may approach the wall by at most the distance of
+ * the nearest point centre it carries, less the contact tolerance, in the
+ * step (a point's motion is a convex combination of its nodes'). A node
+ * d >= h (|n_x| + |n_y| + |n_z|) in front carries a point c from the
+ * plane with weight at most prod_k min(1, c / (|n_k| h)) (the point lies
+ * within c of the cell's far corner along n), so it would have to move
+ * more than c toward the wall in the step to carry that point through:
+ * those nodes stay free (a centre-gap bound on every linear node changed
+ * a sliding block's normal force by 2.7 %, gm_walls_contact). */
+double gm_wall_tent_reach(const gm_wall *wall) {
+  return fabs(wall->normal[0]) + fabs(wall->normal[1]) + fabs(wall->normal[2]) -
+         GM_ON_ROW;
+}
+
 bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
                       double velocity[2], const double *gap,
                       const double *centre_gap, double dt, bool friction,
@@ -274,11 +302,12 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
      * (the velocity a point moves with is a weighted mean of its nodes',
      * so no point centre reaches the wall when none of its nodes carries
      * it there). Where it binds, the wall's impulse and Coulomb friction
-     * are those of the contact above. Linear MPM does not need it (a
-     * point at c from the plane has weight c/h on such a node, so it
-     * could cross only with a node faster than a cell per step) and does
-     * not get it: there it bound only at nearly empty nodes with the
-     * spurious velocities of USL's cell crossing (tens to thousands of
+     * are those of the contact above. Linear MPM does not need it for a
+     * wall along a grid axis (a point at c from the plane has weight c/h
+     * on such a node, so it could cross only with a node faster than a
+     * cell per step) and gets it only in the band of an oblique plane
+     * (gm_wall_tent_reach): on every node it bound only at nearly empty nodes
+     * with the spurious velocities of USL's cell crossing (tens to thousands of
      * m/s), and changed the mean normal force of a sliding block in
      * tests/physics/test_friction.c by 2.7 %. */
     bool shares = distance < reach; /* this node shares the wall */
@@ -294,7 +323,13 @@ bool gm_walls_contact(const gm_domain *domain, const double node_position[2],
      * measured further. */
     bool strip_only =
         !wide && !shares && distance < GM_STRIP_REACH * domain->def.cell_size;
-    if (!shares && (!wide || !centre_gap || !(centre_gap[w] < INFINITY))) {
+    /* A node in front that carries a point centre near the wall: with the
+     * wide shapes every such node (above); with linear ones those whose
+     * tent still reaches behind an oblique plane (gm_wall_tent_reach). */
+    bool by_centre =
+        !shares && centre_gap && centre_gap[w] < INFINITY &&
+        (wide || distance < gm_wall_tent_reach(wall) * domain->def.cell_size);
+    if (!shares && !by_centre) {
       if (strip_only) {
         sharing++;
         shared_wall = w;

@@ -31,8 +31,8 @@
  * that shares the wall does, and joins its patch. Their gaps are measured
  * over their GIMP or CPDI supports (wall_gaps_3d.c). Linear MPM gets the
  * same bound on the nodes between one cell and |n_x| + |n_y| + |n_z|
- * cells in front of an oblique plane (tent_reach), whose tents still
- * reach behind it; for a plane normal to an axis there are none, and its
+ * cells in front of an oblique plane (gm_wall_tent_reach, walls.c), whose tents
+ * still reach behind it; for a plane normal to an axis there are none, and its
  * contact is the 2D one.
  *
  * Patches: a node at x has plane coordinates s = (x - p).t1 and
@@ -197,33 +197,6 @@ static bool contact_one_3d(const gm_wall *wall, double t[2][3],
   return true;
 }
 
-/* Cells (less GM_ON_ROW) in front of the plane within which a node's
- * linear tent, the cube of half edge h about it, reaches behind the plane:
- * h (|n_x| + |n_y| + |n_z|), 1 for a normal along an axis and up to
- * sqrt(3) for an oblique one. The contact's sharing nodes are those within
- * one cell (GM_WALL_REACH, the 2D rule); a node between one cell and this
- * reach is a corner of a cell that the plane cuts, so it carries points
- * whose centres lie on the plane, with weight, and moving toward the wall
- * unchecked it carried them through it: with the normal (0.25, 0.35, 1)
- * such a node lies up to 1.47 cells in front, and a block of linear
- * points falling onto that plane at 1 m/s had a centre 3.3e-5 m behind it
- * within 2 ms (tests/physics/test_wall_watertight.c; docs/3d.md, "Linear
- * MPM through oblique walls, and the 3D box faces' centre gaps"). Such
- * a node gets the wide shapes' centre-gap bound: it may approach the wall
- * by at most the distance of the nearest point centre it carries, less
- * the contact tolerance, in the step (a point's motion is a convex
- * combination of its 8 nodes'). A node d >= h (|n_x| + |n_y| + |n_z|) in
- * front carries a point c from the plane with weight at most
- * prod_k min(1, c / (|n_k| h)) (the point lies within c of the cell's far
- * corner along n), so it would have to move more than c toward the wall
- * in the step to carry that point through: those nodes stay free, as the
- * 2D rule leaves linear MPM's nodes (walls.c: a centre-gap bound on every
- * linear node changed a sliding block's normal force by 2.7 %). */
-static double tent_reach(const gm_wall *wall) {
-  return fabs(wall->normal[0]) + fabs(wall->normal[1]) + fabs(wall->normal[2]) -
-         GM_ON_ROW;
-}
-
 bool gm_walls_contact_3d(const gm_domain *domain, const double position[3],
                          double velocity[3], const double *gap,
                          const double *centre_gap, double dt, bool friction,
@@ -256,10 +229,10 @@ bool gm_walls_contact_3d(const gm_domain *domain, const double position[3],
      * (centre_gap): its approach is bounded by that centre's distance, as
      * in 2D (walls.c). With the wide shapes every such node; with linear
      * ones those whose tent still reaches behind an oblique plane
-     * (tent_reach, below). */
+     * (gm_wall_tent_reach, walls.c). */
     bool by_centre = !shares && centre_gap && centre_gap[w] < INFINITY &&
                      (domain->def.shape != GM_SHAPE_LINEAR ||
-                      distance < tent_reach(wall) * h);
+                      distance < gm_wall_tent_reach(wall) * h);
     const double *material_gap = shares ? gap : centre_gap;
     double approach = (shares || by_centre) && material_gap[w] > tolerance
                           ? (material_gap[w] - tolerance) / dt
