@@ -368,7 +368,11 @@ GM_API int gm_elastic_update(const gm_material_batch *batch, void *user,
  * pushes, never pulls, and material that left it can come back) and
  * their tangential velocity is reduced by at most mu times that normal
  * velocity change: they stick when that is enough (mu_static), otherwise
- * slide with mu_kinetic. See gm_walls(3). */
+ * slide with mu_kinetic. Nodes further in front that carry a point centre
+ * near the plane (with the shapes wider than a tent; with linear shapes
+ * those less than h (|n_x| + |n_y| + |n_z|) in front of an oblique plane,
+ * in 2D as in 3D) approach it at most by that centre's distance in a
+ * step, so no point centre passes through a wall. See gm_walls(3). */
 typedef struct gm_wall_def {
   size_t struct_size;
   double point[3];         /* m, any point of the plane */

@@ -76,8 +76,9 @@ int gm_gap_plane_count(const gm_domain *domain);
 /* Centre-gap records per node (grid->wall_centre_gap): as the gap records
  * with the shapes wider than a tent, the planar walls only with linear
  * shapes, whose faces need no centre gap (grid_update.c); in 3D the
- * planar walls only, with every shape (walls_3d.c: linear MPM uses them
- * on oblique planes only; the 3D faces have no centre-gap rule). */
+ * planar walls only, with every shape. Linear MPM uses them on oblique
+ * planes only, in 2D (walls.c) and 3D (walls_3d.c) alike
+ * (gm_wall_tent_reach). */
 int gm_centre_gap_plane_count(const gm_domain *domain);
 /* Slot of box face f (2 axis + side) in a node's gap records; -1 when
  * the face is not measured (open, or a B-spline mirror). */

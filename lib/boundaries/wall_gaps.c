@@ -12,7 +12,9 @@
  * wall to the centre of a point it carries (grid->wall_centre_gap): with
  * the shapes wider than a tent (GIMP, CPDI, B-splines) a point gathers its
  * velocity from nodes the wall's contact does not reach, and walls.c keeps
- * those nodes from carrying a point's centre past the wall.
+ * those nodes from carrying a point's centre past the wall; with linear
+ * MPM so do the nodes between one cell and |n_x| + |n_y| cells in front
+ * of an oblique wall (gm_wall_tent_reach), which walls.c bounds alike.
  *
  * The box faces that hold material (slip and fixed) get the same measure,
  * after the planar walls in the gap records (gm_gap_face_slot): a face
@@ -67,9 +69,10 @@ int gm_gap_plane_count(const gm_domain *domain) {
 /* A plane whose gaps are measured: a point on it and its unit normal
  * into the material's side. */
 int gm_centre_gap_plane_count(const gm_domain *domain) {
-  /* Linear MPM: the planar walls only (2D: unused; 3D: oblique planes,
-   * walls_3d.c); its box faces need none (a point on a face has no weight
-   * on the node a cell in front). */
+  /* Linear MPM: the planar walls only, used on the band of an oblique
+   * plane (gm_wall_tent_reach; walls.c in 2D, walls_3d.c in 3D); its box
+   * faces need none (a point on a face has no weight on the node a cell
+   * in front). */
   return domain->def.shape == GM_SHAPE_LINEAR ? domain->wall_count
                                               : gm_gap_plane_count(domain);
 }

@@ -11,7 +11,12 @@
  * tangential impulse <= mu times normal impulse). Nodes moving away from
  * the wall are free, so material can leave it. After the nodal update
  * Coulomb's law is applied again to the sums of one-cell strips along the
- * wall (gm_walls_share_friction below). We work with the impulse
+ * wall (gm_walls_share_friction below). Nodes in front of the plane
+ * that carry a point centre near it may approach it at most by that
+ * centre's distance (the centre-gap rule, gm_walls_contact): all of them
+ * with the shapes wider than a tent, and with linear shapes those less
+ * than h (|n_x| + |n_y|) in front of an oblique plane (gm_wall_tent_reach),
+ * the band rule of 3D (walls_3d.c). We work with the impulse
  * rather than 002's penalty-regularised tangential force because it needs
  * no penalty parameter and is exact for a node that sticks.
  */
