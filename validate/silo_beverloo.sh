@@ -26,7 +26,8 @@ CELL=${CELL:-0.05}
 WINDOW_END=${WINDOW_END:-0.25}
 # The committed CSV: this plan on 0.05 m cells, and the axisymmetric D/h
 # 6-16 on 0.1 and 0.025 m cells (CELL=... APPEND=1); 3d:10 was not run
-# (9 min of CPU, more than a loaded machine gave that session).
+# then (9 min of CPU, more than a loaded machine gave that session) and was
+# appended later (PLAN=3d:10 APPEND=1 gives its two rows; 244 s of CPU).
 PLAN=${PLAN-"3d:6 3d:8 axisym:4 axisym:6 axisym:8 axisym:10 axisym:12 axisym:16 axisym:24"}
 csv=$results/silo_beverloo.csv
 [ "${APPEND:-0}" = 1 ] && [ -f "$csv" ] ||
