@@ -1075,11 +1075,13 @@ GM_API gm_status gm_domain_get_wall_tractions(const gm_domain *domain,
  * cell and keeps the point's deviatoric part (the B-bar idea, Hughes
  * 1980, in the cell-wise form of Coombs et al. 2018, CMAME 333:1):
  * L_p <- L_p + (mean - tr L_p) / n I, n = 2 in plane strain, 3 in
- * axisymmetry (xx, yy and the hoop rate). F, the volume and the stress
- * follow that L. Plane strain and axisymmetry with every shape and family;
- * rigid points take no part. 1D (nothing to lock) and GM_GEOMETRY_3D are
- * refused (GM_ERR_UNSUPPORTED). Off by default: results are then those of
- * the library without it, bit for bit. */
+ * axisymmetry (xx, yy and the hoop rate) and 3 in GM_GEOMETRY_3D (xx, yy,
+ * zz; the cell of 8 nodes). F, the volume and the stress follow that L.
+ * Plane strain, axisymmetry and 3D with every shape and family (the
+ * granular family averages each component over its own points); rigid
+ * points take no part. 1D (nothing to lock) is refused
+ * (GM_ERR_UNSUPPORTED). Off by default: results are then those of the
+ * library without it, bit for bit. */
 typedef enum gm_volumetric {
   GM_VOLUMETRIC_POINT = 0,    /* each point its own tr L (default) */
   GM_VOLUMETRIC_CELL_MEAN = 1 /* tr L averaged over the cell's points */
@@ -1092,7 +1094,7 @@ typedef enum gm_volumetric {
  * averaging costs a second velocity-gradient gather and a scatter of two
  * values per point in each deformation pass; its work arrays grow with the
  * grid, outside the passes. Bad values give GM_ERR_INVALID_ARGUMENT, 1D
- * and 3D domains GM_ERR_UNSUPPORTED (the setting is then unchanged). */
+ * domains GM_ERR_UNSUPPORTED (the setting is then unchanged). */
 GM_API gm_status gm_domain_set_volumetric(gm_domain *domain,
                                           gm_volumetric volumetric);
 

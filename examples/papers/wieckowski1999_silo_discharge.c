@@ -1150,7 +1150,7 @@ static int configure(silo *s, int argc, char **argv) {
        &t_max, NULL},
       {"volumetric",
        "point | cell (tr L averaged over each cell's points against "
-       "volumetric locking, gm_domain_set_volumetric; 2D only)",
+       "volumetric locking, gm_domain_set_volumetric)",
        NULL, &s->volumetric},
       {"window-end",
        "fraction of the fill discharged that ends the rate's window (from "
@@ -1240,11 +1240,8 @@ static int configure(silo *s, int argc, char **argv) {
   s->drop = cell * round(drop / cell); /* y = 0 stays a node line */
   s->t_max = t_max > 0.0 ? t_max : 0.0;
   if (strcmp(s->volumetric, "point") != 0 &&
-      (strcmp(s->volumetric, "cell") != 0 || s->dim == 3)) {
-    fprintf(stderr,
-            "--volumetric: '%s' is not point or cell (cell: 2D "
-            "only)\n",
-            s->volumetric);
+      strcmp(s->volumetric, "cell") != 0) {
+    fprintf(stderr, "--volumetric: '%s' is not point or cell\n", s->volumetric);
     return 2;
   }
   if (!(window_end > WINDOW_START + 0.05 && window_end <= 0.9)) {

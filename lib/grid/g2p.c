@@ -759,7 +759,7 @@ void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass) {
       ctx.view.domain_map[k] = ctx.view.next_domain_map[k];
   }
   size_t chunks = (domain->points.count + GM_BATCH_SIZE - 1) / GM_BATCH_SIZE;
-  /* 2D only: gm_domain_set_volumetric refuses 1D and 3D. */
+  /* 2D here (3D: g2p_3d.c); gm_domain_set_volumetric refuses 1D. */
   ctx.cell_mean = pass->deform && domain->dim == 2 &&
                   domain->volumetric == GM_VOLUMETRIC_CELL_MEAN;
   if (ctx.cell_mean) {

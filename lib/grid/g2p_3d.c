@@ -49,6 +49,7 @@ typedef struct g2p_3d_context {
   const gm_g2p_pass *pass;
   bool left_block[256]; /* per worker (domain.c: at most 256): a point
                            keyed this pass left the block it was binned in */
+  bool cell_mean;       /* a deformation pass with GM_VOLUMETRIC_CELL_MEAN */
 } g2p_3d_context;
 
 /* The sum of grad N_i (1/m) over the massless nodes of a support, node
@@ -630,6 +631,8 @@ static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
                                                        : GM_BATCH_SIZE;
     gather_chunk_3d(domain, scratch, first, count, g, pass->flip_velocity,
                     pass->deform);
+    if (pass->deform && ctx->cell_mean) /* L's trace to its cell's mean */
+      gm_volumetric_apply_chunk_3d(domain, first, count, g->gradient);
     if (pass->flip_velocity)
       flip_chunk_3d(domain, first, count, g, pass->dt);
     if (pass->move_points)
@@ -683,6 +686,27 @@ static void note_blocks_kept(gm_domain *domain, const gm_g2p_pass *pass,
   domain->points.blocks_kept = kept; /* read by the next binning */
 }
 
+/* The first sweep of a deformation pass with GM_VOLUMETRIC_CELL_MEAN:
+ * each point's tr L and cell (volumetric_mean.c), from the gather the
+ * pass itself then repeats (the same function on the same inputs, and L
+ * summed alone whatever else a pass gathers: the same bits). */
+static void g2p_volumetric_rates_3d(void *context, size_t begin, size_t end,
+                                    int worker) {
+  g2p_3d_context *ctx = context;
+  gm_domain *domain = ctx->domain;
+  gm_worker_scratch *scratch = &domain->scratch[worker];
+  chunk_gather_3d *g = (chunk_gather_3d *)(void *)scratch->gather;
+  size_t point_count = domain->points.count;
+  for (size_t chunk = begin; chunk < end; chunk++) {
+    size_t first = chunk * GM_BATCH_SIZE;
+    size_t count = point_count - first < GM_BATCH_SIZE ? point_count - first
+                                                       : GM_BATCH_SIZE;
+    gather_chunk_3d(domain, scratch, first, count, g, false, true);
+    gm_volumetric_store_chunk_3d(domain, first, count,
+                                 (const double(*)[GM_BATCH_SIZE])g->gradient);
+  }
+}
+
 void gm_g2p_3d(gm_domain *domain, const gm_g2p_pass *pass) {
   g2p_3d_context ctx;
   ctx.domain = domain;
@@ -690,6 +714,11 @@ void gm_g2p_3d(gm_domain *domain, const gm_g2p_pass *pass) {
   for (int w = 0; w < domain->worker_count; w++)
     ctx.left_block[w] = false;
   size_t chunks = (domain->points.count + GM_BATCH_SIZE - 1) / GM_BATCH_SIZE;
+  ctx.cell_mean = pass->deform && domain->volumetric == GM_VOLUMETRIC_CELL_MEAN;
+  if (ctx.cell_mean) {
+    gm_parallel_for(&domain->pool, chunks, g2p_volumetric_rates_3d, &ctx);
+    gm_volumetric_sum(domain);
+  }
   gm_parallel_for(&domain->pool, chunks, g2p_chunks_3d, &ctx);
   note_blocks_kept(domain, pass, &ctx);
 }

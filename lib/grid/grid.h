@@ -22,6 +22,19 @@ void gm_reorder_points(gm_domain *domain);  /* bins.c */
 /* Grows the work arrays of GM_VOLUMETRIC_CELL_MEAN to the grid's blocks
  * and the points' capacity (volumetric_mean.c); a no-op when it is off. */
 gm_status gm_volumetric_reserve(gm_domain *domain);
+/* The cells' sums of V_p tr L_p and V_p over their points, once every
+ * chunk of a deformation pass is stored (volumetric_mean.c; 2D and 3D). */
+void gm_volumetric_sum(gm_domain *domain);
+/* The cell-mean volumetric rate in 3D (g2p_3d.c; the 2D functions are in
+ * grid/transfer.h), on a chunk's nine components of L (1/s, row-major):
+ * tr L = L_xx + L_yy + L_zz stored with the point's cell, then each
+ * normal component shifted by a third of (mean - tr L). */
+void gm_volumetric_store_chunk_3d(const gm_domain *domain, size_t first,
+                                  size_t count,
+                                  const double (*gradient)[GM_BATCH_SIZE]);
+void gm_volumetric_apply_chunk_3d(const gm_domain *domain, size_t first,
+                                  size_t count,
+                                  double (*gradient)[GM_BATCH_SIZE]);
 /* What a P2G pass accumulates (p2g.c). */
 typedef struct gm_p2g_pass {
   bool mass;           /* nodal mass */

@@ -284,12 +284,11 @@ void gm_scatter_block_wide(const scatter_view *view, const gm_p2g_pass *pass,
                            gm_worker_scratch *scratch);
 /* The cell-mean volumetric rate (volumetric_mean.c): each point's tr L
  * (1/s, with the hoop rate in axisymmetry) and cell from a chunk's gather;
- * the cells' sums over all points (after every chunk is stored); and each
- * point's L shifted to its cell's mean trace. */
+ * the cells' sums over all points (gm_volumetric_sum, grid.h, after every
+ * chunk is stored); and each point's L shifted to its cell's mean trace. */
 void gm_volumetric_store_chunk(const gm_domain *domain, const gather_view *v,
                                size_t first, size_t count,
                                const chunk_gather *g);
-void gm_volumetric_sum(gm_domain *domain);
 void gm_volumetric_apply_chunk(const gm_domain *domain, const gather_view *v,
                                size_t first, size_t count, chunk_gather *g);
 

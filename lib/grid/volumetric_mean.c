@@ -22,21 +22,26 @@
  *
  * the cell integral of div v over the volume the points carry (V_p: the
  * committed volume, the quadrature weight of the step), with n = 2 (xx,
- * yy) in plane strain, where L_zz = 0 stays 0, and n = 3 (xx, yy and the
- * hoop rate v_r / r) in axisymmetry, where tr L includes the hoop rate. The
+ * yy) in plane strain, where L_zz = 0 stays 0, n = 3 (xx, yy and the
+ * hoop rate v_r / r) in axisymmetry, where tr L includes the hoop rate,
+ * and n = 3 (xx, yy, zz) in GM_GEOMETRY_3D, whose cells have 8 nodes. The
  * trace of the new L is mean_c, its deviator is the point's own; F, V =
- * det F V0 and the stress then follow it (g2p.c). docs/convergence.md
+ * det F V0 and the stress then follow it (g2p.c, g2p_3d.c). docs/convergence.md
  * section 25's experiment took the mean by mass; the volume is the cell
  * integral's own weight (the two differ by the points' density ratio).
  *
  * How, without allocation in a pass and bitwise for any worker count: a
  * deformation pass first gathers every point's tr L (g2p.c) and stores it
  * with its cell (gm_volumetric_store_chunk); the cell sums are then formed
- * block by block in p2g.c's colour order, each block by one worker, its
- * points in binning order (gm_volumetric_sum), so every sum is added in
- * one fixed order; the pass then gathers again and shifts each point's L
- * (gm_volumetric_apply_chunk). The arrays grow with the grid and the
- * points at binning (gm_volumetric_reserve), outside the passes.
+ * block by block in the scatter's colour order (p2g.c: 4 colours in 2D,
+ * p2g_3d.c: 8 in 3D), each block by one worker, its points in binning
+ * order (gm_volumetric_sum), so every sum is added in one fixed order; the
+ * pass then gathers again and shifts each point's L
+ * (gm_volumetric_apply_chunk, gm_volumetric_apply_chunk_3d). The arrays
+ * grow with the grid and the points at binning (gm_volumetric_reserve),
+ * outside the passes. In the granular family the points of each component
+ * sit on its own node layer (block_grid.h), so a cell's mean is taken over
+ * the points of one component, in 2D and 3D alike.
  */
 #include "grid/grid.h"
 
@@ -149,6 +154,55 @@ void gm_volumetric_store_chunk(const gm_domain *domain, const gather_view *v,
   }
 }
 
+/* Node index of the lowest node of 3D point p's cell (the 8 nodes of the
+ * linear shape functions), reached from its block (whose lowest corner
+ * is at most a support below the point, g2p_3d.c) through the neighbour
+ * links, as the 3D gather reaches its nodes; NO_CELL if they do not reach
+ * it (the point then keeps its own rate). */
+static size_t cell_node_3d(const gm_domain *domain, size_t p) {
+  const gm_grid *grid = &domain->grid;
+  const gm_point_buffers *current = &domain->points.buffer[domain->points.cur];
+  uint32_t block = domain->points.point_block[p];
+  int64_t base[3];
+  gm_block_coordinates_3d(grid, grid->block_key[block], base);
+  int64_t local[3];
+  const int64_t reach = 2 * GM_BLOCK_EDGE_3D;
+  for (int axis = 0; axis < 3; axis++) {
+    double w[2], d[2];
+    int64_t cell = gm_shape_linear_axis_inside(current->position[axis][p],
+                                               domain->shape_grid.origin[axis],
+                                               domain->inv_cell, w, d);
+    local[axis] = cell - (base[axis] << GM_BLOCK_SHIFT_3D);
+    if (local[axis] < 0 || local[axis] >= reach)
+      return NO_CELL;
+  }
+  const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
+  int neighbour = (int)(local[0] >> GM_BLOCK_SHIFT_3D) +
+                  2 * (int)(local[1] >> GM_BLOCK_SHIFT_3D) +
+                  4 * (int)(local[2] >> GM_BLOCK_SHIFT_3D);
+  if (links[neighbour] == GM_NO_BLOCK)
+    return NO_CELL;
+  return gm_block_node_3d(links, local[0], local[1], local[2]);
+}
+
+void gm_volumetric_store_chunk_3d(const gm_domain *domain, size_t first,
+                                  size_t count,
+                                  const double (*gradient)[GM_BATCH_SIZE]) {
+  const gm_grid *grid = &domain->grid;
+  double *restrict rate = grid->point_rate;
+  size_t *restrict cell = grid->point_cell;
+  const int32_t *material = domain->points.material;
+  bool rigid = domain->rigid_count > 0;
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    /* tr L = L_xx + L_yy + L_zz (1/s; L row-major, g2p_3d.c) */
+    rate[p] = gradient[0][j] + gradient[4][j] + gradient[8][j];
+    cell[p] = rigid && domain->materials[material[p]].rigid
+                  ? NO_CELL
+                  : cell_node_3d(domain, p);
+  }
+}
+
 typedef struct sum_context {
   gm_domain *domain;
   const uint32_t *blocks; /* blocks of the colour being summed */
@@ -165,9 +219,10 @@ static void clear_cells(void *context, size_t begin, size_t end, int worker) {
   memset(grid->cell_volume + first, 0, bytes);
 }
 
-/* A point's cell is its block's or one of the +x, +y, +x+y neighbours
- * (cell_node): blocks of one colour, two apart, never share a cell, as in
- * the scatter (p2g.c). */
+/* A point's cell is its block's or one of its upper neighbours' (+x, +y,
+ * +x+y; in 3D also +z and the +z combinations: cell_node, cell_node_3d):
+ * blocks of one colour, two apart along each axis, never share a cell, as
+ * in the scatter (p2g.c, p2g_3d.c). */
 static void sum_blocks(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   sum_context *ctx = context;
@@ -198,7 +253,9 @@ void gm_volumetric_sum(gm_domain *domain) {
   ctx.domain = domain;
   ctx.volume = domain->points.buffer[domain->points.cur].volume;
   gm_parallel_for(&domain->pool, grid->block_count, clear_cells, &ctx);
-  for (int colour = 0; colour < 4; colour++) {
+  /* The scatter's colours: 4 in 2D (p2g.c), 8 in 3D (p2g_3d.c). */
+  int colours = domain->dim == 3 ? GM_BLOCK_COLOURS : 4;
+  for (int colour = 0; colour < colours; colour++) {
     size_t first = grid->color_start[colour];
     size_t count = grid->color_start[colour + 1] - first;
     ctx.blocks = grid->color_block + first;
@@ -229,5 +286,25 @@ void gm_volumetric_apply_chunk(const gm_domain *domain, const gather_view *v,
       g->gradient[0][j] += half;
       g->gradient[3][j] += half;
     }
+  }
+}
+
+void gm_volumetric_apply_chunk_3d(const gm_domain *domain, size_t first,
+                                  size_t count,
+                                  double (*gradient)[GM_BATCH_SIZE]) {
+  const gm_grid *grid = &domain->grid;
+  const size_t *restrict cell = grid->point_cell + first;
+  const double *restrict rate_volume = grid->cell_rate_volume;
+  const double *restrict cell_volume = grid->cell_volume;
+  for (size_t j = 0; j < count; j++) {
+    size_t c = cell[j];
+    if (c == NO_CELL)
+      continue;
+    double mean = rate_volume[c] / cell_volume[c]; /* 1/s */
+    double own = gradient[0][j] + gradient[4][j] + gradient[8][j];
+    double third = (mean - own) / 3.0; /* xx, yy and zz take a third each */
+    gradient[0][j] += third;
+    gradient[4][j] += third;
+    gradient[8][j] += third;
   }
 }

@@ -346,19 +346,13 @@ gm_status gm_domain_set_volumetric(gm_domain *domain,
                         "value",
                         (int)volumetric);
   /* Locking needs more constraints than a cell's nodes can meet: none in
-   * 1D (one strain component); the 3D kernels (g2p_3d.c) have no pass for
-   * it yet (docs/3d.md). */
+   * 1D (one strain component). */
   if (volumetric == GM_VOLUMETRIC_CELL_MEAN && domain->dim == 1)
     return gm_set_error(domain, GM_ERR_UNSUPPORTED,
                         "gm_domain_set_volumetric: GM_VOLUMETRIC_CELL_MEAN "
-                        "is for plane strain and axisymmetry; a 1D domain "
-                        "has no volumetric locking to remove");
-  if (volumetric == GM_VOLUMETRIC_CELL_MEAN && domain->dim == 3)
-    return gm_set_error(domain, GM_ERR_UNSUPPORTED,
-                        "gm_domain_set_volumetric: GM_VOLUMETRIC_CELL_MEAN "
-                        "is not implemented in GM_GEOMETRY_3D in this "
-                        "version (docs/3d.md); plane strain and "
-                        "axisymmetry only");
+                        "is for plane strain, axisymmetry and "
+                        "GM_GEOMETRY_3D; a 1D domain has no volumetric "
+                        "locking to remove");
   domain->volumetric = volumetric;
   return GM_OK;
 }
