@@ -75,6 +75,14 @@
  * stress-free points (p <= 0), and on the axis sigma_yy, sigma_xy and
  * that share of the column x < D/12 and v_y and sigma_xy of the next,
  * D/12 <= x < D/6 (docs/convergence.md sec. 27).
+ * Probes of docs/convergence.md sec. 29 (the rate's growth under refinement
+ * with each removed in turn): --dilation PSI replaces Drucker-Prager by
+ * Mohr-Coulomb on the same phi with dilation angle PSI (deg; PSI = phi is
+ * associated flow, which does not localise on the grid, sec. 19); --pic A
+ * blends PIC into the FLIP update (numerical viscosity a h^2 / dt);
+ * --scheme usl|usf in place of MUSL; --wall-friction MU sets the silo and
+ * hopper walls' Coulomb coefficient (002's tan 20 deg by default; the
+ * Janssen reference follows it).
  *
  * --geometry 3d (issue 16 items 3-4): a square silo of side 2B with a
  * circular orifice of diameter D in its flat floor, y up. Only the quarter
@@ -137,6 +145,10 @@ typedef struct silo {
   double reference;       /* Pa, sigma_ref of the Perzyna normaliser */
   double grain;           /* m, > 0: mu(I) with this grain diameter */
   double youngs;          /* Pa, > 0: E in place of 002's 1 MPa */
+  double dilation;        /* rad, >= 0: Mohr-Coulomb with this psi; < 0: DP */
+  double pic;             /* -, the FLIP-PIC blend a (gm_domain_def) */
+  double wall_friction;   /* -, mu_w of the silo and hopper walls */
+  const char *scheme;     /* --scheme usl|musl|usf */
   const char *profile;    /* path of the steady profiles' CSV; "" = none */
   double cfl;             /* -, Courant number of the stable dt */
   double drop;            /* m, free fall below the orifice before the sink
@@ -188,6 +200,11 @@ static gm_status create_domain(const silo *s, double damping,
   def.shape = s->options.shape;
   def.family = s->options.family;
   def.scheme = GM_SCHEME_MUSL; /* 001 sec 3: the smoothed velocity */
+  if (strcmp(s->scheme, "usl") == 0)
+    def.scheme = GM_SCHEME_USL;
+  else if (strcmp(s->scheme, "usf") == 0)
+    def.scheme = GM_SCHEME_USF;
+  def.pic_fraction = s->pic;
   def.cell_size = cell;
   /* the floor layer, the free fall of --drop and the sink below 0 */
   def.origin[1] = -3.0 * cell - s->drop;
@@ -244,6 +261,17 @@ static gm_status add_material(gm_domain *domain, const silo *s, int *material) {
     def.static_friction = sin(dp.friction_angle);
     def.limit_friction = def.static_friction + (0.6435 - 0.3819);
     status = gm_domain_add_mu_i(domain, &def, material);
+  } else if (s->dilation >= 0.0) {
+    /* Mohr-Coulomb on the same phi with dilation psi (docs/convergence.md
+     * sec. 29: does the rate converge with associated flow, psi = phi,
+     * which does not localise on the grid, sec. 19?). */
+    gm_mohr_coulomb_def mc = gm_mohr_coulomb_def_default();
+    mc.youngs_modulus = dp.youngs_modulus;
+    mc.poisson_ratio = dp.poisson_ratio;
+    mc.density = dp.density;
+    mc.friction_angle = dp.friction_angle;
+    mc.dilation_angle = s->dilation;
+    status = gm_domain_add_mohr_coulomb(domain, &mc, material);
   } else if (s->fluidity > 0.0) {
     gm_perzyna_def viscoplastic = gm_perzyna_def_default();
     viscoplastic.youngs_modulus = dp.youngs_modulus;
@@ -262,9 +290,10 @@ static gm_status add_material(gm_domain *domain, const silo *s, int *material) {
   return gm_domain_set_granular(domain, *material, &granular);
 }
 
-static gm_status add_wall(gm_domain *domain, const double point[3],
-                          const double normal[3], int *id) {
-  double friction = tan(WALL_ANGLE * PI / 180.0); /* mu_w = tan(phi_w) */
+static gm_status add_wall(gm_domain *domain, const silo *s,
+                          const double point[3], const double normal[3],
+                          int *id) {
+  double friction = s->wall_friction; /* mu_w = tan(phi_w) */
   gm_wall_def wall = gm_wall_def_default();
   for (int k = 0; k < 3; k++) {
     wall.point[k] = point[k];
@@ -290,19 +319,19 @@ static gm_status add_walls(gm_domain *domain, const silo *s,
   const double side_normal[3] = {-1, 0, 0};
   loads->wall_count = 1;
   gm_status status =
-      add_wall(domain, side_point, side_normal, &loads->walls[0]);
+      add_wall(domain, s, side_point, side_normal, &loads->walls[0]);
   if (status == GM_OK && s->dim == 3) {
     const double back_point[3] = {0.0, 0.0, inset};
     const double back_normal[3] = {0, 0, -1};
     loads->wall_count = 2;
-    return add_wall(domain, back_point, back_normal, &loads->walls[1]);
+    return add_wall(domain, s, back_point, back_normal, &loads->walls[1]);
   }
   if (status != GM_OK || s->hopper_angle <= 0.0)
     return status;
   const double edge[3] = {0.5 * s->orifice, 0.0, 0.0};
   const double normal[3] = {-cos(s->hopper_angle), sin(s->hopper_angle), 0};
   loads->wall_count = 2;
-  return add_wall(domain, edge, normal, &loads->walls[1]);
+  return add_wall(domain, s, edge, normal, &loads->walls[1]);
 }
 
 /* The 3D floor layer, on the lattice of fill_box, out to x, z < `edge`
@@ -452,8 +481,7 @@ static void reset_loads(wall_loads *loads) {
 static double janssen_pressure(const silo *s, double k, double z) {
   double ratio = s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 0.5 * s->half_width
                                                          : s->half_width;
-  double mu = tan(WALL_ANGLE * PI / 180.0);
-  double decay = mu * k / ratio; /* 1/m */
+  double decay = s->wall_friction * k / ratio; /* 1/m */
   return k * DENSITY * GRAVITY / decay * (1.0 - exp(-decay * z));
 }
 
@@ -1099,16 +1127,20 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
 /* Parses --geometry, --hopper, --orifice and sizes the silo. */
 static int configure(silo *s, int argc, char **argv) {
   const char *geometry = "plane", *hopper = "flat", *profile = "";
+  const char *dilation = "none";
   s->volumetric = "point";
-  double orifice = 0.3, sample = 0.01;      /* m, s */
-  double fluidity = 0.0, reference = 0.0;   /* 1/s, Pa */
-  double grain = 0.0;                       /* m */
-  double youngs = 0.0;                      /* Pa, 0: 002's 1 MPa */
-  double fill = 2.0;                        /* full silo widths */
-  double t_max = 0.0;                       /* s, 0: none */
-  double window_end = WINDOW_END;           /* - */
-  double cfl = gm_domain_def_default().cfl; /* - */
-  double drop = 0.0;                        /* m */
+  s->scheme = "musl";
+  double pic = 0.0;                                    /* - */
+  double wall_friction = tan(WALL_ANGLE * PI / 180.0); /* - */
+  double orifice = 0.3, sample = 0.01;                 /* m, s */
+  double fluidity = 0.0, reference = 0.0;              /* 1/s, Pa */
+  double grain = 0.0;                                  /* m */
+  double youngs = 0.0;                                 /* Pa, 0: 002's 1 MPa */
+  double fill = 2.0;                                   /* full silo widths */
+  double t_max = 0.0;                                  /* s, 0: none */
+  double window_end = WINDOW_END;                      /* - */
+  double cfl = gm_domain_def_default().cfl;            /* - */
+  double drop = 0.0;                                   /* m */
   example_extra extras[] = {
       {"orifice", "orifice width (slot) or diameter D, m", &orifice, NULL},
       {"geometry", "plane|axisym|3d (3d: a quarter square silo)", NULL,
@@ -1132,6 +1164,15 @@ static int configure(silo *s, int argc, char **argv) {
        "> 0: mu(I) with this grain diameter, m, on the same cone (0: "
        "Drucker-Prager)",
        &grain, NULL},
+      {"dilation",
+       "Mohr-Coulomb on the same phi with this dilation angle psi, deg, in "
+       "place of Drucker-Prager (none: Drucker-Prager)",
+       NULL, &dilation},
+      {"pic", "FLIP-PIC blend a in [0, 1] (0: FLIP)", &pic, NULL},
+      {"wall-friction",
+       "Coulomb mu_w of the silo and hopper walls (002's tan 20 deg)",
+       &wall_friction, NULL},
+      {"scheme", "usl | musl | usf (001 sec 3)", NULL, &s->scheme},
       {"youngs",
        "> 0: Young's modulus E, Pa, in place of 002's 1 MPa (the dt "
        "shrinks as 1/sqrt(E))",
@@ -1226,6 +1267,34 @@ static int configure(silo *s, int argc, char **argv) {
     return 2;
   }
   s->youngs = youngs;
+  s->dilation = -1.0;
+  s->pic = pic;
+  s->wall_friction = wall_friction;
+  if (!(wall_friction >= 0.0) || !isfinite(wall_friction)) {
+    fprintf(stderr, "--wall-friction must be finite and >= 0\n");
+    return 2;
+  }
+  if (!(pic >= 0.0 && pic <= 1.0) ||
+      (strcmp(s->scheme, "usl") != 0 && strcmp(s->scheme, "musl") != 0 &&
+       strcmp(s->scheme, "usf") != 0)) {
+    fprintf(stderr, "--pic must lie in [0, 1], --scheme be usl|musl|usf\n");
+    return 2;
+  }
+  if (strcmp(dilation, "none") != 0) {
+    char *end = NULL;
+    double degrees = strtod(dilation, &end);
+    if (end == dilation || *end ||
+        !(degrees >= 0.0 && degrees <= FRICTION_ANGLE)) {
+      fprintf(stderr, "--dilation: '%s' is not none or an angle in [0, %g]\n",
+              dilation, FRICTION_ANGLE);
+      return 2;
+    }
+    s->dilation = degrees * PI / 180.0;
+    if (grain > 0.0 || fluidity > 0.0) {
+      fprintf(stderr, "--dilation: not with --grain or --fluidity\n");
+      return 2;
+    }
+  }
   s->profile = profile;
   if (!(cfl > 0.0 && cfl <= 1.0)) {
     fprintf(stderr, "--cfl must be in (0, 1]\n");
