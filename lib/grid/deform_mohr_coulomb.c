@@ -122,7 +122,7 @@ bool gm_deform_mohr_coulomb_chunk(gm_domain *domain, const gather_view *v,
    * the general path's check then names the point. */
   if (!gm_mohr_coulomb_plane_returns(
           def, trial, count, state_to + GM_MOHR_COULOMB_PLASTIC_SHEAR_STRAIN,
-          stride))
+          stride, scratch->mohr_coulomb_prepared))
     gm_check_stress_chunk(domain, scratch, first, count, dt);
   return true;
 }
