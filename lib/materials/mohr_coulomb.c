@@ -218,11 +218,12 @@ static double plane_value(const mc_plane *plane, const mc_constants *k,
   return dot3(plane->normal, sigma) - k->yield_offset;
 }
 
-/* Return to the main plane; false if the result breaks the ordering. */
-static bool return_to_main_plane(const mc_constants *k, const mc_planes *planes,
-                                 const double trial[3], double out[3]) {
+/* Return to the main plane, whose yield value at the trial is main_value
+ * (plane_value's, Pa); false if the result breaks the ordering. */
+static bool return_to_main_plane(const mc_planes *planes, const double trial[3],
+                                 double main_value, double out[3]) {
   const mc_plane *main = &planes->main;
-  double multiplier = plane_value(main, k, trial) * planes->main_compliance;
+  double multiplier = main_value * planes->main_compliance;
   for (int i = 0; i < 3; i++)
     out[i] = trial[i] - multiplier * main->elastic_flow[i];
   return out[0] >= out[1] && out[1] >= out[2];
@@ -307,12 +308,13 @@ static GM_ALWAYS_INLINE bool apex_certain(const mc_constants *k,
   return compression < -margin && extension < -margin;
 }
 
-/* Principal stresses after the return (sorted trial in, result out). */
-static GM_ALWAYS_INLINE void return_principal(const mc_constants *k,
-                                              const mc_planes *planes,
-                                              const double trial[3],
-                                              double out[3]) {
-  if (return_to_main_plane(k, planes, trial, out))
+/* Principal stresses after the return (sorted trial in, result out);
+ * main_value = plane_value(&planes->main, k, trial) > 0, which the caller's
+ * yield test has computed already. */
+static GM_ALWAYS_INLINE void
+return_principal(const mc_constants *k, const mc_planes *planes,
+                 const double trial[3], double main_value, double out[3]) {
+  if (return_to_main_plane(planes, trial, main_value, out))
     return;
   /* The main-plane result tells which ordering it broke: sigma_2 > sigma_1
    * points to the compression edge, otherwise the extension edge. */
@@ -396,10 +398,10 @@ static bool all_finite(const double values[6]) {
  * outside the surface, decomposed into `trial` (general 3D stress); adds to
  * the accumulated plastic shear strain. */
 static void plastic_correction(const mc_constants *k, const mc_planes *planes,
-                               const gm_principal *trial, double stress[6],
-                               double *plastic_shear) {
+                               const gm_principal *trial, double main_value,
+                               double stress[6], double *plastic_shear) {
   double returned[3], drop[3], correction[6];
-  return_principal(k, planes, trial->value, returned);
+  return_principal(k, planes, trial->value, main_value, returned);
   *plastic_shear += plastic_shear_strain(k, trial->value, returned);
   if (returned[0] == returned[2]) { /* apex: purely hydrostatic */
     for (int c = 0; c < 6; c++)
@@ -437,14 +439,21 @@ typedef enum mc_outcome {
 static GM_ALWAYS_INLINE mc_outcome return_planar(const mc_constants *k,
                                                  const mc_planes *planes,
                                                  double stress[6],
-                                                 double *plastic_shear) {
-  gm_principal_circle circle = gm_principal_in_plane(stress);
+                                                 double *plastic_shear);
+
+/* The plastic part of return_planar, given the trial's circle
+ * (gm_principal_in_plane's) and its main-plane yield value main_value > 0
+ * (or NaN) from the largest and smallest principal values. That value is
+ * plane_value's at the sorted trial too: the two sums differ only in the
+ * middle value's term, 0 x sigma_2 = +-0 against 0 x 0 = +0, and in the
+ * sign of a zero from the equal values of a tie (major = z), which change
+ * only a sum that is zero, not one that is > 0. */
+static GM_ALWAYS_INLINE mc_outcome return_planar_plastic(
+    const mc_constants *k, const mc_planes *planes, gm_principal_circle circle,
+    double main_value, double stress[6], double *plastic_shear) {
   double major = circle.centre + circle.radius;
   double minor = circle.centre - circle.radius;
   double zz = stress[GM_ZZ];
-  double extremes[3] = {major > zz ? major : zz, 0.0, minor < zz ? minor : zz};
-  if (plane_value(&planes->main, k, extremes) <= 0.0)
-    return MC_ELASTIC; /* the trial stress is the answer, untouched */
   /* Slots of the in-plane pair and of z in the descending order (ties in
    * the order major, minor, z, as gm_principal_decompose sorts them). */
   int major_slot = 0, minor_slot = 1, z_slot = 2;
@@ -460,7 +469,7 @@ static GM_ALWAYS_INLINE mc_outcome return_planar(const mc_constants *k,
   trial[major_slot] = major;
   trial[minor_slot] = minor;
   trial[z_slot] = zz;
-  return_principal(k, planes, trial, returned);
+  return_principal(k, planes, trial, main_value, returned);
   *plastic_shear += plastic_shear_strain(k, trial, returned);
   if (returned[0] == returned[2]) { /* apex: purely hydrostatic */
     for (int c = 0; c < 6; c++)
@@ -484,6 +493,22 @@ static GM_ALWAYS_INLINE mc_outcome return_planar(const mc_constants *k,
   return MC_PLASTIC;
 }
 
+static GM_ALWAYS_INLINE mc_outcome return_planar(const mc_constants *k,
+                                                 const mc_planes *planes,
+                                                 double stress[6],
+                                                 double *plastic_shear) {
+  gm_principal_circle circle = gm_principal_in_plane(stress);
+  double major = circle.centre + circle.radius;
+  double minor = circle.centre - circle.radius;
+  double zz = stress[GM_ZZ];
+  double extremes[3] = {major > zz ? major : zz, 0.0, minor < zz ? minor : zz};
+  double main_value = plane_value(&planes->main, k, extremes); /* Pa */
+  if (main_value <= 0.0)
+    return MC_ELASTIC; /* the trial stress is the answer, untouched */
+  return return_planar_plastic(k, planes, circle, main_value, stress,
+                               plastic_shear);
+}
+
 /* Return mapping of one point with trial stress `stress` (Pa, in place) and
  * accumulated plastic shear strain; k->yield_offset is this point's rate
  * term. */
@@ -504,9 +529,10 @@ static mc_outcome return_point(const mc_constants *k, const mc_planes *planes,
     return MC_ELASTIC;
   gm_principal trial;
   gm_principal_decompose_cubic(&cubic, &trial);
-  if (plane_value(&planes->main, k, trial.value) <= 0.0)
+  double main_value = plane_value(&planes->main, k, trial.value); /* Pa */
+  if (main_value <= 0.0)
     return MC_ELASTIC;
-  plastic_correction(k, planes, &trial, stress, plastic_shear);
+  plastic_correction(k, planes, &trial, main_value, stress, plastic_shear);
   return MC_PLASTIC;
 }
 
@@ -540,11 +566,11 @@ static void sqrt_rows(double *values, size_t count) {
  * added to the finiteness sum or to the yield value changes neither's
  * test). Returns the number of rows written to `row` (offsets from
  * begin). */
-static GM_ALWAYS_INLINE size_t
-screen_chunk(const mc_constants *k, const mc_planes *planes,
-             const double *const *stress, const double *const *strain,
-             double dt, size_t begin, size_t end, double eta, const bool rated,
-             const bool plane, double *offset, uint16_t *row) {
+static GM_ALWAYS_INLINE size_t screen_chunk(
+    const mc_constants *k, const mc_planes *planes, const double *const *stress,
+    const double *const *strain, double dt, size_t begin, size_t end,
+    double eta, const bool rated, const bool plane, double *offset,
+    double *radius, double *yield, uint16_t *row) {
   size_t count = end - begin;
   if (!rated && !plane) /* the general corrector reads them */
     for (size_t j = 0; j < count; j++)
@@ -568,13 +594,13 @@ screen_chunk(const mc_constants *k, const mc_planes *planes,
   /* Three loops, so that the two without a square root vectorise: GCC
    * keeps a branch to set errno around sqrt (-fmath-errno, the ISO
    * default), which stops the vectoriser; sqrt_rows takes the roots. */
-  double radius[MC_CHUNK]; /* Mohr circle: squared, then its radius, Pa */
+  /* radius: the Mohr circle's, squared, then its radius (Pa) */
   for (size_t j = 0; j < count; j++) {
     double half_difference = 0.5 * (xx[j] - yy[j]); /* gm_principal_in_plane */
     radius[j] = half_difference * half_difference + xy[j] * xy[j];
   }
   sqrt_rows(radius, count);
-  double yield[MC_CHUNK]; /* the yield value, +inf or NaN: corrector */
+  /* yield: the yield value (Pa), +inf or NaN: corrector */
   for (size_t j = 0; j < count; j++) {
     double sum = xx[j] + yy[j] + zz[j] + xy[j];
     if (!plane)
@@ -653,14 +679,15 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
         batch->count - begin < MC_CHUNK ? batch->count : begin + MC_CHUNK;
     elastic_trials(&k, batch, begin, end);
     double offset[MC_CHUNK]; /* 2 c cos(phi) of each point, Pa */
-    uint16_t row[MC_CHUNK];  /* the rows the screen leaves, ascending */
+    double radius[MC_CHUNK], yield[MC_CHUNK]; /* the screen's, Pa */
+    uint16_t row[MC_CHUNK]; /* the rows the screen leaves, ascending */
     size_t rows =
-        eta > 0.0
-            ? screen_chunk(&k, &planes, trial_rows, batch->strain_increment,
-                           batch->dt, begin, end, eta, true, false, offset, row)
-            : screen_chunk(&k, &planes, trial_rows, batch->strain_increment,
-                           batch->dt, begin, end, 0.0, false, false, offset,
-                           row);
+        eta > 0.0 ? screen_chunk(&k, &planes, trial_rows,
+                                 batch->strain_increment, batch->dt, begin, end,
+                                 eta, true, false, offset, radius, yield, row)
+                  : screen_chunk(&k, &planes, trial_rows,
+                                 batch->strain_increment, batch->dt, begin, end,
+                                 0.0, false, false, offset, radius, yield, row);
     for (size_t r = 0; r < rows; r++) {
       size_t i = begin + row[r];
       double stress[6];
@@ -723,20 +750,36 @@ bool gm_mohr_coulomb_plane_returns(const gm_mohr_coulomb_def *def,
   double screen = 0.0; /* x * 0 is NaN exactly when x is not finite */
   for (size_t begin = 0; begin < count; begin += MC_CHUNK) {
     size_t end = count - begin < MC_CHUNK ? count : begin + MC_CHUNK;
-    double offset[MC_CHUNK]; /* not written: no rate term */
+    double offset[MC_CHUNK];                  /* not written: no rate term */
+    double radius[MC_CHUNK], yield[MC_CHUNK]; /* the screen's, Pa */
     uint16_t row[MC_CHUNK];
     size_t rows = screen_chunk(&k, planes, rows_in, NULL, 0.0, begin, end, 0.0,
-                               false, true, offset, row);
+                               false, true, offset, radius, yield, row);
     for (size_t r = 0; r < rows; r++) {
-      size_t i = begin + row[r];
+      size_t j = row[r], i = begin + j;
       double point[6] = {stress[GM_XX][i],
                          stress[GM_YY][i],
                          stress[GM_ZZ][i],
                          stress[GM_XY][i],
                          0.0,
                          0.0};
-      if (return_planar(&k, planes, point, &plastic_shear[i * stride]) ==
-          MC_PLASTIC) {
+      double *shear = &plastic_shear[i * stride];
+      mc_outcome outcome;
+      /* The screen's circle and yield value are return_planar's (the same
+       * expressions): reused, not recomputed. A yield value > 0 is the
+       * yield value itself, the finiteness term being +-0; NaN (a sum
+       * that overflowed) takes return_planar, which decides afresh. */
+      if (yield[j] > 0.0) {
+        gm_principal_circle circle = {.centre = 0.5 * (point[0] + point[1]),
+                                      .half_difference =
+                                          0.5 * (point[0] - point[1]),
+                                      .radius = radius[j]};
+        outcome =
+            return_planar_plastic(&k, planes, circle, yield[j], point, shear);
+      } else {
+        outcome = return_planar(&k, planes, point, shear);
+      }
+      if (outcome == MC_PLASTIC) {
         for (int c = 0; c < 4; c++)
           stress[c][i] = point[c];
         screen += (point[0] + point[1] + point[2] + point[3]) * 0.0;
