@@ -66,8 +66,9 @@ extern const gm_builtin_model gm_elastic_model, gm_mohr_coulomb_model,
 
 /* The Mohr-Coulomb corrector of plane trial stresses (mohr_coulomb.c) for
  * the fused deformation pass (grid/deform_mohr_coulomb.c): rows xx, yy,
- * zz, xy of `count` points (Pa, in place; yz = zx = 0), each finite and
- * already the elastic predictor's; no rate term (bagnold_viscosity 0).
+ * zz, xy of `count` points (Pa, in place; yz = zx = 0), each finite, with
+ * a finite sum xx + yy + zz + xy (summed in that order), and already the
+ * elastic predictor's; no rate term (bagnold_viscosity 0).
  * The screen and return of gm_mohr_coulomb_update, so the same bits; the
  * plastic shear strain of point i, plastic_shear[i * stride], grows by
  * the return's. `prepared` (GM_MOHR_COULOMB_PREPARED_BYTES, zeroed before

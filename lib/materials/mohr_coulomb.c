@@ -561,11 +561,11 @@ static void sqrt_rows(double *values, size_t count) {
  * point's 2 c cos(phi) (eq 16) goes to `offset`, as the corrector reads it;
  * without it `offset` is 0 (x - 0 is x: the same value), left unwritten
  * for a plane chunk, whose corrector does not read it. `plane` (a
- * constant): yz = zx = 0 is known and
- * stress[4], stress[5] are not read; the listed rows are the same (a +0
- * added to the finiteness sum or to the yield value changes neither's
- * test). Returns the number of rows written to `row` (offsets from
- * begin). */
+ * constant): yz = zx = 0 is known and stress[4], stress[5] are not read,
+ * and the caller has found every row's sum xx + yy + zz + xy finite, so
+ * the finiteness term (+-0) is left out; the listed rows are the same (a
+ * +-0 added to the yield value changes no test, nor a value > 0). Returns the
+ * number of rows written to `row` (offsets from begin). */
 static GM_ALWAYS_INLINE size_t screen_chunk(
     const mc_constants *k, const mc_planes *planes, const double *const *stress,
     const double *const *strain, double dt, size_t begin, size_t end,
@@ -615,7 +615,9 @@ static GM_ALWAYS_INLINE size_t screen_chunk(
     /* A general 3D stress (yz or zx not 0) goes to the corrector: +inf
      * (or NaN) added, selected without a branch */
     double general = plane || (yz[j] == 0.0 && zx[j] == 0.0) ? 0.0 : INFINITY;
-    yield[j] = value + screen + general;
+    /* plane: the caller has checked the same sums (+-0 then; the +0 of
+     * `general` too changes no test), so the yield value alone */
+    yield[j] = plane ? value : value + screen + general;
   }
   size_t rows = 0;
   for (size_t j = 0; j < count; j++) {
@@ -766,8 +768,7 @@ bool gm_mohr_coulomb_plane_returns(const gm_mohr_coulomb_def *def,
       double *shear = &plastic_shear[i * stride];
       mc_outcome outcome;
       /* The screen's circle and yield value are return_planar's (the same
-       * expressions): reused, not recomputed. A yield value > 0 is the
-       * yield value itself, the finiteness term being +-0; NaN (a sum
+       * expressions): reused, not recomputed. A NaN yield value (products
        * that overflowed) takes return_planar, which decides afresh. */
       if (yield[j] > 0.0) {
         gm_principal_circle circle = {.centre = 0.5 * (point[0] + point[1]),
