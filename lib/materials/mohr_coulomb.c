@@ -17,7 +17,10 @@
  *               compression edge) or sigma_2 = sigma_3 (triaxial extension
  *               edge), two planes active, a 2x2 solve for dl_a, dl_b >= 0;
  *   apex        when no edge return is admissible (tension beyond the apex):
- *               hydrostatic stress c cot(phi), the tension cut-off.
+ *               hydrostatic stress c cot(phi), the tension cut-off. A trial
+ *               whose edge points both come out unordered by far more than
+ *               the edge returns' rounding goes there without them
+ *               (apex_certain: two dot products, the same bits).
  * The returned principal values go back along the trial eigenvectors, so
  * the principal directions are those of the trial stress.
  *
@@ -38,7 +41,9 @@
  * (tests/unit/test_materials_3d.c). The domain's plane chunks without the
  * rate term do not call gm_mohr_coulomb_update: grid/deform_mohr_coulomb.c
  * writes the rotated trial stress and calls gm_mohr_coulomb_plane_returns,
- * the same screen and plane return on those rows (the same bits).
+ * the same screen and plane return on those rows (the same bits), with
+ * the planes prepared once per worker and the screen's circle and yield
+ * value handed to the return.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
