@@ -10,6 +10,10 @@
 #include "core/core.h"
 
 /* ------------------------------------------------------------- per worker */
+
+/* Bytes of the Mohr-Coulomb constants a worker keeps between the chunks
+ * of its fused passes (materials/mohr_coulomb.c checks that they fit). */
+#define GM_MOHR_COULOMB_PREPARED_BYTES 1024
 struct gm_worker_scratch {
   double strain_increment[6][GM_BATCH_SIZE]; /* yz, zx stay zero */
   double stress[6][GM_BATCH_SIZE];           /* yz, zx rows used */
@@ -35,6 +39,11 @@ struct gm_worker_scratch {
   double max_wave_speed_squared;  /* m^2/s^2, max c_p^2 of the new state */
   double max_point_speed_squared; /* m^2/s^2, max |v_p|^2 of the new state */
   double density_control_seconds; /* this step, this worker */
+  /* The Mohr-Coulomb return's planes, prepared for the last parameters
+   * this worker's fused plane pass met (gm_mohr_coulomb_plane_returns):
+   * derived once, not per chunk. Zero (calloc): none yet. */
+  _Alignas(double) unsigned char mohr_coulomb_prepared
+      [GM_MOHR_COULOMB_PREPARED_BYTES];
   char pad[64];
 };
 

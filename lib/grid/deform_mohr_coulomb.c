@@ -29,6 +29,7 @@
 #include "materials/materials.h"
 
 #include <math.h>
+#include <string.h>
 
 bool gm_mohr_coulomb_chunk_fits(const gm_domain *domain, int material) {
   const gm_material *m = &domain->materials[material];
@@ -109,9 +110,12 @@ bool gm_deform_mohr_coulomb_chunk(gm_domain *domain, const gather_view *v,
   size_t stride = points->state_stride;
   const double *state_from = from->state + first * stride;
   double *state_to = to->state + first * stride;
-  for (size_t k = 0; k < material->state_count; k++)
-    for (size_t j = 0; j < count; j++)
-      state_to[j * stride + k] = state_from[j * stride + k];
+  if (stride == material->state_count) /* the chunk's states contiguous */
+    memcpy(state_to, state_from, count * stride * sizeof *state_to);
+  else
+    for (size_t k = 0; k < material->state_count; k++)
+      for (size_t j = 0; j < count; j++)
+        state_to[j * stride + k] = state_from[j * stride + k];
   if (screen != 0.0) { /* a trial stress not finite: the general path */
     const double *gradient[5] = {l_xx, l_xy, l_yx, l_yy, l_zz};
     gm_stress_update_chunk(domain, scratch, first, count, dt, gradient, false);
@@ -122,7 +126,7 @@ bool gm_deform_mohr_coulomb_chunk(gm_domain *domain, const gather_view *v,
    * the general path's check then names the point. */
   if (!gm_mohr_coulomb_plane_returns(
           def, trial, count, state_to + GM_MOHR_COULOMB_PLASTIC_SHEAR_STRAIN,
-          stride))
+          stride, scratch->mohr_coulomb_prepared))
     gm_check_stress_chunk(domain, scratch, first, count, dt);
   return true;
 }

@@ -66,15 +66,19 @@ extern const gm_builtin_model gm_elastic_model, gm_mohr_coulomb_model,
 
 /* The Mohr-Coulomb corrector of plane trial stresses (mohr_coulomb.c) for
  * the fused deformation pass (grid/deform_mohr_coulomb.c): rows xx, yy,
- * zz, xy of `count` points (Pa, in place; yz = zx = 0), each finite and
- * already the elastic predictor's; no rate term (bagnold_viscosity 0).
+ * zz, xy of `count` points (Pa, in place; yz = zx = 0), each finite, with
+ * a finite sum xx + yy + zz + xy (summed in that order), and already the
+ * elastic predictor's; no rate term (bagnold_viscosity 0).
  * The screen and return of gm_mohr_coulomb_update, so the same bits; the
  * plastic shear strain of point i, plastic_shear[i * stride], grows by
- * the return's. Returns false if some returned stress is not finite (or
- * overflows when summed): the caller's check then names the point. */
+ * the return's. `prepared` (GM_MOHR_COULOMB_PREPARED_BYTES, zeroed before
+ * its first use, one per thread) keeps the constants derived from the
+ * def between calls. Returns false if some returned stress is not finite
+ * (or overflows when summed): the caller's check then names the point. */
 bool gm_mohr_coulomb_plane_returns(const gm_mohr_coulomb_def *def,
                                    double *const stress[4], size_t count,
-                                   double *plastic_shear, size_t stride);
+                                   double *plastic_shear, size_t stride,
+                                   void *prepared);
 
 /* Young's modulus finite > 0 and Poisson ratio in (-1, 0.5); sets the
  * message naming def_name's fields. */

@@ -17,7 +17,10 @@
  *               compression edge) or sigma_2 = sigma_3 (triaxial extension
  *               edge), two planes active, a 2x2 solve for dl_a, dl_b >= 0;
  *   apex        when no edge return is admissible (tension beyond the apex):
- *               hydrostatic stress c cot(phi), the tension cut-off.
+ *               hydrostatic stress c cot(phi), the tension cut-off. A trial
+ *               whose edge points both come out unordered by far more than
+ *               the edge returns' rounding goes there without them
+ *               (apex_certain: two dot products, the same bits).
  * The returned principal values go back along the trial eigenvectors, so
  * the principal directions are those of the trial stress.
  *
@@ -38,7 +41,9 @@
  * (tests/unit/test_materials_3d.c). The domain's plane chunks without the
  * rate term do not call gm_mohr_coulomb_update: grid/deform_mohr_coulomb.c
  * writes the rotated trial stress and calls gm_mohr_coulomb_plane_returns,
- * the same screen and plane return on those rows (the same bits).
+ * the same screen and plane return on those rows (the same bits), with
+ * the planes prepared once per worker and the screen's circle and yield
+ * value handed to the return.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -82,6 +87,16 @@ typedef struct mc_edge {
   mc_plane plane; /* b */
   double coupling[2][2];
   double determinant;
+  /* The edge return's ordering test as an affine function of the trial
+   * (see apex_certain): D(t) = order_trial . t + order_offset y (Pa), in
+   * exact arithmetic on the stored constants above; the edge point is
+   * ordered iff D >= 0. */
+  double order_trial[3]; /* - */
+  double order_offset;   /* - */
+  /* Bounds of the rounding of D (edge return and the test itself): sums of
+   * the absolute values of every term, per unit of max |t_i| and of y. */
+  double order_size_trial, order_size_offset; /* - */
+  bool order_bounded; /* the constants lie in the test's range */
 } mc_edge;
 
 /* The planes of one update call, built once per batch: the main plane
@@ -94,6 +109,10 @@ typedef struct mc_planes {
   /* Largest |entry| of each plane's D flow (Pa), for the edge returns'
    * round-off test: main, compression edge's plane, extension edge's. */
   double main_flow_size, compression_flow_size, extension_flow_size;
+  /* apex_certain's margin per unit max |t_i| and per unit y (-), and
+   * whether it may be used (both edges bounded). */
+  double apex_margin_trial, apex_margin_offset;
+  bool apex_test;
 } mc_planes;
 
 /* The plane on which principal stress `major` plays sigma_1 and `minor`
@@ -125,7 +144,68 @@ static double max_abs3(const double a[3]) {
   return x > yz ? x : yz;
 }
 
-static mc_edge make_edge(const mc_plane *a, mc_plane b) {
+static double sum_abs3(const double a[3]) {
+  return fabs(a[0]) + fabs(a[1]) + fabs(a[2]);
+}
+
+/* x is 0 or of a magnitude in [2^-200, 2^200]. */
+static bool in_test_range(double x) {
+  double size = fabs(x);
+  return size == 0.0 || (size >= 0x1p-200 && size <= 0x1p200);
+}
+
+/* The edge return's ordering test D = order_trial . t + order_offset y as
+ * an affine function of the trial t and the yield offset y, and bounds of
+ * its rounding (apex_certain). With the edge pair's weights w (compression:
+ * the edge value (o_0 + o_1)/2 against o_2, w = (1/2, 1/2, -1); extension:
+ * o_0 against (o_1 + o_2)/2, w = (1, -1/2, -1/2)), the returned point o = t
+ * - l_a D b_a - l_b D b_b with [l_a, l_b] the 2x2 solve of [f_a, f_b],
+ * f = n . t - y:
+ *   D = w . o = w . t - c_a f_a - c_b f_b,
+ *   c_a = (bb p_a - ba p_b) / det,  c_b = (aa p_b - ab p_a) / det,
+ * p = w . D b. */
+static void make_order_test(const mc_plane *a, mc_edge *edge,
+                            bool compression) {
+  const double w[3] = {compression ? 0.5 : 1.0, compression ? 0.5 : -0.5,
+                       compression ? -1.0 : -0.5};
+  const mc_plane *b = &edge->plane;
+  double aa = edge->coupling[0][0], ab = edge->coupling[0][1];
+  double ba = edge->coupling[1][0], bb = edge->coupling[1][1];
+  double det = edge->determinant;
+  double pa = dot3(w, a->elastic_flow), pb = dot3(w, b->elastic_flow);
+  double ca = (bb * pa - ba * pb) / det, cb = (aa * pb - ab * pa) / det;
+  for (int i = 0; i < 3; i++)
+    edge->order_trial[i] = w[i] - ca * a->normal[i] - cb * b->normal[i];
+  edge->order_offset = ca + cb;
+  /* |D| evaluated with the absolute value of every term bounds what the
+   * rounding of each operation can add: per unit max |t_i|, |w|_1 (1 +
+   * 2 E cond N) with E the largest |D b_i|, cond = (|aa| + |ab| + |ba| +
+   * |bb|) / det, N = |n_a|_1 + |n_b|_1; per unit y, 4 E cond. The
+   * coefficients' own rounding is bounded by the same sums. */
+  double flow = max_abs3(a->elastic_flow) > max_abs3(b->elastic_flow)
+                    ? max_abs3(a->elastic_flow)
+                    : max_abs3(b->elastic_flow);
+  double cond = (fabs(aa) + fabs(ab) + fabs(ba) + fabs(bb)) / det;
+  double normals = sum_abs3(a->normal) + sum_abs3(b->normal);
+  edge->order_size_trial =
+      2.0 + 4.0 * flow * cond * normals + sum_abs3(edge->order_trial);
+  edge->order_size_offset = 4.0 * flow * cond + fabs(edge->order_offset);
+  /* The bounds are relative ones: every constant 0 or within 2^+-200 (no
+   * product of them and a trial in 2^+-300 overflows, nor underflows by
+   * more than the margin allows), det > 0. */
+  bool bounded = det > 0.0 && in_test_range(det);
+  for (int i = 0; i < 3; i++)
+    bounded =
+        bounded && in_test_range(a->normal[i]) && in_test_range(b->normal[i]) &&
+        in_test_range(a->elastic_flow[i]) && in_test_range(b->elastic_flow[i]);
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++)
+      bounded = bounded && in_test_range(edge->coupling[i][j]);
+  edge->order_bounded = bounded && isfinite(edge->order_size_trial) &&
+                        isfinite(edge->order_size_offset);
+}
+
+static mc_edge make_edge(const mc_plane *a, mc_plane b, bool compression) {
   mc_edge edge;
   edge.plane = b;
   edge.coupling[0][0] = dot3(a->normal, a->elastic_flow);
@@ -134,6 +214,7 @@ static mc_edge make_edge(const mc_plane *a, mc_plane b) {
   edge.coupling[1][1] = dot3(b.normal, b.elastic_flow);
   edge.determinant = edge.coupling[0][0] * edge.coupling[1][1] -
                      edge.coupling[0][1] * edge.coupling[1][0];
+  make_order_test(a, &edge, compression);
   return edge;
 }
 
@@ -142,11 +223,12 @@ static double plane_value(const mc_plane *plane, const mc_constants *k,
   return dot3(plane->normal, sigma) - k->yield_offset;
 }
 
-/* Return to the main plane; false if the result breaks the ordering. */
-static bool return_to_main_plane(const mc_constants *k, const mc_planes *planes,
-                                 const double trial[3], double out[3]) {
+/* Return to the main plane, whose yield value at the trial is main_value
+ * (plane_value's, Pa); false if the result breaks the ordering. */
+static bool return_to_main_plane(const mc_planes *planes, const double trial[3],
+                                 double main_value, double out[3]) {
   const mc_plane *main = &planes->main;
-  double multiplier = plane_value(main, k, trial) * planes->main_compliance;
+  double multiplier = main_value * planes->main_compliance;
   for (int i = 0; i < 3; i++)
     out[i] = trial[i] - multiplier * main->elastic_flow[i];
   return out[0] >= out[1] && out[1] >= out[2];
@@ -198,21 +280,58 @@ static GM_ALWAYS_INLINE bool return_to_edge(const mc_constants *k,
   return out[0] >= out[2];
 }
 
-/* Principal stresses after the return (sorted trial in, result out). */
-static GM_ALWAYS_INLINE void return_principal(const mc_constants *k,
-                                              const mc_planes *planes,
-                                              const double trial[3],
-                                              double out[3]) {
-  if (return_to_main_plane(k, planes, trial, out))
+/* True only if both edge returns would fail, so the return ends at the
+ * apex (the main-plane return having failed): a trial beyond the apex,
+ * where each edge point comes out unordered. Each edge's ordering value D
+ * (make_order_test) is exact arithmetic's; the edge return computes it
+ * with at most 13 roundings along any path (u = 2^-53 each, so at most
+ * 13.1 u times the absolute-value sum order_size), its round-off rule
+ * zeroes multipliers whose stress change is at most 64 eps max |t_i| (D
+ * moves by at most 4 x that, 2^-44 max |t_i|), and this test's own
+ * evaluation and coefficients add at most 20 u order_size more. The margin
+ * 2^-30 order_size exceeds all of it more than 2^13-fold (order_size >= 2
+ * max |t_i|), so a D below minus the margin here is below 0 in the edge
+ * return too, which then fails: the shortcut gives the apex exactly when
+ * the three returns would, to the bit, and costs two dot products instead
+ * of two 2x2 solves. Trials (and y) outside 2^+-300 take the returns. */
+static GM_ALWAYS_INLINE bool apex_certain(const mc_constants *k,
+                                          const mc_planes *planes,
+                                          const double trial[3]) {
+  if (!planes->apex_test)
+    return false;
+  double size = max_abs3(trial), y = k->yield_offset; /* Pa */
+  if (!(size >= 0x1p-300 && size <= 0x1p300 && fabs(y) <= 0x1p300))
+    return false;
+  double margin = planes->apex_margin_trial * size; /* Pa */
+  double compression = dot3(planes->compression.order_trial, trial);
+  double extension = dot3(planes->extension.order_trial, trial);
+  if (y != 0.0) { /* a constant 0 folds these away */
+    margin += planes->apex_margin_offset * fabs(y);
+    compression += planes->compression.order_offset * y;
+    extension += planes->extension.order_offset * y;
+  }
+  return compression < -margin && extension < -margin;
+}
+
+/* Principal stresses after the return (sorted trial in, result out);
+ * main_value = plane_value(&planes->main, k, trial) > 0, which the caller's
+ * yield test has computed already. */
+static GM_ALWAYS_INLINE void
+return_principal(const mc_constants *k, const mc_planes *planes,
+                 const double trial[3], double main_value, double out[3]) {
+  if (return_to_main_plane(planes, trial, main_value, out))
     return;
   /* The main-plane result tells which ordering it broke: sigma_2 > sigma_1
    * points to the compression edge, otherwise the extension edge. */
   bool compression_first = out[1] > out[0];
+  if (apex_certain(k, planes, trial))
+    goto apex;
   if (return_to_edge(k, planes, trial, compression_first, out))
     return;
   if (return_to_edge(k, planes, trial, !compression_first, out))
     return;
   /* Apex: f = 2 sigma sin(phi) - 2 c cos(phi) = 0 at sigma_i = sigma. */
+apex:;
   double apex = k->yield_offset / (2.0 * k->sin_friction);
   out[0] = out[1] = out[2] = apex;
 }
@@ -284,10 +403,10 @@ static bool all_finite(const double values[6]) {
  * outside the surface, decomposed into `trial` (general 3D stress); adds to
  * the accumulated plastic shear strain. */
 static void plastic_correction(const mc_constants *k, const mc_planes *planes,
-                               const gm_principal *trial, double stress[6],
-                               double *plastic_shear) {
+                               const gm_principal *trial, double main_value,
+                               double stress[6], double *plastic_shear) {
   double returned[3], drop[3], correction[6];
-  return_principal(k, planes, trial->value, returned);
+  return_principal(k, planes, trial->value, main_value, returned);
   *plastic_shear += plastic_shear_strain(k, trial->value, returned);
   if (returned[0] == returned[2]) { /* apex: purely hydrostatic */
     for (int c = 0; c < 6; c++)
@@ -325,14 +444,21 @@ typedef enum mc_outcome {
 static GM_ALWAYS_INLINE mc_outcome return_planar(const mc_constants *k,
                                                  const mc_planes *planes,
                                                  double stress[6],
-                                                 double *plastic_shear) {
-  gm_principal_circle circle = gm_principal_in_plane(stress);
+                                                 double *plastic_shear);
+
+/* The plastic part of return_planar, given the trial's circle
+ * (gm_principal_in_plane's) and its main-plane yield value main_value > 0
+ * (or NaN) from the largest and smallest principal values. That value is
+ * plane_value's at the sorted trial too: the two sums differ only in the
+ * middle value's term, 0 x sigma_2 = +-0 against 0 x 0 = +0, and in the
+ * sign of a zero from the equal values of a tie (major = z), which change
+ * only a sum that is zero, not one that is > 0. */
+static GM_ALWAYS_INLINE mc_outcome return_planar_plastic(
+    const mc_constants *k, const mc_planes *planes, gm_principal_circle circle,
+    double main_value, double stress[6], double *plastic_shear) {
   double major = circle.centre + circle.radius;
   double minor = circle.centre - circle.radius;
   double zz = stress[GM_ZZ];
-  double extremes[3] = {major > zz ? major : zz, 0.0, minor < zz ? minor : zz};
-  if (plane_value(&planes->main, k, extremes) <= 0.0)
-    return MC_ELASTIC; /* the trial stress is the answer, untouched */
   /* Slots of the in-plane pair and of z in the descending order (ties in
    * the order major, minor, z, as gm_principal_decompose sorts them). */
   int major_slot = 0, minor_slot = 1, z_slot = 2;
@@ -348,7 +474,7 @@ static GM_ALWAYS_INLINE mc_outcome return_planar(const mc_constants *k,
   trial[major_slot] = major;
   trial[minor_slot] = minor;
   trial[z_slot] = zz;
-  return_principal(k, planes, trial, returned);
+  return_principal(k, planes, trial, main_value, returned);
   *plastic_shear += plastic_shear_strain(k, trial, returned);
   if (returned[0] == returned[2]) { /* apex: purely hydrostatic */
     for (int c = 0; c < 6; c++)
@@ -372,6 +498,22 @@ static GM_ALWAYS_INLINE mc_outcome return_planar(const mc_constants *k,
   return MC_PLASTIC;
 }
 
+static GM_ALWAYS_INLINE mc_outcome return_planar(const mc_constants *k,
+                                                 const mc_planes *planes,
+                                                 double stress[6],
+                                                 double *plastic_shear) {
+  gm_principal_circle circle = gm_principal_in_plane(stress);
+  double major = circle.centre + circle.radius;
+  double minor = circle.centre - circle.radius;
+  double zz = stress[GM_ZZ];
+  double extremes[3] = {major > zz ? major : zz, 0.0, minor < zz ? minor : zz};
+  double main_value = plane_value(&planes->main, k, extremes); /* Pa */
+  if (main_value <= 0.0)
+    return MC_ELASTIC; /* the trial stress is the answer, untouched */
+  return return_planar_plastic(k, planes, circle, main_value, stress,
+                               plastic_shear);
+}
+
 /* Return mapping of one point with trial stress `stress` (Pa, in place) and
  * accumulated plastic shear strain; k->yield_offset is this point's rate
  * term. */
@@ -392,9 +534,10 @@ static mc_outcome return_point(const mc_constants *k, const mc_planes *planes,
     return MC_ELASTIC;
   gm_principal trial;
   gm_principal_decompose_cubic(&cubic, &trial);
-  if (plane_value(&planes->main, k, trial.value) <= 0.0)
+  double main_value = plane_value(&planes->main, k, trial.value); /* Pa */
+  if (main_value <= 0.0)
     return MC_ELASTIC;
-  plastic_correction(k, planes, &trial, stress, plastic_shear);
+  plastic_correction(k, planes, &trial, main_value, stress, plastic_shear);
   return MC_PLASTIC;
 }
 
@@ -423,16 +566,16 @@ static void sqrt_rows(double *values, size_t count) {
  * point's 2 c cos(phi) (eq 16) goes to `offset`, as the corrector reads it;
  * without it `offset` is 0 (x - 0 is x: the same value), left unwritten
  * for a plane chunk, whose corrector does not read it. `plane` (a
- * constant): yz = zx = 0 is known and
- * stress[4], stress[5] are not read; the listed rows are the same (a +0
- * added to the finiteness sum or to the yield value changes neither's
- * test). Returns the number of rows written to `row` (offsets from
- * begin). */
-static GM_ALWAYS_INLINE size_t
-screen_chunk(const mc_constants *k, const mc_planes *planes,
-             const double *const *stress, const double *const *strain,
-             double dt, size_t begin, size_t end, double eta, const bool rated,
-             const bool plane, double *offset, uint16_t *row) {
+ * constant): yz = zx = 0 is known and stress[4], stress[5] are not read,
+ * and the caller has found every row's sum xx + yy + zz + xy finite, so
+ * the finiteness term (+-0) is left out; the listed rows are the same (a
+ * +-0 added to the yield value changes no test, nor a value > 0). Returns the
+ * number of rows written to `row` (offsets from begin). */
+static GM_ALWAYS_INLINE size_t screen_chunk(
+    const mc_constants *k, const mc_planes *planes, const double *const *stress,
+    const double *const *strain, double dt, size_t begin, size_t end,
+    double eta, const bool rated, const bool plane, double *offset,
+    double *radius, double *yield, uint16_t *row) {
   size_t count = end - begin;
   if (!rated && !plane) /* the general corrector reads them */
     for (size_t j = 0; j < count; j++)
@@ -456,13 +599,13 @@ screen_chunk(const mc_constants *k, const mc_planes *planes,
   /* Three loops, so that the two without a square root vectorise: GCC
    * keeps a branch to set errno around sqrt (-fmath-errno, the ISO
    * default), which stops the vectoriser; sqrt_rows takes the roots. */
-  double radius[MC_CHUNK]; /* Mohr circle: squared, then its radius, Pa */
+  /* radius: the Mohr circle's, squared, then its radius (Pa) */
   for (size_t j = 0; j < count; j++) {
     double half_difference = 0.5 * (xx[j] - yy[j]); /* gm_principal_in_plane */
     radius[j] = half_difference * half_difference + xy[j] * xy[j];
   }
   sqrt_rows(radius, count);
-  double yield[MC_CHUNK]; /* the yield value, +inf or NaN: corrector */
+  /* yield: the yield value (Pa), +inf or NaN: corrector */
   for (size_t j = 0; j < count; j++) {
     double sum = xx[j] + yy[j] + zz[j] + xy[j];
     if (!plane)
@@ -477,7 +620,9 @@ screen_chunk(const mc_constants *k, const mc_planes *planes,
     /* A general 3D stress (yz or zx not 0) goes to the corrector: +inf
      * (or NaN) added, selected without a branch */
     double general = plane || (yz[j] == 0.0 && zx[j] == 0.0) ? 0.0 : INFINITY;
-    yield[j] = value + screen + general;
+    /* plane: the caller has checked the same sums (+-0 then; the +0 of
+     * `general` too changes no test), so the yield value alone */
+    yield[j] = plane ? value : value + screen + general;
   }
   size_t rows = 0;
   for (size_t j = 0; j < count; j++) {
@@ -502,12 +647,22 @@ static void prepare(const gm_mohr_coulomb_def *def, mc_constants *k,
   planes->main = make_plane(k, 0, 2);
   planes->main_compliance =
       1.0 / dot3(planes->main.normal, planes->main.elastic_flow);
-  planes->compression = make_edge(&planes->main, make_plane(k, 1, 2));
-  planes->extension = make_edge(&planes->main, make_plane(k, 0, 1));
+  planes->compression = make_edge(&planes->main, make_plane(k, 1, 2), true);
+  planes->extension = make_edge(&planes->main, make_plane(k, 0, 1), false);
   planes->main_flow_size = max_abs3(planes->main.elastic_flow);
   planes->compression_flow_size =
       max_abs3(planes->compression.plane.elastic_flow);
   planes->extension_flow_size = max_abs3(planes->extension.plane.elastic_flow);
+  const mc_edge *c = &planes->compression, *e = &planes->extension;
+  planes->apex_test = c->order_bounded && e->order_bounded;
+  planes->apex_margin_trial =
+      0x1p-30 * (c->order_size_trial > e->order_size_trial
+                     ? c->order_size_trial
+                     : e->order_size_trial);
+  planes->apex_margin_offset =
+      0x1p-30 * (c->order_size_offset > e->order_size_offset
+                     ? c->order_size_offset
+                     : e->order_size_offset);
 }
 
 int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
@@ -531,14 +686,15 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
         batch->count - begin < MC_CHUNK ? batch->count : begin + MC_CHUNK;
     elastic_trials(&k, batch, begin, end);
     double offset[MC_CHUNK]; /* 2 c cos(phi) of each point, Pa */
-    uint16_t row[MC_CHUNK];  /* the rows the screen leaves, ascending */
+    double radius[MC_CHUNK], yield[MC_CHUNK]; /* the screen's, Pa */
+    uint16_t row[MC_CHUNK]; /* the rows the screen leaves, ascending */
     size_t rows =
-        eta > 0.0
-            ? screen_chunk(&k, &planes, trial_rows, batch->strain_increment,
-                           batch->dt, begin, end, eta, true, false, offset, row)
-            : screen_chunk(&k, &planes, trial_rows, batch->strain_increment,
-                           batch->dt, begin, end, 0.0, false, false, offset,
-                           row);
+        eta > 0.0 ? screen_chunk(&k, &planes, trial_rows,
+                                 batch->strain_increment, batch->dt, begin, end,
+                                 eta, true, false, offset, radius, yield, row)
+                  : screen_chunk(&k, &planes, trial_rows,
+                                 batch->strain_increment, batch->dt, begin, end,
+                                 0.0, false, false, offset, radius, yield, row);
     for (size_t r = 0; r < rows; r++) {
       size_t i = begin + row[r];
       double stress[6];
@@ -562,31 +718,74 @@ int gm_mohr_coulomb_update(const gm_material_batch *batch, void *user,
   return 0;
 }
 
-bool gm_mohr_coulomb_plane_returns(const gm_mohr_coulomb_def *def,
-                                   double *const stress[4], size_t count,
-                                   double *plastic_shear, size_t stride) {
+/* The constants and planes of a def, kept by a worker between chunks
+ * (gm_worker_scratch.mohr_coulomb_prepared) with the parameters they were
+ * derived from: prepare is deterministic, so equal parameters give the
+ * same bits. */
+typedef struct mc_prepared {
+  bool ready;       /* false in a zeroed record */
+  double source[4]; /* E (Pa), nu, phi, psi (rad) it was prepared from */
   mc_constants k;
   mc_planes planes;
-  prepare(def, &k, &planes);
+} mc_prepared;
+
+_Static_assert(sizeof(mc_prepared) <= GM_MOHR_COULOMB_PREPARED_BYTES,
+               "mc_prepared outgrew the worker scratch's bytes");
+
+static const mc_prepared *prepared_for(const gm_mohr_coulomb_def *def,
+                                       void *bytes) {
+  mc_prepared *p = bytes;
+  const double source[4] = {def->youngs_modulus, def->poisson_ratio,
+                            def->friction_angle, def->dilation_angle};
+  if (!p->ready || memcmp(p->source, source, sizeof source) != 0) {
+    prepare(def, &p->k, &p->planes);
+    memcpy(p->source, source, sizeof source);
+    p->ready = true;
+  }
+  return p;
+}
+
+bool gm_mohr_coulomb_plane_returns(const gm_mohr_coulomb_def *def,
+                                   double *const stress[4], size_t count,
+                                   double *plastic_shear, size_t stride,
+                                   void *prepared_bytes) {
+  const mc_prepared *prepared = prepared_for(def, prepared_bytes);
+  mc_constants k = prepared->k;
+  const mc_planes *planes = &prepared->planes;
   k.yield_offset = 0.0; /* no rate term: a constant the returns fold */
   const double *const rows_in[4] = {stress[0], stress[1], stress[2], stress[3]};
   double screen = 0.0; /* x * 0 is NaN exactly when x is not finite */
   for (size_t begin = 0; begin < count; begin += MC_CHUNK) {
     size_t end = count - begin < MC_CHUNK ? count : begin + MC_CHUNK;
-    double offset[MC_CHUNK]; /* not written: no rate term */
+    double offset[MC_CHUNK];                  /* not written: no rate term */
+    double radius[MC_CHUNK], yield[MC_CHUNK]; /* the screen's, Pa */
     uint16_t row[MC_CHUNK];
-    size_t rows = screen_chunk(&k, &planes, rows_in, NULL, 0.0, begin, end, 0.0,
-                               false, true, offset, row);
+    size_t rows = screen_chunk(&k, planes, rows_in, NULL, 0.0, begin, end, 0.0,
+                               false, true, offset, radius, yield, row);
     for (size_t r = 0; r < rows; r++) {
-      size_t i = begin + row[r];
+      size_t j = row[r], i = begin + j;
       double point[6] = {stress[GM_XX][i],
                          stress[GM_YY][i],
                          stress[GM_ZZ][i],
                          stress[GM_XY][i],
                          0.0,
                          0.0};
-      if (return_planar(&k, &planes, point, &plastic_shear[i * stride]) ==
-          MC_PLASTIC) {
+      double *shear = &plastic_shear[i * stride];
+      mc_outcome outcome;
+      /* The screen's circle and yield value are return_planar's (the same
+       * expressions): reused, not recomputed. A NaN yield value (products
+       * that overflowed) takes return_planar, which decides afresh. */
+      if (yield[j] > 0.0) {
+        gm_principal_circle circle = {.centre = 0.5 * (point[0] + point[1]),
+                                      .half_difference =
+                                          0.5 * (point[0] - point[1]),
+                                      .radius = radius[j]};
+        outcome =
+            return_planar_plastic(&k, planes, circle, yield[j], point, shear);
+      } else {
+        outcome = return_planar(&k, planes, point, shear);
+      }
+      if (outcome == MC_PLASTIC) {
         for (int c = 0; c < 4; c++)
           stress[c][i] = point[c];
         screen += (point[0] + point[1] + point[2] + point[3]) * 0.0;
