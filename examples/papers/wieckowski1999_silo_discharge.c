@@ -82,7 +82,10 @@
  * blends PIC into the FLIP update (numerical viscosity a h^2 / dt);
  * --scheme usl|usf in place of MUSL; --wall-friction MU sets the silo and
  * hopper walls' Coulomb coefficient (002's tan 20 deg by default; the
- * Janssen reference follows it).
+ * Janssen reference follows it). Sec. 30: --friction PHI (deg) sets the
+ * fill's friction angle (25 by default; the Janssen K follows it), --fluid S
+ * replaces the fill by von Mises with yield stress S (Pa), a nearly inviscid
+ * fluid whose discharge Torricelli and Kirchhoff's contraction predict.
  *
  * --geometry 3d (issue 16 items 3-4): a square silo of side 2B with a
  * circular orifice of diameter D in its flat floor, y up. Only the quarter
@@ -147,6 +150,8 @@ typedef struct silo {
   double youngs;          /* Pa, > 0: E in place of 002's 1 MPa */
   double dilation;        /* rad, >= 0: Mohr-Coulomb with this psi; < 0: DP */
   double pic;             /* -, the FLIP-PIC blend a (gm_domain_def) */
+  double fluid;           /* Pa, > 0: von Mises with this yield stress */
+  double friction;        /* rad, phi of the fill (002's 25 deg) */
   double wall_friction;   /* -, mu_w of the silo and hopper walls */
   const char *scheme;     /* --scheme usl|musl|usf */
   const char *profile;    /* path of the steady profiles' CSV; "" = none */
@@ -242,7 +247,7 @@ static gm_status add_material(gm_domain *domain, const silo *s, int *material) {
   gm_drucker_prager_def dp = gm_drucker_prager_def_default();
   dp.density = DENSITY;
   dp.poisson_ratio = POISSON_RATIO;
-  dp.friction_angle = FRICTION_ANGLE * PI / 180.0;
+  dp.friction_angle = s->friction;
   if (s->youngs > 0.0)
     dp.youngs_modulus = s->youngs; /* --youngs (docs/convergence.md sec. 27) */
   gm_status status;
@@ -261,6 +266,15 @@ static gm_status add_material(gm_domain *domain, const silo *s, int *material) {
     def.static_friction = sin(dp.friction_angle);
     def.limit_friction = def.static_friction + (0.6435 - 0.3819);
     status = gm_domain_add_mu_i(domain, &def, material);
+  } else if (s->fluid > 0.0) {
+    /* A nearly inviscid fluid (docs/convergence.md sec. 30): von Mises
+     * with a yield stress far below rho g D, the fill's E and nu. */
+    gm_von_mises_def vm = gm_von_mises_def_default();
+    vm.youngs_modulus = dp.youngs_modulus;
+    vm.poisson_ratio = dp.poisson_ratio;
+    vm.density = dp.density;
+    vm.yield_stress = s->fluid;
+    status = gm_domain_add_von_mises(domain, &vm, material);
   } else if (s->dilation >= 0.0) {
     /* Mohr-Coulomb on the same phi with dilation psi (docs/convergence.md
      * sec. 29: does the rate converge with associated flow, psi = phi,
@@ -548,7 +562,7 @@ static gm_status settle(gm_domain *domain, silo *s, const wall_loads *loads,
          summary.kinetic_energy);
   FILE *csv = example_open_csv(&s->options, "rest_wall.csv",
                                "depth_m,wall_pressure_Pa,janssen_Pa");
-  double k = 1.0 - sin(FRICTION_ANGLE * PI / 180.0); /* Jaky */
+  double k = 1.0 - sin(s->friction); /* Jaky */
   long mid_row = lround(0.5 * s->fill_height / cell);
   /* Axisymmetric wall loads are for the whole ring: per wall area, / 2 pi B */
   double ring =
@@ -760,8 +774,8 @@ static double profile_height(const silo *s, int k) {
 /* q / (m p) of a stress (Pa, tension positive): 1 on the Drucker-Prager
  * cone q = m p of --friction 25 deg (002 sec 2.2, drucker_prager.c), 0
  * where p <= 0. With --grain or --fluidity the same cone's slope. */
-static double mobilised_share(const double sigma[6]) {
-  double sin_phi = sin(FRICTION_ANGLE * PI / 180.0);
+static double mobilised_share(const silo *s, const double sigma[6]) {
+  double sin_phi = sin(s->friction);
   double slope = 18.0 * sin_phi / (9.0 - sin_phi * sin_phi);      /* - */
   double p = -(sigma[GM_XX] + sigma[GM_YY] + sigma[GM_ZZ]) / 3.0; /* Pa */
   if (!(p > 0.0))
@@ -831,7 +845,7 @@ static gm_status add_profile(const gm_domain *domain, const silo *s,
       sums->syy[k][bin] += mass[i] * sigma[GM_YY];
       sums->sxy[k][bin] += mass[i] * sigma[GM_XY];
       sums->pressure[k][bin] += mass[i] * pressure;
-      sums->mobilised[k][bin] += mass[i] * mobilised_share(sigma);
+      sums->mobilised[k][bin] += mass[i] * mobilised_share(s, sigma);
       sums->loose[k][bin] += pressure > 0.0 ? 0.0 : mass[i];
     }
   }
@@ -1130,6 +1144,8 @@ static int configure(silo *s, int argc, char **argv) {
   const char *dilation = "none";
   s->volumetric = "point";
   s->scheme = "musl";
+  double fluid = 0.0;                                  /* Pa */
+  double friction = FRICTION_ANGLE;                    /* deg */
   double pic = 0.0;                                    /* - */
   double wall_friction = tan(WALL_ANGLE * PI / 180.0); /* - */
   double orifice = 0.3, sample = 0.01;                 /* m, s */
@@ -1169,6 +1185,12 @@ static int configure(silo *s, int argc, char **argv) {
        "place of Drucker-Prager (none: Drucker-Prager)",
        NULL, &dilation},
       {"pic", "FLIP-PIC blend a in [0, 1] (0: FLIP)", &pic, NULL},
+      {"friction", "the fill's friction angle phi, deg (002's 25)", &friction,
+       NULL},
+      {"fluid",
+       "> 0: von Mises with this yield stress, Pa, in place of "
+       "Drucker-Prager (a nearly inviscid fluid: Torricelli, sec. 30)",
+       &fluid, NULL},
       {"wall-friction",
        "Coulomb mu_w of the silo and hopper walls (002's tan 20 deg)",
        &wall_friction, NULL},
@@ -1268,6 +1290,11 @@ static int configure(silo *s, int argc, char **argv) {
   }
   s->youngs = youngs;
   s->dilation = -1.0;
+  if (!(friction > 0.0 && friction < 90.0)) {
+    fprintf(stderr, "--friction must lie in (0, 90) deg\n");
+    return 2;
+  }
+  s->friction = friction * PI / 180.0;
   s->pic = pic;
   s->wall_friction = wall_friction;
   if (!(wall_friction >= 0.0) || !isfinite(wall_friction)) {
@@ -1283,10 +1310,9 @@ static int configure(silo *s, int argc, char **argv) {
   if (strcmp(dilation, "none") != 0) {
     char *end = NULL;
     double degrees = strtod(dilation, &end);
-    if (end == dilation || *end ||
-        !(degrees >= 0.0 && degrees <= FRICTION_ANGLE)) {
+    if (end == dilation || *end || !(degrees >= 0.0 && degrees <= friction)) {
       fprintf(stderr, "--dilation: '%s' is not none or an angle in [0, %g]\n",
-              dilation, FRICTION_ANGLE);
+              dilation, friction);
       return 2;
     }
     s->dilation = degrees * PI / 180.0;
@@ -1294,6 +1320,13 @@ static int configure(silo *s, int argc, char **argv) {
       fprintf(stderr, "--dilation: not with --grain or --fluidity\n");
       return 2;
     }
+  }
+  s->fluid = fluid;
+  if (!(fluid >= 0.0) || !isfinite(fluid) ||
+      (fluid > 0.0 && (grain > 0.0 || fluidity > 0.0 || s->dilation >= 0.0))) {
+    fprintf(stderr, "--fluid must be finite, >= 0 and not combined with "
+                    "--grain, --fluidity or --dilation\n");
+    return 2;
   }
   s->profile = profile;
   if (!(cfl > 0.0 && cfl <= 1.0)) {
@@ -1408,7 +1441,7 @@ int main(int argc, char **argv) {
     if (failed)
       return failed;
   }
-  double k = 1.0 - sin(FRICTION_ANGLE * PI / 180.0);
+  double k = 1.0 - sin(s.friction);
   printf("Beverloo with d = 0: %g; with the mesh as grain (k d = %g h, see "
          "tests/physics/test_beverloo.c): %g\n",
          beverloo(&s, 0.0), MESH_GRAIN,
