@@ -169,24 +169,6 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
         }
       }
     }
-    if (try_cpdi && v->cpdi_cache.packed) {
-      /* The support USL's scatter kept (cpdi_cache.h), with the corner
-       * gradients of gm_cpdi_support_2d from the committed domain. */
-      gm_cpdi_support *corners = &support.cpdi;
-      int64_t kept_lowest[2];
-      if (gm_cpdi_cache_load(&v->cpdi_cache, p, base, corners, kept_lowest,
-                             reach)) {
-        double corner[4][2]; /* m */
-        gm_cpdi_corner_positions_2d(
-            v->position[0][p], v->position[1][p], deformation[0][p],
-            deformation[1][p], deformation[2][p], deformation[3][p],
-            0.5 * v->domain_size[0][p], 0.5 * v->domain_size[1][p], corner);
-        (void)gm_cpdi_corner_gradients_2d(corner, corners->corner_gradient);
-        gather_cpdi_2d(v, links, base, corners, &sum, acceleration, gradient);
-        store_point_gather(v, p, j, &sum, affine, out, 2, acceleration, false);
-        continue;
-      }
-    }
     if (try_cpdi) {
       gm_cpdi_support *corners = &support.cpdi;
       if (gm_cpdi_point_support_2d(&shape_grid, v->position, deformation,

@@ -8,7 +8,6 @@
 #ifndef GM_TRANSFER_H
 #define GM_TRANSFER_H
 
-#include "grid/cpdi_cache.h"
 #include "grid/grid.h"
 
 #include <string.h>
@@ -82,10 +81,6 @@ typedef struct scatter_view {
   bool apic;
   const double *affine[4];
   double cell; /* m, h: node n of an axis lies at origin + n h */
-  /* 2D CPDI under USL's fused sweep: where the scatter keeps each point's
-   * support for the sweep and the deformation gather (cpdi_cache.h;
-   * packed NULL: not kept). */
-  gm_cpdi_cache cpdi_cache;
 } scatter_view;
 
 /* Every array a G2P pass touches (copied into restrict-qualified locals by
@@ -136,9 +131,6 @@ typedef struct gather_view {
   double cell;            /* m, h */
   /* Periodic x faces (periodic.c): moved points wrap into [x0, x0 + L). */
   bool periodic_x;
-  /* The supports USL's scatter kept (cpdi_cache.h), for USL's deformation
-   * gather; packed NULL: compute them. */
-  gm_cpdi_cache cpdi_cache;
 } gather_view;
 
 /* What the grid tells the points of one chunk, SoA: interpolated nodal
