@@ -52,6 +52,7 @@ typedef struct move_remap_wide_context {
   const uint32_t *blocks; /* blocks of the colour being swept */
   double *sum[2];         /* kg m/s, the new momenta, per grid node */
   bool cpdi;              /* CPDI corners, else the GIMP axes */
+  gm_cpdi_cache cache;    /* CPDI: the supports the scatter kept */
 } move_remap_wide_context;
 
 bool gm_move_remap_wide_fits(const gm_domain *domain) {
@@ -64,6 +65,21 @@ bool gm_move_remap_wide_fits(const gm_domain *domain) {
          domain->def.family == GM_FAMILY_PLAIN && domain->rigid_count == 0 &&
          !gm_periodic_x(domain) &&
          domain->grid.block_count * GM_BLOCK_NODES <= points->capacity;
+}
+
+bool gm_cpdi_cache_fits(const gm_domain *domain) {
+  return domain->shape_grid.shape == GM_SHAPE_CPDI &&
+         gm_move_remap_wide_fits(domain);
+}
+
+void gm_cpdi_cache_arrays(gm_domain *domain, gm_cpdi_cache *out) {
+  gm_points *points = &domain->points;
+  gm_point_buffers *next = &points->buffer[points->cur ^ 1];
+  for (int k = 0; k < 4; k++) { /* written by the deformation pass only */
+    out->fraction[k] = next->stress[k];
+    out->fraction[4 + k] = next->domain_map[k];
+  }
+  out->packed = points->block_key; /* keyed again by the deformation */
 }
 
 /* Adds the tile's first `rows` x `columns` nodes to the sums (p2g_wide.c
@@ -224,7 +240,11 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     int64_t x0, y0, reach[2];
     bool found;
     if (cpdi) {
-      found = cpdi_point_support(domain, v, &shape_grid, p, base, &corners,
+      int64_t lowest[2];
+      /* the support the scatter kept at place k (cpdi_cache.h), else
+       * computed */
+      found = gm_cpdi_cache_load(&c->cache, k, base, &corners, lowest, reach) ||
+              cpdi_point_support(domain, v, &shape_grid, p, base, &corners,
                                  reach, scratch);
       x0 = found ? corners.lowest[0] - base[0] : 0;
       y0 = found ? corners.lowest[1] - base[1] : 0;
@@ -344,6 +364,8 @@ void gm_move_remap_wide(gm_domain *domain, double dt) {
   memset(&c, 0, sizeof c);
   c.domain = domain;
   c.cpdi = domain->shape_grid.shape == GM_SHAPE_CPDI;
+  if (c.cpdi) /* the scatter of this step kept them (gm_cpdi_cache_fits) */
+    gm_cpdi_cache_arrays(domain, &c.cache);
   gm_linear_move_2d_init(domain, dt, &c.move);
   const gm_point_buffers *from = &points->buffer[points->cur];
   gm_point_buffers *to = &points->buffer[points->cur ^ 1];

@@ -8,6 +8,7 @@
 #ifndef GM_TRANSFER_H
 #define GM_TRANSFER_H
 
+#include "grid/cpdi_cache.h"
 #include "grid/grid.h"
 
 #include <string.h>
@@ -81,6 +82,9 @@ typedef struct scatter_view {
   bool apic;
   const double *affine[4];
   double cell; /* m, h: node n of an axis lies at origin + n h */
+  /* 2D CPDI under USL's fused sweep: where the scatter keeps each point's
+   * support for the sweep (cpdi_cache.h; packed NULL: not kept). */
+  gm_cpdi_cache cpdi_cache;
 } scatter_view;
 
 /* Every array a G2P pass touches (copied into restrict-qualified locals by
