@@ -1,71 +1,64 @@
 /*
- * cpdi_cache.h - a 2D CPDI point's support kept from USL's scatter for the
- * fused move and re-map sweep of the same step (move_remap_wide.c), which
- * takes it again from the same committed position and domain map and
- * visits the points in the same order (block by block, order[]). Without
- * it the sweep computed the support anew, about 290 instructions, a third
- * of them the ten floor conversions and the bounds tests of support_cpdi.h
- * (bench/results/2026-11-29-cpdi.md).
+ * cpdi_cache.h - the corner cells of a 2D CPDI point's support, kept from
+ * USL's scatter for the fused move and re-map sweep of the same step
+ * (move_remap_wide.c), which takes the support again from the same
+ * committed position and domain map and visits the points in the same
+ * order (block by block, order[]). With the cells known, the sweep forms
+ * the bilinear fractions from the corners without the ten floor
+ * conversions, the minimum and maximum and the bounds tests of
+ * support_cpdi.h (bench/results/2026-11-29-cpdi.md).
  *
- * Indexed by the point's place k in order[], not by the point: the
- * scatter writes and the sweep reads the entries in sequence, where a
- * block's points are runs of indices far apart. Kept by point index, the
- * same stores made the scatter 28 % slower (9 more streams in block
- * order) and CPDI's step slower overall; kept by place, the step is faster
- * (that file). The deformation gather, which walks the points by index,
- * gained nothing from a kept support and computes its own.
+ * One 64-bit word per point, at the point's place k in order[] (so the
+ * scatter writes and the sweep reads it in sequence; a block's points are
+ * runs of indices far apart), in the block key array: dead from the
+ * binning, which reads the keys, until the deformation pass, which keys
+ * every point again after the sweep; a failed step clears keys_valid, so
+ * the next binning keys every point afresh. Keys are >= 0; a kept word is
+ * negative (INT64_MIN plus the packed bits below), so a word is negative
+ * only where this step's scatter kept it. No new memory.
  *
- * No new memory: the cache lives in arrays that are dead from the scatter
- * until the deformation pass writes them (after the sweep):
- *   - the 8 bilinear fractions f (corner c, axis k in slot 2 c + k) in
- *     the next buffer's stress (4) and domain map (4);
- *   - each corner's cell as its offset from the block's base node (0..14,
- *     a nibble each), the support's lowest node and reach per axis, in
- *     the block key array, negative (the top bit) to say it holds them.
- *     The binning keys every point (>= 0) before the scatter, the
- *     deformation pass keys every point again, and a failed step clears
- *     keys_valid, so the next binning keys them afresh: an entry is
- *     negative only where this step's scatter stored.
+ * Tried and measured against this: keeping the fractions too (8 more
+ * arrays, the next buffer's stress and domain map) cut 1 % more of the
+ * instructions but made the scatter's stores cost more than the sweep
+ * saved; keeping them by point index, also for the deformation gather,
+ * made the step slower (that file).
  *
- * A point the scatter refused (the step fails) leaves its entry
+ * A point the scatter refused (the step fails) leaves its word
  * non-negative, and the sweep computes its support as before, recording
- * the same error. 1 - f is recomputed from f, the same operation on the
- * same value, so every weight has the bits of the support it was kept
- * from.
+ * the same error.
  */
 #ifndef GM_CPDI_CACHE_H
 #define GM_CPDI_CACHE_H
 
-#include "shapes/support.h"
+#include "shapes/shapes.h"
 
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
-/* Where the cache lives; packed == NULL: no cache this step. */
+/* Where the cells are kept; packed == NULL: not kept this step. */
 typedef struct gm_cpdi_cache {
-  double *fraction[8]; /* -, f of corner c along axis k in slot 2 c + k */
-  int64_t *packed;     /* the points' block keys (see above) */
+  int64_t *packed; /* the block key array (see above) */
 } gm_cpdi_cache;
 
-/* Bit offsets in the packed word: the 8 corner cells in bits 0..31, the
- * lowest node per axis in 32..39, the reach per axis in 40..47. */
+/* Bit offsets in the packed word: the cell of corner c along axis k as its
+ * offset from the block's base node (0..14) in the nibble 2 c + k (bits
+ * 0..31), the lowest node per axis in 32..39, the reach per axis in
+ * 40..47. */
 #define GM_CPDI_CACHE_LOWEST 32
 #define GM_CPDI_CACHE_REACH  40
 
-/* Keeps the support of the point at place `place` of order[] (its cells from
- * the block's base node base, reach per axis), which fits the block's
- * 16 x 16 tile. */
+/* Keeps the cells of the support s of the point at place `place` of
+ * order[] (base: the block's base node; reach per axis), a support that
+ * fits the block's 16 x 16 tile. */
 static inline void gm_cpdi_cache_store(const gm_cpdi_cache *cache, size_t place,
                                        const gm_cpdi_support *s,
                                        const int64_t base[2],
                                        const int64_t reach[2]) {
   uint64_t packed = 0;
   for (int c = 0; c < 4; c++)
-    for (int k = 0; k < 2; k++) {
-      cache->fraction[2 * c + k][place] = s->axis[c][k][1];
+    for (int k = 0; k < 2; k++)
       packed |= (uint64_t)(s->cell[c][k] - base[k]) << (4 * (2 * c + k));
-    }
   for (int k = 0; k < 2; k++) {
     packed |= (uint64_t)(s->lowest[k] - base[k])
               << (GM_CPDI_CACHE_LOWEST + 4 * k);
@@ -75,9 +68,9 @@ static inline void gm_cpdi_cache_store(const gm_cpdi_cache *cache, size_t place,
   cache->packed[place] = INT64_MIN + (int64_t)packed;
 }
 
-/* The kept support of the point at place `place` of order[] into s (cells,
- * fractions, lowest node; not the gradients), its lowest node from the base and
- * its reach; false if this step's scatter kept none for it. */
+/* The kept cells of the point at place `place` into s (cells, lowest node,
+ * corner count and share), its lowest node from the base and its reach;
+ * false if this step's scatter kept none for it. */
 static inline bool gm_cpdi_cache_load(const gm_cpdi_cache *cache, size_t place,
                                       const int64_t base[2], gm_cpdi_support *s,
                                       int64_t lowest[2], int64_t reach[2]) {
@@ -86,12 +79,8 @@ static inline bool gm_cpdi_cache_load(const gm_cpdi_cache *cache, size_t place,
     return false;
   uint64_t packed = (uint64_t)key; /* modulo 2^64: the low bits as stored */
   for (int c = 0; c < 4; c++)
-    for (int k = 0; k < 2; k++) {
-      double f = cache->fraction[2 * c + k][place];
+    for (int k = 0; k < 2; k++)
       s->cell[c][k] = base[k] + (int64_t)((packed >> (4 * (2 * c + k))) & 15);
-      s->axis[c][k][0] = 1.0 - f;
-      s->axis[c][k][1] = f;
-    }
   for (int k = 0; k < 2; k++) {
     lowest[k] = (int64_t)((packed >> (GM_CPDI_CACHE_LOWEST + 4 * k)) & 15);
     reach[k] = (int64_t)((packed >> (GM_CPDI_CACHE_REACH + 4 * k)) & 15);
@@ -99,6 +88,32 @@ static inline bool gm_cpdi_cache_load(const gm_cpdi_cache *cache, size_t place,
   }
   s->corner_count = 4;
   s->share = 0.25;
+  return true;
+}
+
+/* The bilinear fractions (1 - f, f) of point p's kept support s, whose
+ * cells are known: each corner's position in cells less its cell, the
+ * expressions of gm_cpdi_corners_2d and gm_cpdi_support_2d
+ * (support_cpdi.h), so the same bits. map: the domain map D. Not the
+ * corner gradients (the sweep reads none). */
+static inline bool gm_cpdi_cache_fractions(const gm_shape_grid *grid,
+                                           const double *const position[2],
+                                           const double *const map[4],
+                                           const double *const domain_size[2],
+                                           size_t p, gm_cpdi_support *s) {
+  double corners[4][2]; /* m */
+  gm_cpdi_corner_positions_2d(
+      position[0][p], position[1][p], map[0][p], map[1][p], map[2][p],
+      map[3][p], 0.5 * domain_size[0][p], 0.5 * domain_size[1][p], corners);
+  for (int k = 0; k < 2; k++) {
+    double origin = grid->origin[k], inv_cell = grid->inv_cell;
+    for (int c = 0; c < 4; c++) {
+      double cell = (corners[c][k] - origin) * inv_cell; /* cells */
+      double fraction = cell - (double)s->cell[c][k];
+      s->axis[c][k][0] = 1.0 - fraction;
+      s->axis[c][k][1] = fraction;
+    }
+  }
   return true;
 }
 

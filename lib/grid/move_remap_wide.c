@@ -52,7 +52,7 @@ typedef struct move_remap_wide_context {
   const uint32_t *blocks; /* blocks of the colour being swept */
   double *sum[2];         /* kg m/s, the new momenta, per grid node */
   bool cpdi;              /* CPDI corners, else the GIMP axes */
-  gm_cpdi_cache cache;    /* CPDI: the supports the scatter kept */
+  gm_cpdi_cache cache;    /* CPDI: the cells the scatter kept */
 } move_remap_wide_context;
 
 bool gm_move_remap_wide_fits(const gm_domain *domain) {
@@ -73,13 +73,7 @@ bool gm_cpdi_cache_fits(const gm_domain *domain) {
 }
 
 void gm_cpdi_cache_arrays(gm_domain *domain, gm_cpdi_cache *out) {
-  gm_points *points = &domain->points;
-  gm_point_buffers *next = &points->buffer[points->cur ^ 1];
-  for (int k = 0; k < 4; k++) { /* written by the deformation pass only */
-    out->fraction[k] = next->stress[k];
-    out->fraction[4 + k] = next->domain_map[k];
-  }
-  out->packed = points->block_key; /* keyed again by the deformation */
+  out->packed = domain->points.block_key; /* keyed again by the deformation */
 }
 
 /* Adds the tile's first `rows` x `columns` nodes to the sums (p2g_wide.c
@@ -241,11 +235,14 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     bool found;
     if (cpdi) {
       int64_t lowest[2];
-      /* the support the scatter kept at place k (cpdi_cache.h), else
-       * computed */
-      found = gm_cpdi_cache_load(&c->cache, k, base, &corners, lowest, reach) ||
-              cpdi_point_support(domain, v, &shape_grid, p, base, &corners,
-                                 reach, scratch);
+      /* the cells the scatter kept at place k (cpdi_cache.h) and the
+       * fractions from them, else the whole support */
+      found =
+          (gm_cpdi_cache_load(&c->cache, k, base, &corners, lowest, reach) &&
+           gm_cpdi_cache_fractions(&shape_grid, v->position, v->support_tensor,
+                                   v->domain_size, p, &corners)) ||
+          cpdi_point_support(domain, v, &shape_grid, p, base, &corners, reach,
+                             scratch);
       x0 = found ? corners.lowest[0] - base[0] : 0;
       y0 = found ? corners.lowest[1] - base[1] : 0;
     } else {

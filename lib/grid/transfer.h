@@ -83,7 +83,7 @@ typedef struct scatter_view {
   const double *affine[4];
   double cell; /* m, h: node n of an axis lies at origin + n h */
   /* 2D CPDI under USL's fused sweep: where the scatter keeps each point's
-   * support for the sweep (cpdi_cache.h; packed NULL: not kept). */
+   * corner cells for the sweep (cpdi_cache.h; packed NULL: not kept). */
   gm_cpdi_cache cpdi_cache;
 } scatter_view;
 

@@ -25,6 +25,25 @@
 
 /* The corners (m) of the parallelogram of centre x, y, domain map D
  * (D_xx, D_xy, D_yx, D_yy) and initial half edges half_x, half_y (m),
+ * counter-clockwise from the lower left (gm_point_domain_corners). */
+static inline void gm_cpdi_corner_positions_2d(double x, double y, double d_xx,
+                                               double d_xy, double d_yx,
+                                               double d_yy, double half_x,
+                                               double half_y,
+                                               double corners[4][2]) {
+  double r1[2] = {d_xx * half_x, d_yx * half_x}; /* m, D r1_0 */
+  double r2[2] = {d_xy * half_y, d_yy * half_y}; /* m, D r2_0 */
+  double position[2] = {x, y};
+  for (int k = 0; k < 2; k++) { /* signs (-,-), (+,-), (+,+), (-,+) */
+    corners[0][k] = position[k] + -1.0 * r1[k] + -1.0 * r2[k];
+    corners[1][k] = position[k] + 1.0 * r1[k] + -1.0 * r2[k];
+    corners[2][k] = position[k] + 1.0 * r1[k] + 1.0 * r2[k];
+    corners[3][k] = position[k] + -1.0 * r1[k] + 1.0 * r2[k];
+  }
+}
+
+/* The corners (m) of the parallelogram of centre x, y, domain map D
+ * (D_xx, D_xy, D_yx, D_yy) and initial half edges half_x, half_y (m),
  * counter-clockwise from the lower left (gm_point_domain_corners), and
  * their positions in cells from node 0; the lowest and highest node per
  * axis. False where gm_support_bounds refuses (a corner below the ghost
@@ -35,15 +54,8 @@ static inline bool gm_cpdi_corners_2d(const gm_shape_grid *grid, double x,
                                       double half_y, double corners[4][2],
                                       double cells[4][2], int64_t lowest[2],
                                       int64_t highest[2]) {
-  double r1[2] = {d_xx * half_x, d_yx * half_x}; /* m, D r1_0 */
-  double r2[2] = {d_xy * half_y, d_yy * half_y}; /* m, D r2_0 */
-  double position[2] = {x, y};
-  for (int k = 0; k < 2; k++) { /* signs (-,-), (+,-), (+,+), (-,+) */
-    corners[0][k] = position[k] + -1.0 * r1[k] + -1.0 * r2[k];
-    corners[1][k] = position[k] + 1.0 * r1[k] + -1.0 * r2[k];
-    corners[2][k] = position[k] + 1.0 * r1[k] + 1.0 * r2[k];
-    corners[3][k] = position[k] + -1.0 * r1[k] + 1.0 * r2[k];
-  }
+  gm_cpdi_corner_positions_2d(x, y, d_xx, d_xy, d_yx, d_yy, half_x, half_y,
+                              corners);
   for (int k = 0; k < 2; k++) {
     double origin = grid->origin[k], inv_cell = grid->inv_cell;
     for (int c = 0; c < 4; c++)
