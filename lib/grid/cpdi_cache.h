@@ -1,31 +1,28 @@
 /*
  * cpdi_cache.h - the corner cells of a 2D CPDI point's support, kept from
- * USL's scatter for the fused move and re-map sweep of the same step
- * (move_remap_wide.c), which takes the support again from the same
- * committed position and domain map and visits the points in the same
- * order (block by block, order[]). With the cells known, the sweep forms
- * the bilinear fractions from the corners without the ten floor
- * conversions, the minimum and maximum and the bounds tests of
- * support_cpdi.h (bench/results/2026-11-29-cpdi.md).
+ * USL's scatter for the two later passes of the same step that take the
+ * support again from the same committed position and domain map: the
+ * fused move and re-map sweep (move_remap_wide.c) and the deformation
+ * gather (g2p_wide.c). With the cells known, they form the bilinear
+ * fractions (and the gather the corner gradients) from the corners
+ * without the ten floor conversions, the minimum and maximum and the
+ * bounds tests of support_cpdi.h (bench/results/2026-11-29-cpdi.md).
  *
- * One 64-bit word per point, at the point's place k in order[] (so the
- * scatter writes and the sweep reads it in sequence; a block's points are
- * runs of indices far apart), in the block key array: dead from the
- * binning, which reads the keys, until the deformation pass, which keys
- * every point again after the sweep; a failed step clears keys_valid, so
- * the next binning keys every point afresh. Keys are >= 0; a kept word is
- * negative (INT64_MIN plus the packed bits below), so a word is negative
- * only where this step's scatter kept it. No new memory.
+ * One 64-bit word per point, in the point's slot of the block key array:
+ * dead from the binning, which reads the keys, until the deformation
+ * pass, which keys each point again after its gather of the point's chunk
+ * (gm_wide_keys_chunk); a failed step clears keys_valid, so the next
+ * binning keys every point afresh. Keys are >= 0; a kept word is negative
+ * (INT64_MIN plus the packed bits below), so a word is negative only
+ * where this step's scatter kept it. No new memory.
  *
  * Tried and measured against this: keeping the fractions too (8 more
- * arrays, the next buffer's stress and domain map) cut 1 % more of the
- * instructions but made the scatter's stores cost more than the sweep
- * saved; keeping them by point index, also for the deformation gather,
- * made the step slower (that file).
+ * arrays, the next buffer's stress and domain map) cut more instructions
+ * but its stores cost the scatter more than the later passes saved.
  *
  * A point the scatter refused (the step fails) leaves its word
- * non-negative, and the sweep computes its support as before, recording
- * the same error.
+ * non-negative, and the later passes compute its support as before,
+ * recording the same error.
  */
 #ifndef GM_CPDI_CACHE_H
 #define GM_CPDI_CACHE_H
@@ -48,10 +45,9 @@ typedef struct gm_cpdi_cache {
 #define GM_CPDI_CACHE_LOWEST 32
 #define GM_CPDI_CACHE_REACH  40
 
-/* Keeps the cells of the support s of the point at place `place` of
- * order[] (base: the block's base node; reach per axis), a support that
- * fits the block's 16 x 16 tile. */
-static inline void gm_cpdi_cache_store(const gm_cpdi_cache *cache, size_t place,
+/* Keeps the cells of point p's support s (base: the block's base node;
+ * reach per axis), a support that fits the block's 16 x 16 tile. */
+static inline void gm_cpdi_cache_store(const gm_cpdi_cache *cache, size_t p,
                                        const gm_cpdi_support *s,
                                        const int64_t base[2],
                                        const int64_t reach[2]) {
@@ -65,16 +61,16 @@ static inline void gm_cpdi_cache_store(const gm_cpdi_cache *cache, size_t place,
     packed |= (uint64_t)reach[k] << (GM_CPDI_CACHE_REACH + 4 * k);
   }
   /* below 2^48: INT64_MIN + packed is negative and keeps the low bits */
-  cache->packed[place] = INT64_MIN + (int64_t)packed;
+  cache->packed[p] = INT64_MIN + (int64_t)packed;
 }
 
-/* The kept cells of the point at place `place` into s (cells, lowest node,
- * corner count and share), its lowest node from the base and its reach;
- * false if this step's scatter kept none for it. */
-static inline bool gm_cpdi_cache_load(const gm_cpdi_cache *cache, size_t place,
+/* The kept cells of point p into s (cells, lowest node, corner count and
+ * share), its lowest node from the base and its reach; false if this
+ * step's scatter kept none for it. */
+static inline bool gm_cpdi_cache_load(const gm_cpdi_cache *cache, size_t p,
                                       const int64_t base[2], gm_cpdi_support *s,
                                       int64_t lowest[2], int64_t reach[2]) {
-  int64_t key = cache->packed[place];
+  int64_t key = cache->packed[p];
   if (key >= 0)
     return false;
   uint64_t packed = (uint64_t)key; /* modulo 2^64: the low bits as stored */
@@ -94,13 +90,14 @@ static inline bool gm_cpdi_cache_load(const gm_cpdi_cache *cache, size_t place,
 /* The bilinear fractions (1 - f, f) of point p's kept support s, whose
  * cells are known: each corner's position in cells less its cell, the
  * expressions of gm_cpdi_corners_2d and gm_cpdi_support_2d
- * (support_cpdi.h), so the same bits. map: the domain map D. Not the
- * corner gradients (the sweep reads none). */
+ * (support_cpdi.h), so the same bits. map: the domain map D. The corner
+ * gradients too where with_gradients (the sweep reads none). */
 static inline bool gm_cpdi_cache_fractions(const gm_shape_grid *grid,
                                            const double *const position[2],
                                            const double *const map[4],
                                            const double *const domain_size[2],
-                                           size_t p, gm_cpdi_support *s) {
+                                           size_t p, gm_cpdi_support *s,
+                                           const bool with_gradients) {
   double corners[4][2]; /* m */
   gm_cpdi_corner_positions_2d(
       position[0][p], position[1][p], map[0][p], map[1][p], map[2][p],
@@ -114,6 +111,8 @@ static inline bool gm_cpdi_cache_fractions(const gm_shape_grid *grid,
       s->axis[c][k][1] = fraction;
     }
   }
+  if (with_gradients)
+    (void)gm_cpdi_corner_gradients_2d(corners, s->corner_gradient);
   return true;
 }
 

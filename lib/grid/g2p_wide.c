@@ -169,6 +169,20 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
         }
       }
     }
+    if (try_cpdi && v->cpdi_cache.packed) {
+      /* USL: the cells its scatter kept (cpdi_cache.h), the fractions and
+       * corner gradients from them, bitwise gm_cpdi_support_2d's. */
+      gm_cpdi_support *corners = &support.cpdi;
+      int64_t kept_lowest[2];
+      if (gm_cpdi_cache_load(&v->cpdi_cache, p, base, corners, kept_lowest,
+                             reach) &&
+          gm_cpdi_cache_fractions(&shape_grid, v->position, deformation,
+                                  v->domain_size, p, corners, true)) {
+        gather_cpdi_2d(v, links, base, corners, &sum, acceleration, gradient);
+        store_point_gather(v, p, j, &sum, affine, out, 2, acceleration, false);
+        continue;
+      }
+    }
     if (try_cpdi) {
       gm_cpdi_support *corners = &support.cpdi;
       if (gm_cpdi_point_support_2d(&shape_grid, v->position, deformation,

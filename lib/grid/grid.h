@@ -104,8 +104,8 @@ void gm_move_remap(gm_domain *domain, double dt);
 bool gm_move_remap_wide_fits(const gm_domain *domain);
 void gm_move_remap_wide(gm_domain *domain, double dt);
 /* Whether USL's scatter keeps the 2D CPDI supports' cells for the sweep
- * (cpdi_cache.h: CPDI and the sweep above), and where (the block key
- * array, by place in order[]). */
+ * and the deformation gather (cpdi_cache.h: CPDI and the sweep above),
+ * and where (the block key array). */
 bool gm_cpdi_cache_fits(const gm_domain *domain);
 struct gm_cpdi_cache;
 void gm_cpdi_cache_arrays(gm_domain *domain, struct gm_cpdi_cache *out);

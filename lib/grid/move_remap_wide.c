@@ -235,12 +235,12 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     bool found;
     if (cpdi) {
       int64_t lowest[2];
-      /* the cells the scatter kept at place k (cpdi_cache.h) and the
-       * fractions from them, else the whole support */
+      /* the cells the scatter kept (cpdi_cache.h) and the fractions
+       * from them, else the whole support */
       found =
-          (gm_cpdi_cache_load(&c->cache, k, base, &corners, lowest, reach) &&
+          (gm_cpdi_cache_load(&c->cache, p, base, &corners, lowest, reach) &&
            gm_cpdi_cache_fractions(&shape_grid, v->position, v->support_tensor,
-                                   v->domain_size, p, &corners)) ||
+                                   v->domain_size, p, &corners, false)) ||
           cpdi_point_support(domain, v, &shape_grid, p, base, &corners, reach,
                              scratch);
       x0 = found ? corners.lowest[0] - base[0] : 0;

@@ -83,7 +83,8 @@ typedef struct scatter_view {
   const double *affine[4];
   double cell; /* m, h: node n of an axis lies at origin + n h */
   /* 2D CPDI under USL's fused sweep: where the scatter keeps each point's
-   * corner cells for the sweep (cpdi_cache.h; packed NULL: not kept). */
+   * corner cells for the sweep and the deformation gather (cpdi_cache.h;
+   * packed NULL: not kept). */
   gm_cpdi_cache cpdi_cache;
 } scatter_view;
 
@@ -135,6 +136,9 @@ typedef struct gather_view {
   double cell;            /* m, h */
   /* Periodic x faces (periodic.c): moved points wrap into [x0, x0 + L). */
   bool periodic_x;
+  /* USL's deformation gather: the cells its scatter kept (cpdi_cache.h;
+   * packed NULL: compute them). */
+  gm_cpdi_cache cpdi_cache;
 } gather_view;
 
 /* What the grid tells the points of one chunk, SoA: interpolated nodal

@@ -42,6 +42,25 @@ static inline void gm_cpdi_corner_positions_2d(double x, double y, double d_xx,
   }
 }
 
+/* The corner gradients g_c = rot(x_{c+1} - x_{c-1}) / (2 V) (1/m) of the
+ * parallelogram with these corners; false where its area is not
+ * positive (gm_cpdi_support_map refuses it). */
+static inline bool gm_cpdi_corner_gradients_2d(double corners[4][2],
+                                               double gradient[4][2]) {
+  double e1[2] = {corners[1][0] - corners[0][0], corners[1][1] - corners[0][1]};
+  double e2[2] = {corners[3][0] - corners[0][0], corners[3][1] - corners[0][1]};
+  double area = e1[0] * e2[1] - e1[1] * e2[0]; /* m^2 */
+  if (!(area > 0.0))
+    return false;
+  double inverse = 0.5 / area; /* 1 / (2 V), 1/m^2 */
+  for (int c = 0; c < 4; c++) {
+    const double *next = corners[(c + 1) & 3], *prev = corners[(c + 3) & 3];
+    gradient[c][0] = (next[1] - prev[1]) * inverse;
+    gradient[c][1] = -(next[0] - prev[0]) * inverse;
+  }
+  return true;
+}
+
 /* The corners (m) of the parallelogram of centre x, y, domain map D
  * (D_xx, D_xy, D_yx, D_yy) and initial half edges half_x, half_y (m),
  * counter-clockwise from the lower left (gm_point_domain_corners), and
@@ -93,17 +112,8 @@ static inline bool gm_cpdi_support_2d(const gm_shape_grid *grid, double x,
   if (!gm_cpdi_corners_2d(grid, x, y, d_xx, d_xy, d_yx, d_yy, half_x, half_y,
                           corners, cells, out->lowest, highest))
     return false;
-  double e1[2] = {corners[1][0] - corners[0][0], corners[1][1] - corners[0][1]};
-  double e2[2] = {corners[3][0] - corners[0][0], corners[3][1] - corners[0][1]};
-  double area = e1[0] * e2[1] - e1[1] * e2[0]; /* m^2 */
-  if (!(area > 0.0))
+  if (!gm_cpdi_corner_gradients_2d(corners, out->corner_gradient))
     return false;
-  double inverse = 0.5 / area; /* 1 / (2 V), 1/m^2 */
-  for (int c = 0; c < 4; c++) {
-    const double *next = corners[(c + 1) & 3], *prev = corners[(c + 3) & 3];
-    out->corner_gradient[c][0] = (next[1] - prev[1]) * inverse;
-    out->corner_gradient[c][1] = -(next[0] - prev[0]) * inverse;
-  }
   out->corner_count = 4;
   out->share = 0.25;
   for (int c = 0; c < 4; c++) {
