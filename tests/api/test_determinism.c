@@ -298,9 +298,10 @@ START_TEST(test_plane_strain_block_bspline) {
 }
 END_TEST
 
-/* CPDI: under USL the scatter keeps each point's corner cells for the
- * move-and-re-map sweep by the point's place in order[] (cpdi_cache.h),
- * written and read by whichever worker takes the block. */
+/* CPDI: under USL the scatter keeps each point's corner cells in the block
+ * key array for the move-and-re-map sweep and the deformation gather
+ * (cpdi_cache.h), written and read by whichever worker takes the block or
+ * the chunk. */
 START_TEST(test_plane_strain_block_cpdi) {
   check_scene(&plane_scene, (gm_update_scheme)_i, GM_TRANSFER_FLIP,
               GM_SHAPE_CPDI);
