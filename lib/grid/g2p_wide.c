@@ -3,7 +3,10 @@
  * support is wider than one cell (uGIMP, cpGIMP, CPDI; support.h): the
  * interpolated acceleration and velocity and the velocity gradient
  * L = sum v_i (x) grad S_i, as in g2p.c, plus the block keys of the moved
- * points, which depend on the whole support and so on F as well.
+ * points, which depend on the whole support and so on F as well. USL's
+ * deformation gather of 2D CPDI takes the corner cells its scatter kept
+ * (cpdi_cache.h) and forms the fractions and corner gradients from the
+ * corners.
  */
 #include "grid/grid.h"
 

@@ -26,7 +26,9 @@
  * writes F; CPDI's domains follow the domain map D, not F) and are copied
  * to the grid's momenta once every block has
  * moved. The block keys of the moved points stay DEFORM's (a GIMP support
- * follows F in cpGIMP, a CPDI one D).
+ * follows F in cpGIMP, a CPDI one D). A CPDI point's corner cells come
+ * from the scatter of the same step where it kept them (cpdi_cache.h),
+ * the fractions from the corners with support_cpdi.h's expressions.
  */
 #include "grid/grid.h"
 
