@@ -752,6 +752,12 @@ void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass) {
   make_view(domain, &ctx.view);
   gm_linear_move_2d_init(domain, pass->dt, &ctx.move);
   ctx.view.affine = ctx.view.apic && pass->flip_velocity;
+  /* USL's deformation gather (after the sweep, which gm_cpdi_cache_fits
+   * implies) reads the CPDI cells its scatter kept (cpdi_cache.h). */
+  memset(&ctx.view.cpdi_cache, 0, sizeof ctx.view.cpdi_cache);
+  if (pass->deform && !pass->flip_velocity && !pass->move_points &&
+      !pass->in_place && gm_cpdi_cache_fits(domain))
+    gm_cpdi_cache_arrays(domain, &ctx.view.cpdi_cache);
   if (pass->in_place) {
     for (int k = 0; k < GM_F_STORED; k++)
       ctx.view.deformation[k] = ctx.view.next_deformation[k];

@@ -3,7 +3,10 @@
  * support is wider than one cell (uGIMP, cpGIMP, CPDI; support.h): the
  * interpolated acceleration and velocity and the velocity gradient
  * L = sum v_i (x) grad S_i, as in g2p.c, plus the block keys of the moved
- * points, which depend on the whole support and so on F as well.
+ * points, which depend on the whole support and so on F as well. USL's
+ * deformation gather of 2D CPDI takes the corner cells its scatter kept
+ * (cpdi_cache.h) and forms the fractions and corner gradients from the
+ * corners.
  */
 #include "grid/grid.h"
 
@@ -167,6 +170,20 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
                              false); /* not taken with APIC */
           continue;
         }
+      }
+    }
+    if (try_cpdi && v->cpdi_cache.packed) {
+      /* USL: the cells its scatter kept (cpdi_cache.h), the fractions and
+       * corner gradients from them, bitwise gm_cpdi_support_2d's. */
+      gm_cpdi_support *corners = &support.cpdi;
+      int64_t kept_lowest[2];
+      if (gm_cpdi_cache_load(&v->cpdi_cache, p, base, corners, kept_lowest,
+                             reach) &&
+          gm_cpdi_cache_fractions(&shape_grid, v->position, deformation,
+                                  v->domain_size, p, corners, true)) {
+        gather_cpdi_2d(v, links, base, corners, &sum, acceleration, gradient);
+        store_point_gather(v, p, j, &sum, affine, out, 2, acceleration, false);
+        continue;
       }
     }
     if (try_cpdi) {

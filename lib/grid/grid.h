@@ -103,6 +103,12 @@ void gm_move_remap(gm_domain *domain, double dt);
  * (move_remap_wide.c), under the same conditions. */
 bool gm_move_remap_wide_fits(const gm_domain *domain);
 void gm_move_remap_wide(gm_domain *domain, double dt);
+/* Whether USL's scatter keeps the 2D CPDI supports' cells for the sweep
+ * and the deformation gather (cpdi_cache.h: CPDI and the sweep above),
+ * and where (the block key array). */
+bool gm_cpdi_cache_fits(const gm_domain *domain);
+struct gm_cpdi_cache;
+void gm_cpdi_cache_arrays(gm_domain *domain, struct gm_cpdi_cache *out);
 void gm_g2p_3d(gm_domain *domain, const gm_g2p_pass *pass);
 size_t gm_chunk_gather_3d_size(void); /* the same for g2p_3d.c */
 

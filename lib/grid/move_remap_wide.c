@@ -26,7 +26,9 @@
  * writes F; CPDI's domains follow the domain map D, not F) and are copied
  * to the grid's momenta once every block has
  * moved. The block keys of the moved points stay DEFORM's (a GIMP support
- * follows F in cpGIMP, a CPDI one D).
+ * follows F in cpGIMP, a CPDI one D). A CPDI point's corner cells come
+ * from the scatter of the same step where it kept them (cpdi_cache.h),
+ * the fractions from the corners with support_cpdi.h's expressions.
  */
 #include "grid/grid.h"
 
@@ -52,6 +54,7 @@ typedef struct move_remap_wide_context {
   const uint32_t *blocks; /* blocks of the colour being swept */
   double *sum[2];         /* kg m/s, the new momenta, per grid node */
   bool cpdi;              /* CPDI corners, else the GIMP axes */
+  gm_cpdi_cache cache;    /* CPDI: the cells the scatter kept */
 } move_remap_wide_context;
 
 bool gm_move_remap_wide_fits(const gm_domain *domain) {
@@ -64,6 +67,15 @@ bool gm_move_remap_wide_fits(const gm_domain *domain) {
          domain->def.family == GM_FAMILY_PLAIN && domain->rigid_count == 0 &&
          !gm_periodic_x(domain) &&
          domain->grid.block_count * GM_BLOCK_NODES <= points->capacity;
+}
+
+bool gm_cpdi_cache_fits(const gm_domain *domain) {
+  return domain->shape_grid.shape == GM_SHAPE_CPDI &&
+         gm_move_remap_wide_fits(domain);
+}
+
+void gm_cpdi_cache_arrays(gm_domain *domain, gm_cpdi_cache *out) {
+  out->packed = domain->points.block_key; /* keyed again by the deformation */
 }
 
 /* Adds the tile's first `rows` x `columns` nodes to the sums (p2g_wide.c
@@ -224,8 +236,15 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     int64_t x0, y0, reach[2];
     bool found;
     if (cpdi) {
-      found = cpdi_point_support(domain, v, &shape_grid, p, base, &corners,
-                                 reach, scratch);
+      int64_t lowest[2];
+      /* the cells the scatter kept (cpdi_cache.h) and the fractions
+       * from them, else the whole support */
+      found =
+          (gm_cpdi_cache_load(&c->cache, p, base, &corners, lowest, reach) &&
+           gm_cpdi_cache_fractions(&shape_grid, v->position, v->support_tensor,
+                                   v->domain_size, p, &corners, false)) ||
+          cpdi_point_support(domain, v, &shape_grid, p, base, &corners, reach,
+                             scratch);
       x0 = found ? corners.lowest[0] - base[0] : 0;
       y0 = found ? corners.lowest[1] - base[1] : 0;
     } else {
@@ -344,6 +363,8 @@ void gm_move_remap_wide(gm_domain *domain, double dt) {
   memset(&c, 0, sizeof c);
   c.domain = domain;
   c.cpdi = domain->shape_grid.shape == GM_SHAPE_CPDI;
+  if (c.cpdi) /* the scatter of this step kept them (gm_cpdi_cache_fits) */
+    gm_cpdi_cache_arrays(domain, &c.cache);
   gm_linear_move_2d_init(domain, dt, &c.move);
   const gm_point_buffers *from = &points->buffer[points->cur];
   gm_point_buffers *to = &points->buffer[points->cur ^ 1];

@@ -407,6 +407,13 @@ static void make_view(gm_domain *domain, const gm_p2g_pass *pass,
                           : NULL;
   for (int m = 0; m < domain->material_count; m++)
     view->rigid[m] = domain->materials[m].rigid;
+  /* USL's scatter (the only full scatter of a step that takes the sweep)
+   * keeps the CPDI supports' cells for the sweep and the deformation
+   * gather (cpdi_cache.h). */
+  memset(&view->cpdi_cache, 0, sizeof view->cpdi_cache);
+  if (pass->mass && pass->momentum && pass->forces &&
+      gm_cpdi_cache_fits(domain))
+    gm_cpdi_cache_arrays(domain, &view->cpdi_cache);
 }
 
 void gm_p2g(gm_domain *domain, const gm_p2g_pass *pass) {

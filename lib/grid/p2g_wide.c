@@ -364,6 +364,8 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
       int64_t cx = support.cpdi.lowest[0] - base[0];
       int64_t cy = support.cpdi.lowest[1] - base[1];
       if (gm_wide_support_fits(2, cx, cy, reach, tile_edge)) {
+        if (v->cpdi_cache.packed) /* for the sweep and the deformation */
+          gm_cpdi_cache_store(&v->cpdi_cache, p, &support.cpdi, base, reach);
         columns = cx + reach[0] + 1 > columns ? cx + reach[0] + 1 : columns;
         rows = cy + reach[1] + 1 > rows ? cy + reach[1] + 1 : rows;
         clear_tile_rows(tile, &cleared, rows, tile_edge);

@@ -8,6 +8,7 @@
 #ifndef GM_TRANSFER_H
 #define GM_TRANSFER_H
 
+#include "grid/cpdi_cache.h"
 #include "grid/grid.h"
 
 #include <string.h>
@@ -81,6 +82,10 @@ typedef struct scatter_view {
   bool apic;
   const double *affine[4];
   double cell; /* m, h: node n of an axis lies at origin + n h */
+  /* 2D CPDI under USL's fused sweep: where the scatter keeps each point's
+   * corner cells for the sweep and the deformation gather (cpdi_cache.h;
+   * packed NULL: not kept). */
+  gm_cpdi_cache cpdi_cache;
 } scatter_view;
 
 /* Every array a G2P pass touches (copied into restrict-qualified locals by
@@ -131,6 +136,9 @@ typedef struct gather_view {
   double cell;            /* m, h */
   /* Periodic x faces (periodic.c): moved points wrap into [x0, x0 + L). */
   bool periodic_x;
+  /* USL's deformation gather: the cells its scatter kept (cpdi_cache.h;
+   * packed NULL: compute them). */
+  gm_cpdi_cache cpdi_cache;
 } gather_view;
 
 /* What the grid tells the points of one chunk, SoA: interpolated nodal

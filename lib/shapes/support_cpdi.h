@@ -25,6 +25,44 @@
 
 /* The corners (m) of the parallelogram of centre x, y, domain map D
  * (D_xx, D_xy, D_yx, D_yy) and initial half edges half_x, half_y (m),
+ * counter-clockwise from the lower left (gm_point_domain_corners). */
+static inline void gm_cpdi_corner_positions_2d(double x, double y, double d_xx,
+                                               double d_xy, double d_yx,
+                                               double d_yy, double half_x,
+                                               double half_y,
+                                               double corners[4][2]) {
+  double r1[2] = {d_xx * half_x, d_yx * half_x}; /* m, D r1_0 */
+  double r2[2] = {d_xy * half_y, d_yy * half_y}; /* m, D r2_0 */
+  double position[2] = {x, y};
+  for (int k = 0; k < 2; k++) { /* signs (-,-), (+,-), (+,+), (-,+) */
+    corners[0][k] = position[k] + -1.0 * r1[k] + -1.0 * r2[k];
+    corners[1][k] = position[k] + 1.0 * r1[k] + -1.0 * r2[k];
+    corners[2][k] = position[k] + 1.0 * r1[k] + 1.0 * r2[k];
+    corners[3][k] = position[k] + -1.0 * r1[k] + 1.0 * r2[k];
+  }
+}
+
+/* The corner gradients g_c = rot(x_{c+1} - x_{c-1}) / (2 V) (1/m) of the
+ * parallelogram with these corners; false where its area is not
+ * positive (gm_cpdi_support_map refuses it). */
+static inline bool gm_cpdi_corner_gradients_2d(double corners[4][2],
+                                               double gradient[4][2]) {
+  double e1[2] = {corners[1][0] - corners[0][0], corners[1][1] - corners[0][1]};
+  double e2[2] = {corners[3][0] - corners[0][0], corners[3][1] - corners[0][1]};
+  double area = e1[0] * e2[1] - e1[1] * e2[0]; /* m^2 */
+  if (!(area > 0.0))
+    return false;
+  double inverse = 0.5 / area; /* 1 / (2 V), 1/m^2 */
+  for (int c = 0; c < 4; c++) {
+    const double *next = corners[(c + 1) & 3], *prev = corners[(c + 3) & 3];
+    gradient[c][0] = (next[1] - prev[1]) * inverse;
+    gradient[c][1] = -(next[0] - prev[0]) * inverse;
+  }
+  return true;
+}
+
+/* The corners (m) of the parallelogram of centre x, y, domain map D
+ * (D_xx, D_xy, D_yx, D_yy) and initial half edges half_x, half_y (m),
  * counter-clockwise from the lower left (gm_point_domain_corners), and
  * their positions in cells from node 0; the lowest and highest node per
  * axis. False where gm_support_bounds refuses (a corner below the ghost
@@ -35,15 +73,8 @@ static inline bool gm_cpdi_corners_2d(const gm_shape_grid *grid, double x,
                                       double half_y, double corners[4][2],
                                       double cells[4][2], int64_t lowest[2],
                                       int64_t highest[2]) {
-  double r1[2] = {d_xx * half_x, d_yx * half_x}; /* m, D r1_0 */
-  double r2[2] = {d_xy * half_y, d_yy * half_y}; /* m, D r2_0 */
-  double position[2] = {x, y};
-  for (int k = 0; k < 2; k++) { /* signs (-,-), (+,-), (+,+), (-,+) */
-    corners[0][k] = position[k] + -1.0 * r1[k] + -1.0 * r2[k];
-    corners[1][k] = position[k] + 1.0 * r1[k] + -1.0 * r2[k];
-    corners[2][k] = position[k] + 1.0 * r1[k] + 1.0 * r2[k];
-    corners[3][k] = position[k] + -1.0 * r1[k] + 1.0 * r2[k];
-  }
+  gm_cpdi_corner_positions_2d(x, y, d_xx, d_xy, d_yx, d_yy, half_x, half_y,
+                              corners);
   for (int k = 0; k < 2; k++) {
     double origin = grid->origin[k], inv_cell = grid->inv_cell;
     for (int c = 0; c < 4; c++)
@@ -81,17 +112,8 @@ static inline bool gm_cpdi_support_2d(const gm_shape_grid *grid, double x,
   if (!gm_cpdi_corners_2d(grid, x, y, d_xx, d_xy, d_yx, d_yy, half_x, half_y,
                           corners, cells, out->lowest, highest))
     return false;
-  double e1[2] = {corners[1][0] - corners[0][0], corners[1][1] - corners[0][1]};
-  double e2[2] = {corners[3][0] - corners[0][0], corners[3][1] - corners[0][1]};
-  double area = e1[0] * e2[1] - e1[1] * e2[0]; /* m^2 */
-  if (!(area > 0.0))
+  if (!gm_cpdi_corner_gradients_2d(corners, out->corner_gradient))
     return false;
-  double inverse = 0.5 / area; /* 1 / (2 V), 1/m^2 */
-  for (int c = 0; c < 4; c++) {
-    const double *next = corners[(c + 1) & 3], *prev = corners[(c + 3) & 3];
-    out->corner_gradient[c][0] = (next[1] - prev[1]) * inverse;
-    out->corner_gradient[c][1] = -(next[0] - prev[0]) * inverse;
-  }
   out->corner_count = 4;
   out->share = 0.25;
   for (int c = 0; c < 4; c++) {

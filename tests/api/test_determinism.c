@@ -298,6 +298,16 @@ START_TEST(test_plane_strain_block_bspline) {
 }
 END_TEST
 
+/* CPDI: under USL the scatter keeps each point's corner cells in the block
+ * key array for the move-and-re-map sweep and the deformation gather
+ * (cpdi_cache.h), written and read by whichever worker takes the block or
+ * the chunk. */
+START_TEST(test_plane_strain_block_cpdi) {
+  check_scene(&plane_scene, (gm_update_scheme)_i, GM_TRANSFER_FLIP,
+              GM_SHAPE_CPDI);
+}
+END_TEST
+
 START_TEST(test_1d_column) {
   check_scene(&line_scene, (gm_update_scheme)_i, GM_TRANSFER_FLIP,
               GM_SHAPE_LINEAR);
@@ -333,6 +343,8 @@ static Suite *determinism_suite(void) {
                       GM_SCHEME_USF + 1);
   tcase_add_loop_test(tcase, test_plane_strain_block_bspline, GM_SCHEME_USL + 1,
                       GM_SCHEME_USF + 1);
+  tcase_add_loop_test(tcase, test_plane_strain_block_cpdi, GM_SCHEME_USL + 1,
+                      GM_SCHEME_USF + 1);
   tcase_add_loop_test(tcase, test_1d_column, GM_SCHEME_USL + 1,
                       GM_SCHEME_USF + 1);
   tcase_add_loop_test(tcase, test_apic_plane_strain_block, 1, 6);
@@ -342,7 +354,7 @@ static Suite *determinism_suite(void) {
   /* One case of each kind (USL; APIC with linear shapes), on their own so
    * that CI's ThreadSanitizer stage can run just these
    * (CK_RUN_CASE=threads): under TSan on 2 loaded cores the whole suite
-   * takes tens of minutes; these four reach the threaded scatter (by
+   * takes tens of minutes; these five reach the threaded scatter (by
    * block colour), gather, stress update and user task system in plane
    * strain and 1D. */
   TCase *threads = tcase_create("threads");
@@ -350,6 +362,8 @@ static Suite *determinism_suite(void) {
   tcase_add_loop_test(threads, test_plane_strain_block, GM_SCHEME_USL,
                       GM_SCHEME_USL + 1);
   tcase_add_loop_test(threads, test_plane_strain_block_bspline, GM_SCHEME_USL,
+                      GM_SCHEME_USL + 1);
+  tcase_add_loop_test(threads, test_plane_strain_block_cpdi, GM_SCHEME_USL,
                       GM_SCHEME_USL + 1);
   tcase_add_loop_test(threads, test_1d_column, GM_SCHEME_USL,
                       GM_SCHEME_USL + 1);

@@ -1,0 +1,119 @@
+/*
+ * cpdi_cache.h - the corner cells of a 2D CPDI point's support, kept from
+ * USL's scatter for the two later passes of the same step that take the
+ * support again from the same committed position and domain map: the
+ * fused move and re-map sweep (move_remap_wide.c) and the deformation
+ * gather (g2p_wide.c). With the cells known, they form the bilinear
+ * fractions (and the gather the corner gradients) from the corners
+ * without the ten floor conversions, the minimum and maximum and the
+ * bounds tests of support_cpdi.h (bench/results/2026-11-29-cpdi.md).
+ *
+ * One 64-bit word per point, in the point's slot of the block key array:
+ * dead from the binning, which reads the keys, until the deformation
+ * pass, which keys each point again after its gather of the point's chunk
+ * (gm_wide_keys_chunk); a failed step clears keys_valid, so the next
+ * binning keys every point afresh. Keys are >= 0; a kept word is negative
+ * (INT64_MIN plus the packed bits below), so a word is negative only
+ * where this step's scatter kept it. No new memory.
+ *
+ * Tried and measured against this: keeping the fractions too (8 more
+ * arrays, the next buffer's stress and domain map) cut more instructions
+ * but its stores cost the scatter more than the later passes saved.
+ *
+ * A point the scatter refused (the step fails) leaves its word
+ * non-negative, and the later passes compute its support as before,
+ * recording the same error.
+ */
+#ifndef GM_CPDI_CACHE_H
+#define GM_CPDI_CACHE_H
+
+#include "shapes/shapes.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+/* Where the cells are kept; packed == NULL: not kept this step. */
+typedef struct gm_cpdi_cache {
+  int64_t *packed; /* the block key array (see above) */
+} gm_cpdi_cache;
+
+/* Bit offsets in the packed word: the cell of corner c along axis k as its
+ * offset from the block's base node (0..14) in the nibble 2 c + k (bits
+ * 0..31), the lowest node per axis in 32..39, the reach per axis in
+ * 40..47. */
+#define GM_CPDI_CACHE_LOWEST 32
+#define GM_CPDI_CACHE_REACH  40
+
+/* Keeps the cells of point p's support s (base: the block's base node;
+ * reach per axis), a support that fits the block's 16 x 16 tile. */
+static inline void gm_cpdi_cache_store(const gm_cpdi_cache *cache, size_t p,
+                                       const gm_cpdi_support *s,
+                                       const int64_t base[2],
+                                       const int64_t reach[2]) {
+  uint64_t packed = 0;
+  for (int c = 0; c < 4; c++)
+    for (int k = 0; k < 2; k++)
+      packed |= (uint64_t)(s->cell[c][k] - base[k]) << (4 * (2 * c + k));
+  for (int k = 0; k < 2; k++) {
+    packed |= (uint64_t)(s->lowest[k] - base[k])
+              << (GM_CPDI_CACHE_LOWEST + 4 * k);
+    packed |= (uint64_t)reach[k] << (GM_CPDI_CACHE_REACH + 4 * k);
+  }
+  /* below 2^48: INT64_MIN + packed is negative and keeps the low bits */
+  cache->packed[p] = INT64_MIN + (int64_t)packed;
+}
+
+/* The kept cells of point p into s (cells, lowest node, corner count and
+ * share), its lowest node from the base and its reach; false if this
+ * step's scatter kept none for it. */
+static inline bool gm_cpdi_cache_load(const gm_cpdi_cache *cache, size_t p,
+                                      const int64_t base[2], gm_cpdi_support *s,
+                                      int64_t lowest[2], int64_t reach[2]) {
+  int64_t key = cache->packed[p];
+  if (key >= 0)
+    return false;
+  uint64_t packed = (uint64_t)key; /* modulo 2^64: the low bits as stored */
+  for (int c = 0; c < 4; c++)
+    for (int k = 0; k < 2; k++)
+      s->cell[c][k] = base[k] + (int64_t)((packed >> (4 * (2 * c + k))) & 15);
+  for (int k = 0; k < 2; k++) {
+    lowest[k] = (int64_t)((packed >> (GM_CPDI_CACHE_LOWEST + 4 * k)) & 15);
+    reach[k] = (int64_t)((packed >> (GM_CPDI_CACHE_REACH + 4 * k)) & 15);
+    s->lowest[k] = base[k] + lowest[k];
+  }
+  s->corner_count = 4;
+  s->share = 0.25;
+  return true;
+}
+
+/* The bilinear fractions (1 - f, f) of point p's kept support s, whose
+ * cells are known: each corner's position in cells less its cell, the
+ * expressions of gm_cpdi_corners_2d and gm_cpdi_support_2d
+ * (support_cpdi.h), so the same bits. map: the domain map D. The corner
+ * gradients too where with_gradients (the sweep reads none). */
+static inline bool gm_cpdi_cache_fractions(const gm_shape_grid *grid,
+                                           const double *const position[2],
+                                           const double *const map[4],
+                                           const double *const domain_size[2],
+                                           size_t p, gm_cpdi_support *s,
+                                           const bool with_gradients) {
+  double corners[4][2]; /* m */
+  gm_cpdi_corner_positions_2d(
+      position[0][p], position[1][p], map[0][p], map[1][p], map[2][p],
+      map[3][p], 0.5 * domain_size[0][p], 0.5 * domain_size[1][p], corners);
+  for (int k = 0; k < 2; k++) {
+    double origin = grid->origin[k], inv_cell = grid->inv_cell;
+    for (int c = 0; c < 4; c++) {
+      double cell = (corners[c][k] - origin) * inv_cell; /* cells */
+      double fraction = cell - (double)s->cell[c][k];
+      s->axis[c][k][0] = 1.0 - fraction;
+      s->axis[c][k][1] = fraction;
+    }
+  }
+  if (with_gradients)
+    (void)gm_cpdi_corner_gradients_2d(corners, s->corner_gradient);
+  return true;
+}
+
+#endif
