@@ -253,7 +253,11 @@ static void point_geometry(void *context, size_t begin, size_t end,
 }
 
 /* The geometry of linear MPM once the interaction boxes are cached: only
- * the supports move, the cell of the point and the next node per axis. */
+ * the supports move, the cell of the point and the next node per axis.
+ * The granular flags stay those of the step that cached the boxes: they
+ * change only with the points' materials or a material's granular flag,
+ * and whatever changes either (adding, removing or reordering points,
+ * gm_domain_set_granular, loading a checkpoint) clears boxes_valid. */
 static void linear_supports(void *context, size_t begin, size_t end,
                             int worker) {
   (void)worker;
@@ -269,8 +273,6 @@ static void linear_supports(void *context, size_t begin, size_t end,
     for (size_t p = begin; p < end; p++)
       low[p] = (int32_t)((position[p] - origin) * inv_cell); /* >= 0 */
   }
-  for (size_t p = begin; p < end; p++)
-    work->granular[p] = domain->materials[points->material[p]].granular;
 }
 
 void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch) {
@@ -337,6 +339,37 @@ static bool edge_holds(const gm_domain *domain, uint64_t edge) {
          gm_pair_interacts(domain, p, q);
 }
 
+/* Do the edges [first, last) of the kept forest all hold? edge_holds for
+ * the plane rectangle variants with a fixed support span (linear MPM, the
+ * B-splines): the same two tests (pair_rules.h) with the arrays in locals
+ * and every term evaluated, so that the loop has no branch per edge but
+ * the loop's own (a connected body breaks no edge: an early exit would
+ * save nothing). Both ends' indices are below the point count, so every
+ * load is valid. */
+static bool box_edges_hold_2d(const gm_granular_work *work, size_t first,
+                              size_t last) {
+  const int32_t *low_x = work->support_low[0], *low_y = work->support_low[1];
+  const double *centre_x = work->box_centre[0]; /* m */
+  const double *centre_y = work->box_centre[1]; /* m */
+  const double *half_x = work->box_half[0], *half_y = work->box_half[1];
+  const uint8_t *granular = work->granular;
+  const uint64_t *forest = work->forest;
+  int32_t reach = work->support_reach;
+  bool hold = true;
+  for (size_t e = first; e < last; e++) {
+    uint32_t p = (uint32_t)(forest[e] >> 32);
+    uint32_t q = (uint32_t)(forest[e] & 0xffffffffu);
+    int32_t apart_x = low_x[p] - low_x[q], apart_y = low_y[p] - low_y[q];
+    bool share = (apart_x <= reach) & (-apart_x <= reach) & (apart_y <= reach) &
+                 (-apart_y <= reach);
+    bool neither = !granular[p] & !granular[q];
+    bool overlap = (fabs(centre_x[q] - centre_x[p]) < half_x[p] + half_x[q]) &
+                   (fabs(centre_y[q] - centre_y[p]) < half_y[p] + half_y[q]);
+    hold &= share & (neither | overlap);
+  }
+  return hold;
+}
+
 /* Flags (in work->visit, one per chunk of FOREST_CHUNK edges) the chunks
  * holding an edge that no longer holds. */
 static void check_forest_chunks(void *context, size_t begin, size_t end,
@@ -344,11 +377,14 @@ static void check_forest_chunks(void *context, size_t begin, size_t end,
   (void)worker;
   gm_domain *domain = context;
   gm_granular_work *work = &domain->granular;
+  bool boxes = domain->dim == 2 && work->box_half[0] && !work->support_high[0];
   for (size_t c = begin; c < end; c++) {
     size_t first = c * FOREST_CHUNK, last = first + FOREST_CHUNK;
     last = last < work->forest_count ? last : work->forest_count;
     uint8_t broken = 0;
-    for (size_t e = first; e < last && !broken; e++)
+    if (boxes)
+      broken = !box_edges_hold_2d(work, first, last);
+    for (size_t e = first; e < last && !broken && !boxes; e++)
       broken = !edge_holds(domain, work->forest[e]);
     work->visit[c] = broken;
   }
