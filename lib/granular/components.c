@@ -339,6 +339,26 @@ static bool edge_holds(const gm_domain *domain, uint64_t edge) {
          gm_pair_interacts(domain, p, q);
 }
 
+/* Does every overlap of two interaction boxes imply a shared node
+ * (work->overlap_shares_node)? Linear MPM, every point granular (so no
+ * pair holds without overlapping), and every box half edge below 0.45
+ * cell: overlapping boxes are less than 0.9 cell apart per axis, and the
+ * cells (x - origin) / cell, each rounded a few ulps of the grid's
+ * extent (at most 1e9 cells, domain.c), then differ by less than one:
+ * their truncations, the points' cells, by at most one, the support's
+ * reach. O(N), once per computation of the boxes. */
+static bool overlap_shares_node(const gm_domain *domain) {
+  const gm_granular_work *work = &domain->granular;
+  if (domain->dim != 2 || domain->shape_grid.shape != GM_SHAPE_LINEAR)
+    return false;
+  double limit = 0.45 / domain->shape_grid.inv_cell; /* m */
+  bool fits = true;
+  for (size_t p = 0; p < domain->points.count; p++)
+    fits &= (work->granular[p] != 0) & (work->box_half[0][p] < limit) &
+            (work->box_half[1][p] < limit);
+  return fits;
+}
+
 /* Do the edges [first, last) of the kept forest all hold? edge_holds for
  * the plane rectangle variants with a fixed support span (linear MPM, the
  * B-splines): the same two tests (pair_rules.h) with the arrays in locals
@@ -356,6 +376,15 @@ static bool box_edges_hold_2d(const gm_granular_work *work, size_t first,
   const uint64_t *forest = work->forest;
   int32_t reach = work->support_reach;
   bool hold = true;
+  if (work->overlap_shares_node) { /* overlap alone decides: see above */
+    for (size_t e = first; e < last; e++) {
+      uint32_t p = (uint32_t)(forest[e] >> 32);
+      uint32_t q = (uint32_t)(forest[e] & 0xffffffffu);
+      hold &= (fabs(centre_x[q] - centre_x[p]) < half_x[p] + half_x[q]) &
+              (fabs(centre_y[q] - centre_y[p]) < half_y[p] + half_y[q]);
+    }
+    return hold;
+  }
   for (size_t e = first; e < last; e++) {
     uint32_t p = (uint32_t)(forest[e] >> 32);
     uint32_t q = (uint32_t)(forest[e] & 0xffffffffu);
@@ -512,11 +541,11 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   for (int k = 0; k < 3; k++) /* box centres are the points' positions */
     work->box_centre[k] = current->position[k < domain->dim ? k : 0];
   gm_shape shape = domain->shape_grid.shape;
+  bool boxes_cached = shape == GM_SHAPE_LINEAR && work->boxes_valid;
   gm_parallel_for(&domain->pool, count,
-                  shape == GM_SHAPE_LINEAR && work->boxes_valid
-                      ? linear_supports
-                      : point_geometry,
-                  domain);
+                  boxes_cached ? linear_supports : point_geometry, domain);
+  if (!boxes_cached)
+    work->overlap_shares_node = overlap_shares_node(domain);
   work->boxes_valid = shape == GM_SHAPE_LINEAR || shape == GM_SHAPE_UGIMP ||
                       gm_shape_is_bspline(shape);
   work->cells_sorted = false; /* sorted on the first search (pair_search.c) */
