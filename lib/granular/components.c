@@ -542,8 +542,12 @@ gm_status gm_granular_prepare(gm_domain *domain) {
     work->box_centre[k] = current->position[k < domain->dim ? k : 0];
   gm_shape shape = domain->shape_grid.shape;
   bool boxes_cached = shape == GM_SHAPE_LINEAR && work->boxes_valid;
-  gm_parallel_for(&domain->pool, count,
-                  boxes_cached ? linear_supports : point_geometry, domain);
+  /* Where an overlap decides a kept edge alone, the forest's check reads
+   * no support: they are computed only if a search follows. */
+  bool supports_deferred = boxes_cached && work->overlap_shares_node;
+  if (!supports_deferred)
+    gm_parallel_for(&domain->pool, count,
+                    boxes_cached ? linear_supports : point_geometry, domain);
   if (!boxes_cached)
     work->overlap_shares_node = overlap_shares_node(domain);
   work->boxes_valid = shape == GM_SHAPE_LINEAR || shape == GM_SHAPE_UGIMP ||
@@ -561,6 +565,8 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   if (one_component) {
     work->summary.forest_reused = 1;
   } else {
+    if (supports_deferred) /* the search and rejoin_forest read them */
+      gm_parallel_for(&domain->pool, count, linear_supports, domain);
     status = join_interacting(domain, max_span);
     work->forest_valid = status == GM_OK;
     if (status != GM_OK)
