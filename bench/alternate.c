@@ -21,6 +21,10 @@
  *   built-in Mohr-Coulomb model, LIB.so@0d Drucker-Prager (friction angle
  *   30 degrees, no dilation, no rate term: granmpm-bench's plastic cases),
  *   so a material's cost over the elastic step comes from one process too.
+ *   LIB.so@0g: the elastic block in the granular family (rho_cr = 0.99
+ *   rho0, as granmpm-bench's granular-1e5: every point connected, one
+ *   parallel grid), so the family's cost over the plain step comes from
+ *   one process.
  * Prints per library the median, lower quartile and mean CPU time of a
  * step, in ns per point-step. All domains are alive together: at 1e6
  * points each holds about 300 MB.
@@ -49,6 +53,8 @@ typedef gm_status add_drucker_prager_fn(gm_domain *domain,
                                         int *material_id);
 typedef gm_status fill_fn(gm_domain *domain, const gm_fill_def *def,
                           int64_t *first_id, size_t *count);
+typedef gm_status set_granular_fn(gm_domain *domain, int material,
+                                  const gm_granular_def *def);
 typedef gm_status step_fn(gm_domain *domain, double dt);
 typedef const char *error_fn(const gm_domain *domain);
 typedef void destroy_fn(gm_domain *domain);
@@ -57,7 +63,8 @@ typedef struct library {
   const char *path; /* as given, with any @SHAPE */
   char file[4096];  /* the file to load */
   int shape;        /* gm_shape of its scene */
-  char material;    /* 'e' elastic, 'm' Mohr-Coulomb, 'd' Drucker-Prager */
+  char material;    /* 'e' elastic, 'm' Mohr-Coulomb, 'd' Drucker-Prager,
+                       'g' elastic in the granular family */
   step_fn *step;
   error_fn *last_error;
   destroy_fn *destroy;
@@ -155,6 +162,8 @@ static size_t open_scene(library *lib, int cells, int shape) {
   def.walls[GM_FACE_YMIN] = GM_WALL_SLIP;
   def.worker_count = 1;
   def.shape = (gm_shape)shape;
+  if (lib->material == 'g')
+    def.family = GM_FAMILY_GRANULAR;
   if (create(&def, &lib->domain) != GM_OK) {
     fprintf(stderr, "granmpm-alternate: %s: create failed\n", lib->path);
     exit(1);
@@ -164,7 +173,20 @@ static size_t open_scene(library *lib, int cells, int shape) {
   fill_init(&box, sizeof box);
   int64_t first = 0;
   size_t count = 0;
-  if (add_material(handle, lib, &material) == GM_OK) {
+  gm_status status = add_material(handle, lib, &material);
+  if (status == GM_OK && lib->material == 'g') {
+    init_fn *granular_init;
+    set_granular_fn *set_granular;
+    symbol(handle, "gm_granular_def_init", sizeof granular_init,
+           &granular_init);
+    symbol(handle, "gm_domain_set_granular", sizeof set_granular,
+           &set_granular);
+    gm_granular_def granular;
+    granular_init(&granular, sizeof granular);
+    granular.critical_density = 0.99 * 1800.0; /* kg/m^3: all connected */
+    status = set_granular(lib->domain, material, &granular);
+  }
+  if (status == GM_OK) {
     box.material = material;
     box.lower[0] = 4 * h;
     box.upper[0] = (4 + cells) * h;
@@ -182,8 +204,8 @@ static size_t open_scene(library *lib, int cells, int shape) {
 int main(int argc, char **argv) {
   if (argc < 5 || argc - 4 > MAX_LIBRARIES) {
     fprintf(stderr, "usage: granmpm-alternate CELLS STEPS SHAPE "
-                    "LIB.so[@SHAPE[m|d]] [LIB.so[@SHAPE[m|d]] ...] (at most "
-                    "8)\n");
+                    "LIB.so[@SHAPE[m|d|g]] [LIB.so[@SHAPE[m|d|g]] ...] (at "
+                    "most 8)\n");
     return 2;
   }
   int cells = atoi(argv[1]), steps = atoi(argv[2]), shape = atoi(argv[3]);
@@ -198,11 +220,11 @@ int main(int argc, char **argv) {
     libs[l].shape = shape;
     libs[l].material = 'e';
     char *at = strrchr(libs[l].file, '@');
-    if (at) { /* LIB.so@SHAPE, LIB.so@SHAPEm, LIB.so@SHAPEd */
+    if (at) { /* LIB.so@SHAPE, LIB.so@SHAPEm, LIB.so@SHAPEd, @SHAPEg */
       *at = '\0';
       char *end = at + 1;
       libs[l].shape = (int)strtol(at + 1, &end, 10);
-      if (*end == 'm' || *end == 'd')
+      if (*end == 'm' || *end == 'd' || *end == 'g')
         libs[l].material = *end;
     }
     points = open_scene(&libs[l], cells, libs[l].shape);

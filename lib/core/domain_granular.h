@@ -73,6 +73,13 @@ typedef struct gm_granular_work {
    * (the initial domain scaled to V_cr): kept while the points keep their
    * indices, and recomputed after any addition, removal or reordering. */
   bool boxes_valid;
+  /* Linear MPM with cached boxes, every point granular, and every box's
+   * half edge below 0.45 cell per axis: two interaction boxes that
+   * overlap are then less than 0.9 cell apart per axis, so the points'
+   * cells differ by at most one and their supports share a node
+   * (components.c, box_edges_hold_2d), and the supports are computed
+   * only when a search follows the check. Set with the boxes. */
+  bool overlap_shares_node;
   /* Of the step in progress, committed with it. */
   gm_granular_summary summary;
 } gm_granular_work;

@@ -253,7 +253,11 @@ static void point_geometry(void *context, size_t begin, size_t end,
 }
 
 /* The geometry of linear MPM once the interaction boxes are cached: only
- * the supports move, the cell of the point and the next node per axis. */
+ * the supports move, the cell of the point and the next node per axis.
+ * The granular flags stay those of the step that cached the boxes: they
+ * change only with the points' materials or a material's granular flag,
+ * and whatever changes either (adding, removing or reordering points,
+ * gm_domain_set_granular, loading a checkpoint) clears boxes_valid. */
 static void linear_supports(void *context, size_t begin, size_t end,
                             int worker) {
   (void)worker;
@@ -269,8 +273,6 @@ static void linear_supports(void *context, size_t begin, size_t end,
     for (size_t p = begin; p < end; p++)
       low[p] = (int32_t)((position[p] - origin) * inv_cell); /* >= 0 */
   }
-  for (size_t p = begin; p < end; p++)
-    work->granular[p] = domain->materials[points->material[p]].granular;
 }
 
 void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch) {
@@ -337,6 +339,66 @@ static bool edge_holds(const gm_domain *domain, uint64_t edge) {
          gm_pair_interacts(domain, p, q);
 }
 
+/* Does every overlap of two interaction boxes imply a shared node
+ * (work->overlap_shares_node)? Linear MPM, every point granular (so no
+ * pair holds without overlapping), and every box half edge below 0.45
+ * cell: overlapping boxes are less than 0.9 cell apart per axis, and the
+ * cells (x - origin) / cell, each rounded a few ulps of the grid's
+ * extent (at most 1e9 cells, domain.c), then differ by less than one:
+ * their truncations, the points' cells, by at most one, the support's
+ * reach. O(N), once per computation of the boxes. */
+static bool overlap_shares_node(const gm_domain *domain) {
+  const gm_granular_work *work = &domain->granular;
+  if (domain->dim != 2 || domain->shape_grid.shape != GM_SHAPE_LINEAR)
+    return false;
+  double limit = 0.45 / domain->shape_grid.inv_cell; /* m */
+  bool fits = true;
+  for (size_t p = 0; p < domain->points.count; p++)
+    fits &= (work->granular[p] != 0) & (work->box_half[0][p] < limit) &
+            (work->box_half[1][p] < limit);
+  return fits;
+}
+
+/* Do the edges [first, last) of the kept forest all hold? edge_holds for
+ * the plane rectangle variants with a fixed support span (linear MPM, the
+ * B-splines): the same two tests (pair_rules.h) with the arrays in locals
+ * and every term evaluated, so that the loop has no branch per edge but
+ * the loop's own (a connected body breaks no edge: an early exit would
+ * save nothing). Both ends' indices are below the point count, so every
+ * load is valid. */
+static bool box_edges_hold_2d(const gm_granular_work *work, size_t first,
+                              size_t last) {
+  const int32_t *low_x = work->support_low[0], *low_y = work->support_low[1];
+  const double *centre_x = work->box_centre[0]; /* m */
+  const double *centre_y = work->box_centre[1]; /* m */
+  const double *half_x = work->box_half[0], *half_y = work->box_half[1];
+  const uint8_t *granular = work->granular;
+  const uint64_t *forest = work->forest;
+  int32_t reach = work->support_reach;
+  bool hold = true;
+  if (work->overlap_shares_node) { /* overlap alone decides: see above */
+    for (size_t e = first; e < last; e++) {
+      uint32_t p = (uint32_t)(forest[e] >> 32);
+      uint32_t q = (uint32_t)(forest[e] & 0xffffffffu);
+      hold &= (fabs(centre_x[q] - centre_x[p]) < half_x[p] + half_x[q]) &
+              (fabs(centre_y[q] - centre_y[p]) < half_y[p] + half_y[q]);
+    }
+    return hold;
+  }
+  for (size_t e = first; e < last; e++) {
+    uint32_t p = (uint32_t)(forest[e] >> 32);
+    uint32_t q = (uint32_t)(forest[e] & 0xffffffffu);
+    int32_t apart_x = low_x[p] - low_x[q], apart_y = low_y[p] - low_y[q];
+    bool share = (apart_x <= reach) & (-apart_x <= reach) & (apart_y <= reach) &
+                 (-apart_y <= reach);
+    bool neither = !granular[p] & !granular[q];
+    bool overlap = (fabs(centre_x[q] - centre_x[p]) < half_x[p] + half_x[q]) &
+                   (fabs(centre_y[q] - centre_y[p]) < half_y[p] + half_y[q]);
+    hold &= share & (neither | overlap);
+  }
+  return hold;
+}
+
 /* Flags (in work->visit, one per chunk of FOREST_CHUNK edges) the chunks
  * holding an edge that no longer holds. */
 static void check_forest_chunks(void *context, size_t begin, size_t end,
@@ -344,11 +406,14 @@ static void check_forest_chunks(void *context, size_t begin, size_t end,
   (void)worker;
   gm_domain *domain = context;
   gm_granular_work *work = &domain->granular;
+  bool boxes = domain->dim == 2 && work->box_half[0] && !work->support_high[0];
   for (size_t c = begin; c < end; c++) {
     size_t first = c * FOREST_CHUNK, last = first + FOREST_CHUNK;
     last = last < work->forest_count ? last : work->forest_count;
     uint8_t broken = 0;
-    for (size_t e = first; e < last && !broken; e++)
+    if (boxes)
+      broken = !box_edges_hold_2d(work, first, last);
+    for (size_t e = first; e < last && !broken && !boxes; e++)
       broken = !edge_holds(domain, work->forest[e]);
     work->visit[c] = broken;
   }
@@ -476,11 +541,15 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   for (int k = 0; k < 3; k++) /* box centres are the points' positions */
     work->box_centre[k] = current->position[k < domain->dim ? k : 0];
   gm_shape shape = domain->shape_grid.shape;
-  gm_parallel_for(&domain->pool, count,
-                  shape == GM_SHAPE_LINEAR && work->boxes_valid
-                      ? linear_supports
-                      : point_geometry,
-                  domain);
+  bool boxes_cached = shape == GM_SHAPE_LINEAR && work->boxes_valid;
+  /* Where an overlap decides a kept edge alone, the forest's check reads
+   * no support: they are computed only if a search follows. */
+  bool supports_deferred = boxes_cached && work->overlap_shares_node;
+  if (!supports_deferred)
+    gm_parallel_for(&domain->pool, count,
+                    boxes_cached ? linear_supports : point_geometry, domain);
+  if (!boxes_cached)
+    work->overlap_shares_node = overlap_shares_node(domain);
   work->boxes_valid = shape == GM_SHAPE_LINEAR || shape == GM_SHAPE_UGIMP ||
                       gm_shape_is_bspline(shape);
   work->cells_sorted = false; /* sorted on the first search (pair_search.c) */
@@ -496,6 +565,8 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   if (one_component) {
     work->summary.forest_reused = 1;
   } else {
+    if (supports_deferred) /* the search and rejoin_forest read them */
+      gm_parallel_for(&domain->pool, count, linear_supports, domain);
     status = join_interacting(domain, max_span);
     work->forest_valid = status == GM_OK;
     if (status != GM_OK)

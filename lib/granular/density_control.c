@@ -74,10 +74,69 @@ static void scale_to_critical(const gm_domain *domain, gm_point_buffers *to,
   to->volume[p] = jacobian * points->initial_volume[p];
 }
 
+/* The granular family's rules for a chunk whose points are all of one
+ * granular material (the common chunk): the branches of the loop below
+ * with the material's constants in locals and, where one component holds
+ * every point (two or more), no point looked up as disconnected. The
+ * same decisions and the same arithmetic, in the same order. */
+static void granular_chunk(gm_domain *domain, size_t first, size_t count,
+                           const gm_material *material) {
+  gm_points *points = &domain->points;
+  const gm_point_buffers *from = &points->buffer[points->cur];
+  gm_point_buffers *to = &points->buffer[points->cur ^ 1];
+  const gm_granular_work *work = &domain->granular;
+  bool all_connected = work->summary.component_count == 1 && points->count > 1;
+  double critical = material->critical_density; /* kg/m^3 */
+  double tolerance = material->tolerance;       /* kg/m^3 */
+  double loosest = critical - tolerance;        /* kg/m^3 */
+  bool keep = material->density_control == GM_DENSITY_CONTROL_RETURN;
+  const double *mass = points->mass; /* kg */
+  const double *volume = to->volume; /* the updated volume */
+  uint8_t *states = to->granular_state;
+  for (size_t p = first; p < first + count; p++) {
+    bool disconnected =
+        !all_connected && work->component_size[work->label[p]] == 1;
+    int state = disconnected ? GM_STATE_DISCONNECTED : GM_STATE_QUASI_STATIC;
+    double density = mass[p] / volume[p]; /* kg/m^3 */
+    if (disconnected) {
+      clear_stress(to, p);
+      keep_previous_deformation(from, to, p);
+    } else if (density < loosest) {
+      clear_stress(to, p);
+      if (keep)
+        keep_previous_deformation(from, to, p);
+      else
+        scale_to_critical(domain, to, p, mass[p] / critical);
+      state = GM_STATE_MODERATE;
+    } else if (fabs(density - critical) <= tolerance) {
+      state = GM_STATE_MODERATE;
+    }
+    if (states)
+      states[p] = (uint8_t)state;
+  }
+}
+
+/* The material of every point of the chunk, or NULL if they differ. */
+static const gm_material *chunk_material(const gm_domain *domain, size_t first,
+                                         size_t count) {
+  const int32_t *material = domain->points.material + first;
+  int32_t differ = 0; /* no early exit: the scan vectorises */
+  for (size_t j = 1; j < count; j++)
+    differ |= material[j] ^ material[0];
+  return count > 0 && !differ ? &domain->materials[material[0]] : NULL;
+}
+
 void gm_density_control_chunk(gm_domain *domain, size_t first, size_t count) {
   gm_family family = domain->def.family;
   if (family == GM_FAMILY_PLAIN)
     return;
+  const gm_material *uniform = family == GM_FAMILY_GRANULAR
+                                   ? chunk_material(domain, first, count)
+                                   : NULL;
+  if (uniform && uniform->granular) {
+    granular_chunk(domain, first, count, uniform);
+    return;
+  }
   gm_points *points = &domain->points;
   const gm_point_buffers *from = &points->buffer[points->cur];
   gm_point_buffers *to = &points->buffer[points->cur ^ 1];

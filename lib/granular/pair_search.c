@@ -132,6 +132,12 @@ static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
   int dim = domain->dim, shift = domain->grid.shift;
   int64_t last = ((int64_t)1 << shift) - 1; /* local index of a block edge */
   const uint32_t *start = work->cell_start + block * (BLOCK_CELLS + 1);
+  /* With a fixed span (no highest node stored) every support spans
+   * support_reach + 1 nodes, the window is [low_p - reach, low_p + reach]
+   * per axis (cut at 0 and, with half windows, at low_p along the last
+   * axis), and a lowest node in it is one at most reach from p's: every
+   * point of the window shares a node with p (gm_supports_share_node). */
+  bool window_shares = !work->support_high[0];
   int64_t low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
   for (int k = 0; k < dim; k++) {
     low[k] = from[k] > base[k] ? from[k] - base[k] : 0;
@@ -144,7 +150,7 @@ static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
         for (uint32_t k = start[cell]; k < start[cell + 1]; k++) {
           uint32_t q = work->cell_order[k];
           if ((half && !later_in_raster(work, dim, p, q)) || q == p ||
-              !gm_supports_share_node(work, dim, p, q))
+              (!window_shares && !gm_supports_share_node(work, dim, p, q)))
             continue;
           gm_status status = handle_pair(domain, pass, p, q, root_p, !half);
           if (status != GM_OK)

@@ -94,9 +94,11 @@ void gm_g2p(gm_domain *domain, const gm_g2p_pass *pass);
 size_t gm_chunk_gather_size(void); /* bytes of a worker's G2P chunk buffer */
 /* USL's flip-and-move pass and its momentum re-map in one sweep over the
  * points (move_remap.c): whether the domain may take it (plane, linear,
- * USL, plain family, no APIC, rigid or periodic faces, and no more grid
- * nodes than point slots), and the sweep, which leaves the points and
- * the grid's momenta as gm_g2p then gm_p2g would, bit for bit. */
+ * USL, no APIC, rigid or periodic faces, and no more grid nodes than
+ * point slots; any family: the granular node layers are blocks of the
+ * grid like any other, reached through the block's links), and the
+ * sweep, which leaves the points and the grid's momenta as gm_g2p then
+ * gm_p2g would, bit for bit. */
 bool gm_move_remap_fits(const gm_domain *domain);
 void gm_move_remap(gm_domain *domain, double dt);
 /* The same sweep for uGIMP, cpGIMP and CPDI in plane strain and axisymmetry

@@ -32,7 +32,12 @@
  *
  * The sweep also tells the next binning whether every point stayed in
  * its block (points.blocks_kept): a scene at rest, or one whose points
- * cross no block edge in a step, then keeps its grid (bins.c).
+ * cross no block edge in a step, then keeps its grid (bins.c). In the
+ * granular family a point of node layer L > 0 is binned in a block whose
+ * key carries its layer (core/block_grid.h) while the move writes its
+ * plain key, so a step with more than one layer never keeps its grid; a
+ * connected body (one layer) keeps it as a plain one does, and its
+ * granular phase then runs on that grid (granular/components.c).
  */
 #include "grid/grid.h"
 
@@ -61,8 +66,7 @@ bool gm_move_remap_fits(const gm_domain *domain) {
   const gm_points *points = &domain->points;
   return domain->dim == 2 && domain->def.scheme == GM_SCHEME_USL &&
          domain->shape_grid.shape == GM_SHAPE_LINEAR &&
-         domain->def.transfer != GM_TRANSFER_APIC &&
-         domain->def.family == GM_FAMILY_PLAIN && domain->rigid_count == 0 &&
+         domain->def.transfer != GM_TRANSFER_APIC && domain->rigid_count == 0 &&
          !gm_periodic_x(domain) &&
          domain->grid.block_count * GM_BLOCK_NODES <= points->capacity;
 }

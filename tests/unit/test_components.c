@@ -612,6 +612,60 @@ START_TEST(test_components_match_reference) {
 }
 END_TEST
 
+/* A connected granular block that dilates until it breaks up, linear 2D:
+ * 12 x 12 points 0.5 cells apart, domains of 0.5 cells at 1.21 rho_cr, so
+ * each domain of interaction is a square of 0.55 cells (0.5 sqrt(1.21))
+ * that overlaps its neighbours' by 0.05 cells, under the 0.45 cells half
+ * edge where an overlap alone decides a kept forest edge (components.c,
+ * overlap_shares_node). A uniform dilation of 5 1/s (the soft E = 1e4 Pa
+ * barely resists it) stretches the 0.5-cell spacing past 0.55 cells, so
+ * the kept spanning tree's edges break: every step's grids must match the
+ * brute-force reference, the first step one grid, and the last more than
+ * one (the break-up is the point of the test). */
+START_TEST(test_dilating_block_breaks_up) {
+  const grid_frame grid = {{-0.3, 0.2}, 0.05};
+  gm_domain *domain = cloud_domain(GM_SHAPE_LINEAR, 2, &grid);
+  const double rate = 5.0;       /* 1/s */
+  double centre[2] = {0.5, 0.8}; /* m, the block's middle */
+  for (int i = 0; i < 12; i++)
+    for (int j = 0; j < 12; j++) {
+      double position[2] = {centre[0] + (i - 5.5) * 0.5 * grid.cell,
+                            centre[1] + (j - 5.5) * 0.5 * grid.cell};
+      double velocity[2] = {rate * (position[0] - centre[0]),
+                            rate * (position[1] - centre[1])};
+      double size[2] = {0.5 * grid.cell, 0.5 * grid.cell};
+      double volume = size[0] * size[1];
+      double density = 1.21 * cloud_critical_density[0]; /* kg/m^3 */
+      gm_points_def points = gm_points_def_default();
+      points.count = 1;
+      points.material = 0; /* granular */
+      points.position = position;
+      points.velocity = velocity;
+      points.volume = &volume;
+      points.density = &density;
+      points.domain_size = size;
+      TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+    }
+  size_t first = 0, last = 0;
+  for (int step = 0; step < CLOUD_STEPS; step++) {
+    snapshot before = take_snapshot(domain, 2);
+    reference r = build_reference(GM_SHAPE_LINEAR, &grid, &before,
+                                  cloud_critical_density);
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, 0.0));
+    char what[64];
+    snprintf(what, sizeof what, "dilating block, step %d", step + 1);
+    check_against_reference(domain, &r, what);
+    first = step == 0 ? r.components : first;
+    last = r.components;
+    free_reference(&r);
+    free_snapshot(&before);
+  }
+  ck_assert_uint_eq(first, 1);
+  ck_assert_uint_ge(last, 2);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 /* --------------------------------------- 2. the example of Fig. 5 */
 
 /*
@@ -1022,6 +1076,7 @@ static Suite *components_suite(void) {
   /* 4 variants x {1D, 2D} x {sparse, clustered}. */
   tcase_add_loop_test(rules, test_components_match_reference, 0, 16);
   tcase_add_test(rules, test_labels_by_id_match_sorted);
+  tcase_add_test(rules, test_dilating_block_breaks_up);
   tcase_add_loop_test(rules, test_fig5_grids, 0, 4);
   /* _i: variant all_shapes[_i / 2] in _i % 2 + 1 dimensions. */
   tcase_add_loop_test(rules, test_touching_domains, 0, 8);
