@@ -524,6 +524,22 @@ static gm_domain *cloud_domain(gm_shape shape, int dim,
   return domain;
 }
 
+/* One point of `material` with its own domain size (m), volume (m^3) and
+ * density (kg/m^3). */
+static void add_sized_point(gm_domain *domain, int material,
+                            const double *position, const double *velocity,
+                            const double *size, double volume, double density) {
+  gm_points_def points = gm_points_def_default();
+  points.count = 1;
+  points.material = material;
+  points.position = position;
+  points.velocity = velocity;
+  points.volume = &volume;
+  points.density = &density;
+  points.domain_size = size;
+  TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+}
+
 /* Adds CLOUD_POINTS points, one call each (ids 0, 1, ...), at random in
  * [0.3, 1.6] m from the box corner (sparse) or around 5 centres
  * (clustered, spread 0.06 m in 2D, 0.02 m in 1D), with domains of 0.4 to
@@ -566,15 +582,8 @@ static void add_cloud(gm_domain *domain, int dim, const grid_frame *grid,
     }
     double volume = size[0] * (dim > 1 ? size[1] : 1.0);
     double density = lcg_between(1000.0, 2000.0); /* kg/m^3, >= rho_cr */
-    gm_points_def points = gm_points_def_default();
-    points.count = 1;
-    points.material = lcg_uniform() < 0.2 ? 1 : 0;
-    points.position = position;
-    points.velocity = velocity;
-    points.volume = &volume;
-    points.density = &density;
-    points.domain_size = size;
-    TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+    add_sized_point(domain, lcg_uniform() < 0.2 ? 1 : 0, position, velocity,
+                    size, volume, density);
   }
 }
 
@@ -636,15 +645,8 @@ START_TEST(test_dilating_block_breaks_up) {
       double size[2] = {0.5 * grid.cell, 0.5 * grid.cell};
       double volume = size[0] * size[1];
       double density = 1.21 * cloud_critical_density[0]; /* kg/m^3 */
-      gm_points_def points = gm_points_def_default();
-      points.count = 1;
-      points.material = 0; /* granular */
-      points.position = position;
-      points.velocity = velocity;
-      points.volume = &volume;
-      points.density = &density;
-      points.domain_size = size;
-      TEST_ASSERT_OK(domain, gm_domain_add_points(domain, &points, NULL));
+      add_sized_point(domain, 0 /* granular */, position, velocity, size,
+                      volume, density);
     }
   size_t first = 0, last = 0;
   for (int step = 0; step < CLOUD_STEPS; step++) {
