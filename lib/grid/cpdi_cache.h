@@ -64,56 +64,94 @@ static inline void gm_cpdi_cache_store(const gm_cpdi_cache *cache, size_t p,
   cache->packed[p] = INT64_MIN + (int64_t)packed;
 }
 
-/* The kept cells of point p into s (cells, lowest node, corner count and
- * share), its lowest node from the base and its reach; false if this
- * step's scatter kept none for it. */
-static inline bool gm_cpdi_cache_load(const gm_cpdi_cache *cache, size_t p,
-                                      const int64_t base[2], gm_cpdi_support *s,
-                                      int64_t lowest[2], int64_t reach[2]) {
+/* A kept support as the two later passes read it: each corner's cell
+ * from the block's base node as stored (no int64 cells rebuilt from the
+ * base and taken apart again by the gather), its bilinear factors, and
+ * the lowest node and reach from the base. */
+typedef struct gm_cpdi_kept {
+  int x[4], y[4];       /* cells, corner c's from the base node */
+  double axis[4][2][2]; /* (1 - f, f) per corner and axis, as axis */
+  int64_t lowest[2];    /* the lowest node from the base */
+  int64_t reach[2];     /* nodes past lowest per axis */
+} gm_cpdi_kept;
+
+/* The cells of one block as doubles: at[k][n] = (double)(base[k] + n),
+ * so a kept cell's (double) is a load, the same value (both are integers
+ * far below 2^53). Set once per block. */
+typedef struct gm_cpdi_block_cells {
+  double at[2][16]; /* cells */
+} gm_cpdi_block_cells;
+
+static inline void gm_cpdi_block_cells_init(const int64_t base[2],
+                                            gm_cpdi_block_cells *out) {
+  for (int k = 0; k < 2; k++)
+    for (int n = 0; n < 16; n++)
+      out->at[k][n] = (double)(base[k] + n);
+}
+
+/* Point p's kept cells into kept (cells, lowest node and reach from the
+ * base); false if this step's scatter kept none for it. */
+static inline bool gm_cpdi_kept_load(const gm_cpdi_cache *cache, size_t p,
+                                     gm_cpdi_kept *kept) {
   int64_t key = cache->packed[p];
   if (key >= 0)
     return false;
   uint64_t packed = (uint64_t)key; /* modulo 2^64: the low bits as stored */
-  for (int c = 0; c < 4; c++)
-    for (int k = 0; k < 2; k++)
-      s->cell[c][k] = base[k] + (int64_t)((packed >> (4 * (2 * c + k))) & 15);
-  for (int k = 0; k < 2; k++) {
-    lowest[k] = (int64_t)((packed >> (GM_CPDI_CACHE_LOWEST + 4 * k)) & 15);
-    reach[k] = (int64_t)((packed >> (GM_CPDI_CACHE_REACH + 4 * k)) & 15);
-    s->lowest[k] = base[k] + lowest[k];
+  for (int c = 0; c < 4; c++) {
+    kept->x[c] = (int)((packed >> (8 * c)) & 15);
+    kept->y[c] = (int)((packed >> (8 * c + 4)) & 15);
   }
-  s->corner_count = 4;
-  s->share = 0.25;
+  for (int k = 0; k < 2; k++) {
+    kept->lowest[k] =
+        (int64_t)((packed >> (GM_CPDI_CACHE_LOWEST + 4 * k)) & 15);
+    kept->reach[k] = (int64_t)((packed >> (GM_CPDI_CACHE_REACH + 4 * k)) & 15);
+  }
   return true;
 }
 
-/* The bilinear fractions (1 - f, f) of point p's kept support s, whose
- * cells are known: each corner's position in cells less its cell, the
+/* A whole support s (support_cpdi.h) of reach `reach` that fits the
+ * block's 16 x 16 tile, as a kept one (base: the block's base node). */
+static inline void gm_cpdi_kept_from_support(const gm_cpdi_support *s,
+                                             const int64_t base[2],
+                                             const int64_t reach[2],
+                                             gm_cpdi_kept *kept) {
+  for (int c = 0; c < 4; c++) {
+    kept->x[c] = (int)(s->cell[c][0] - base[0]);
+    kept->y[c] = (int)(s->cell[c][1] - base[1]);
+    for (int k = 0; k < 2; k++)
+      for (int a = 0; a < 2; a++)
+        kept->axis[c][k][a] = s->axis[c][k][a];
+  }
+  for (int k = 0; k < 2; k++) {
+    kept->lowest[k] = s->lowest[k] - base[k];
+    kept->reach[k] = reach[k];
+  }
+}
+
+/* The bilinear factors (1 - f, f) of point p's kept support, whose cells
+ * are known: each corner's position in cells less its cell, the
  * expressions of gm_cpdi_corners_2d and gm_cpdi_support_2d
- * (support_cpdi.h), so the same bits. map: the domain map D. The corner
- * gradients too where with_gradients (the sweep reads none). */
-static inline bool gm_cpdi_cache_fractions(const gm_shape_grid *grid,
-                                           const double *const position[2],
-                                           const double *const map[4],
-                                           const double *const domain_size[2],
-                                           size_t p, gm_cpdi_support *s,
-                                           const bool with_gradients) {
-  double corners[4][2]; /* m */
+ * (support_cpdi.h), so the same bits. map: the domain map D. Its corners
+ * (m) into corners, for the corner gradients
+ * (gm_cpdi_corner_gradients_2d). */
+static inline void gm_cpdi_kept_fractions(
+    const gm_shape_grid *grid, const double *const position[2],
+    const double *const map[4], const double *const domain_size[2], size_t p,
+    const gm_cpdi_block_cells *cells, gm_cpdi_kept *kept,
+    double corners[4][2]) {
   gm_cpdi_corner_positions_2d(
       position[0][p], position[1][p], map[0][p], map[1][p], map[2][p],
       map[3][p], 0.5 * domain_size[0][p], 0.5 * domain_size[1][p], corners);
   for (int k = 0; k < 2; k++) {
     double origin = grid->origin[k], inv_cell = grid->inv_cell;
+    const int *local = k == 0 ? kept->x : kept->y;
     for (int c = 0; c < 4; c++) {
       double cell = (corners[c][k] - origin) * inv_cell; /* cells */
-      double fraction = cell - (double)s->cell[c][k];
-      s->axis[c][k][0] = 1.0 - fraction;
-      s->axis[c][k][1] = fraction;
+      double fraction = cell - cells->at[k][local[c]];
+      kept->axis[c][k][0] = 1.0 - fraction;
+      kept->axis[c][k][1] = fraction;
     }
   }
-  if (with_gradients)
-    (void)gm_cpdi_corner_gradients_2d(corners, s->corner_gradient);
-  return true;
 }
 
 #endif

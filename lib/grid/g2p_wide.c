@@ -139,6 +139,10 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
    * the grid's origin and spacing at every point. */
   const gm_shape_grid shape_grid = *v->shape_grid;
   wide_support support;
+  /* USL: the cells its scatter kept (cpdi_cache.h), and the block's
+   * cells as doubles for the fractions. */
+  bool kept_cells = try_cpdi && v->cpdi_cache.packed;
+  gm_cpdi_block_cells block_cells;
   uint32_t base_block = GM_NO_BLOCK;
   int64_t base[2] = {0, 0}; /* node of base_block's lower corner */
   for (size_t j = 0; j < count; j++) {
@@ -150,6 +154,8 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
                                   mostly in one block) */
       gm_block_base(v->grid, v->grid->block_key[block], base);
       base_block = block;
+      if (kept_cells)
+        gm_cpdi_block_cells_init(base, &block_cells);
     }
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
@@ -172,19 +178,19 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
         }
       }
     }
-    if (try_cpdi && v->cpdi_cache.packed) {
-      /* USL: the cells its scatter kept (cpdi_cache.h), the fractions and
-       * corner gradients from them, bitwise gm_cpdi_support_2d's. */
-      gm_cpdi_support *corners = &support.cpdi;
-      int64_t kept_lowest[2];
-      if (gm_cpdi_cache_load(&v->cpdi_cache, p, base, corners, kept_lowest,
-                             reach) &&
-          gm_cpdi_cache_fractions(&shape_grid, v->position, deformation,
-                                  v->domain_size, p, corners, true)) {
-        gather_cpdi_2d(v, links, base, corners, &sum, acceleration, gradient);
-        store_point_gather(v, p, j, &sum, affine, out, 2, acceleration, false);
-        continue;
-      }
+    gm_cpdi_kept kept;
+    if (kept_cells && gm_cpdi_kept_load(&v->cpdi_cache, p, &kept)) {
+      /* The fractions and corner gradients from the kept cells, bitwise
+       * gm_cpdi_support_2d's. */
+      double corners[4][2], corner_gradient[4][2]; /* m, 1/m */
+      gm_cpdi_kept_fractions(&shape_grid, v->position, deformation,
+                             v->domain_size, p, &block_cells, &kept, corners);
+      (void)gm_cpdi_corner_gradients_2d(corners, corner_gradient);
+      gather_cpdi_corners_2d(v, links, kept.x, kept.y, &kept.axis[0][0][0],
+                             &corner_gradient[0][0], 0.25, &sum, acceleration,
+                             gradient);
+      store_point_gather(v, p, j, &sum, affine, out, 2, acceleration, false);
+      continue;
     }
     if (try_cpdi) {
       gm_cpdi_support *corners = &support.cpdi;

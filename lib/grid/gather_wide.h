@@ -181,6 +181,29 @@ gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
                        sum, acceleration, gradient, false);
 }
 
+/* Does any of the four nodes of a corner's cell have no mass? node[0],
+ * node[1] and node[2], node[3] are neighbours along x where contiguous
+ * (the cell inside the block), so two pairs of masses compared at once. */
+static GM_ALWAYS_INLINE bool cpdi_corner_has_empty(const gather_view *v,
+                                                   const size_t node[4],
+                                                   const bool contiguous) {
+#if defined(__GNUC__)
+  if (contiguous) {
+    typedef long long gm_pair_mask
+        __attribute__((vector_size(sizeof(gm_pair))));
+    gm_pair low, high, zero = {0.0, 0.0};
+    memcpy(&low, &v->grid_mass[node[0]], sizeof low);
+    memcpy(&high, &v->grid_mass[node[2]], sizeof high);
+    gm_pair_mask any = (low == zero) | (high == zero);
+    return (any[0] | any[1]) != 0;
+  }
+#else
+  (void)contiguous;
+#endif
+  return (v->grid_mass[node[0]] == 0.0) | (v->grid_mass[node[1]] == 0.0) |
+         (v->grid_mass[node[2]] == 0.0) | (v->grid_mass[node[3]] == 0.0);
+}
+
 /* CPDI in 2D corner by corner (support_cpdi.h), the sums of g2p_wide.c's
  * gather_cpdi in its order: each corner interpolates the nodes of its cell
  * bilinearly, v_c = sum N_i(x_c) v_i, and the point takes v_p = share
@@ -189,35 +212,42 @@ gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
  * gradient and the empty-node sum only where it deforms (each sum taken
  * alone, so the ones kept have the same bits), a corner's cell inside the
  * block found at fixed offsets from the block's first node, and a node's x
- * and y components summed as one pair. base: the block's base node. */
-static GM_ALWAYS_INLINE void
-gather_cpdi_2d(const gather_view *v, const uint32_t *links,
-               const int64_t base[2], const gm_cpdi_support *support,
-               point_gather *sum, const bool acceleration,
-               const bool gradient) {
+ * and y components summed as one pair. x, y: corner c's cell from the
+ * block's base node; axis: its bilinear factors, axis[4 c + 2 k + a] as
+ * gm_cpdi_support's axis[c][k][a]; gradient_c: g_c (1/m) in 2 c + k.
+ * A corner whose four nodes all have mass adds nothing to the empty-node
+ * sum (+0 four times, then +0 times g_c), so its mass tests are one
+ * look at the four masses. */
+static GM_ALWAYS_INLINE void gather_cpdi_corners_2d(
+    const gather_view *v, const uint32_t *links, const int x[4], const int y[4],
+    const double *axis, const double *gradient_c, double share,
+    point_gather *sum, const bool acceleration, const bool gradient) {
   const int64_t edge = GM_BLOCK_EDGE_2D;
   size_t first = (size_t)links[0] * GM_BLOCK_NODES;
-  double share = support->share;
 #if defined(__GNUC__)
   gm_pair zero = {0.0, 0.0}, shares = {share, share};
   gm_pair acc = zero, vel = zero, column_x = zero, column_y = zero,
           empty_sum = zero;
 #endif
   for (int c = 0; c < 4; c++) {
-    int64_t x = support->cell[c][0] - base[0];
-    int64_t y = support->cell[c][1] - base[1];
     size_t node[4]; /* (a, b) = (0, 0), (1, 0), (0, 1), (1, 1) */
-    if (x + 1 < edge && y + 1 < edge) {
-      node[0] = first + (size_t)(x + edge * y);
+    bool inside = x[c] + 1 < edge && y[c] + 1 < edge;
+    if (inside) {
+      node[0] = first + (size_t)(x[c] + edge * y[c]);
       node[1] = node[0] + 1;
       node[2] = node[0] + (size_t)edge;
       node[3] = node[0] + (size_t)edge + 1;
     } else {
       for (int n = 0; n < 4; n++)
-        node[n] =
-            gm_block_node(links, GM_BLOCK_SHIFT_2D, x + (n & 1), y + (n >> 1));
+        node[n] = gm_block_node(links, GM_BLOCK_SHIFT_2D, x[c] + (n & 1),
+                                y[c] + (n >> 1));
     }
     double empty = 0.0; /* -, the corner's weight on massless nodes */
+    if (gradient && cpdi_corner_has_empty(v, node, inside))
+      for (int n = 0; n < 4; n++)
+        empty += v->grid_mass[node[n]] == 0.0
+                     ? axis[4 * c + (n & 1)] * axis[4 * c + 2 + (n >> 1)]
+                     : 0.0;
 #if defined(__GNUC__)
     gm_pair velocity = zero, corner_acc = zero; /* m/s, m/s^2 */
 #else
@@ -225,9 +255,7 @@ gather_cpdi_2d(const gather_view *v, const uint32_t *links,
 #endif
     for (int n = 0; n < 4; n++) {
       size_t i = node[n];
-      double value = support->axis[c][0][n & 1] * support->axis[c][1][n >> 1];
-      if (gradient)
-        empty += v->grid_mass[i] == 0.0 ? value : 0.0;
+      double value = axis[4 * c + (n & 1)] * axis[4 * c + 2 + (n >> 1)];
 #if defined(__GNUC__)
       gm_pair w = {value, value};
       gm_pair nodal = {v->grid_velocity[0][i], v->grid_velocity[1][i]};
@@ -244,7 +272,8 @@ gather_cpdi_2d(const gather_view *v, const uint32_t *links,
       }
 #endif
     }
-    const double *g = support->corner_gradient[c]; /* 1/m */
+    /* g_c (1/m), read only where the pass deforms (NULL otherwise) */
+    const double *g = gradient ? gradient_c + 2 * c : NULL;
 #if defined(__GNUC__)
     vel += shares * velocity;
     if (acceleration)
@@ -278,6 +307,23 @@ gather_cpdi_2d(const gather_view *v, const uint32_t *links,
     sum->empty[k] = empty_sum[k];
   }
 #endif
+}
+
+/* The same from a whole support (support_cpdi.h). base: the block's base
+ * node. */
+static GM_ALWAYS_INLINE void
+gather_cpdi_2d(const gather_view *v, const uint32_t *links,
+               const int64_t base[2], const gm_cpdi_support *support,
+               point_gather *sum, const bool acceleration,
+               const bool gradient) {
+  int x[4], y[4]; /* fits the block's 16 x 16 tile (gm_wide_support_fits) */
+  for (int c = 0; c < 4; c++) {
+    x[c] = (int)(support->cell[c][0] - base[0]);
+    y[c] = (int)(support->cell[c][1] - base[1]);
+  }
+  gather_cpdi_corners_2d(v, links, x, y, &support->axis[0][0][0],
+                         &support->corner_gradient[0][0], support->share, sum,
+                         acceleration, gradient);
 }
 
 #endif

@@ -166,22 +166,22 @@ cpdi_point_support(const gm_domain *domain, const gather_view *v,
  * sums it (share of m_p v' times N_i(x_c)), the same products in the same
  * order. */
 static GM_ALWAYS_INLINE void scatter_cpdi_momentum(momentum_tile *tile,
-                                                   const int64_t base[2],
-                                                   const gm_cpdi_support *s,
+                                                   const gm_cpdi_kept *s,
                                                    double momentum_x,
                                                    double momentum_y) {
-  double share_x = s->share * momentum_x, share_y = s->share * momentum_y;
+  double share = 0.25; /* gm_cpdi_support_2d's */
+  double share_x = share * momentum_x, share_y = share * momentum_y;
   for (int c = 0; c < 4; c++) {
-    int64_t x = s->cell[c][0] - base[0], y = s->cell[c][1] - base[1];
+    int x = s->x[c], y = s->y[c];
     for (int b = 0; b < 2; b++) {
       size_t row = (size_t)(x + EDGE * (y + b));
       for (int a = 0; a < 2; a++) {
         double value = s->axis[c][0][a] * s->axis[c][1][b];
         double *node = tile->node[row + (size_t)a];
 #if defined(__GNUC__) /* x and y as one pair, the same operation per lane */
-        gm_pair w = {value, value}, share = {share_x, share_y}, sum;
+        gm_pair w = {value, value}, part = {share_x, share_y}, sum;
         memcpy(&sum, node, sizeof sum);
-        sum += w * share;
+        sum += w * part;
         memcpy(node, &sum, sizeof sum);
 #else
         node[0] += value * share_x;
@@ -222,6 +222,9 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
   double dt = m->dt;
   int64_t base[2];
   gm_block_base(&domain->grid, domain->grid.block_key[block], base);
+  gm_cpdi_block_cells block_cells; /* the fractions' cells (cpdi_cache.h) */
+  if (cpdi)
+    gm_cpdi_block_cells_init(base, &block_cells);
   memset(tile, 0, sizeof *tile);
   *columns = 0;
   *rows = 1;
@@ -232,21 +235,28 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     gm_short_axis axis[2];
     gm_product_support product;
     gm_cpdi_support corners;
+    gm_cpdi_kept kept;
     bool is_short = false;
     int64_t x0, y0, reach[2];
     bool found;
     if (cpdi) {
-      int64_t lowest[2];
       /* the cells the scatter kept (cpdi_cache.h) and the fractions
        * from them, else the whole support */
-      found =
-          (gm_cpdi_cache_load(&c->cache, p, base, &corners, lowest, reach) &&
-           gm_cpdi_cache_fractions(&shape_grid, v->position, v->support_tensor,
-                                   v->domain_size, p, &corners, false)) ||
-          cpdi_point_support(domain, v, &shape_grid, p, base, &corners, reach,
-                             scratch);
-      x0 = found ? corners.lowest[0] - base[0] : 0;
-      y0 = found ? corners.lowest[1] - base[1] : 0;
+      found = gm_cpdi_kept_load(&c->cache, p, &kept);
+      if (found) {
+        double corner_position[4][2]; /* m */
+        gm_cpdi_kept_fractions(&shape_grid, v->position, v->support_tensor,
+                               v->domain_size, p, &block_cells, &kept,
+                               corner_position);
+      } else if (cpdi_point_support(domain, v, &shape_grid, p, base, &corners,
+                                    reach, scratch)) {
+        gm_cpdi_kept_from_support(&corners, base, reach, &kept);
+        found = true;
+      }
+      x0 = found ? kept.lowest[0] : 0;
+      y0 = found ? kept.lowest[1] : 0;
+      reach[0] = found ? kept.reach[0] : 0;
+      reach[1] = found ? kept.reach[1] : 0;
     } else {
       found = point_support(domain, v, &shape_grid, p, base, axis, &product,
                             &is_short, &x0, &y0, reach, scratch);
@@ -256,7 +266,8 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
     if (found && cpdi)
-      gather_cpdi_2d(v, links, base, &corners, &sum, true, false);
+      gather_cpdi_corners_2d(v, links, kept.x, kept.y, &kept.axis[0][0][0],
+                             NULL, 0.25, &sum, true, false); /* no g_c */
     else if (found && is_short)
       gather_short_2d(v, links, x0, y0, axis, &sum, true, false);
     else if (found)
@@ -291,7 +302,7 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     double mass = point_mass[p];
     double momentum_x = mass * vx, momentum_y = mass * vy; /* kg m/s */
     if (cpdi) {
-      scatter_cpdi_momentum(tile, base, &corners, momentum_x, momentum_y);
+      scatter_cpdi_momentum(tile, &kept, momentum_x, momentum_y);
       continue;
     }
     const double *weight_x = is_short ? axis[0].weight : product.weight[0];
