@@ -186,9 +186,8 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
       gm_cpdi_kept_fractions(&shape_grid, v->position, deformation,
                              v->domain_size, p, &block_cells, &kept, corners);
       (void)gm_cpdi_corner_gradients_2d(corners, corner_gradient);
-      gather_cpdi_corners_2d(v, links, kept.x, kept.y, &kept.axis[0][0][0],
-                             &corner_gradient[0][0], 0.25, &sum, acceleration,
-                             gradient);
+      gather_cpdi_kept_2d(v, links, &kept, &corner_gradient[0][0], &sum,
+                          acceleration, gradient);
       store_point_gather(v, p, j, &sum, affine, out, 2, acceleration, false);
       continue;
     }

@@ -218,10 +218,12 @@ static GM_ALWAYS_INLINE bool cpdi_corner_has_empty(const gather_view *v,
  * A corner whose four nodes all have mass adds nothing to the empty-node
  * sum (+0 four times, then +0 times g_c), so its mass tests are one
  * look at the four masses. */
-static GM_ALWAYS_INLINE void gather_cpdi_corners_2d(
-    const gather_view *v, const uint32_t *links, const int x[4], const int y[4],
-    const double *axis, const double *gradient_c, double share,
-    point_gather *sum, const bool acceleration, const bool gradient) {
+static GM_ALWAYS_INLINE void
+gather_cpdi_corners_2d(const gather_view *v, const uint32_t *links,
+                       const int x[4], const int y[4], const double *axis,
+                       const double *gradient_c, double share,
+                       point_gather *sum, const bool acceleration,
+                       const bool gradient, const bool all_inside) {
   const int64_t edge = GM_BLOCK_EDGE_2D;
   size_t first = (size_t)links[0] * GM_BLOCK_NODES;
 #if defined(__GNUC__)
@@ -231,16 +233,27 @@ static GM_ALWAYS_INLINE void gather_cpdi_corners_2d(
 #endif
   for (int c = 0; c < 4; c++) {
     size_t node[4]; /* (a, b) = (0, 0), (1, 0), (0, 1), (1, 1) */
-    bool inside = x[c] + 1 < edge && y[c] + 1 < edge;
+    bool inside = all_inside || (x[c] + 1 < edge && y[c] + 1 < edge);
     if (inside) {
       node[0] = first + (size_t)(x[c] + edge * y[c]);
       node[1] = node[0] + 1;
       node[2] = node[0] + (size_t)edge;
       node[3] = node[0] + (size_t)edge + 1;
-    } else {
+    } else { /* gm_block_node's indices, the columns' and rows' parts once */
+      const int shift = GM_BLOCK_SHIFT_2D, mask = (1 << shift) - 1;
+      int column[2] = {x[c], x[c] + 1}, row[2] = {y[c], y[c] + 1};
+      int link_x[2], link_y[2];
+      size_t local_x[2], local_y[2];
+      for (int k = 0; k < 2; k++) {
+        link_x[k] = column[k] >> shift;
+        link_y[k] = 2 * (row[k] >> shift);
+        local_x[k] = (size_t)(column[k] & mask);
+        local_y[k] = (size_t)(row[k] & mask) << shift;
+      }
       for (int n = 0; n < 4; n++)
-        node[n] = gm_block_node(links, GM_BLOCK_SHIFT_2D, x[c] + (n & 1),
-                                y[c] + (n >> 1));
+        node[n] =
+            (size_t)links[link_x[n & 1] + link_y[n >> 1]] * GM_BLOCK_NODES +
+            (local_x[n & 1] + local_y[n >> 1]);
     }
     double empty = 0.0; /* -, the corner's weight on massless nodes */
     if (gradient && cpdi_corner_has_empty(v, node, inside))
@@ -323,7 +336,28 @@ gather_cpdi_2d(const gather_view *v, const uint32_t *links,
   }
   gather_cpdi_corners_2d(v, links, x, y, &support->axis[0][0][0],
                          &support->corner_gradient[0][0], support->share, sum,
-                         acceleration, gradient);
+                         acceleration, gradient, false);
+}
+
+/* The same from a kept support (cpdi_cache.h): where its nodes all lie in
+ * the block (its lowest node plus reach below the block's edge per axis,
+ * so every corner cell's upper node too), without a test per corner. */
+static GM_ALWAYS_INLINE void
+gather_cpdi_kept_2d(const gather_view *v, const uint32_t *links,
+                    const gm_cpdi_kept *kept, const double *gradient_c,
+                    point_gather *sum, const bool acceleration,
+                    const bool gradient) {
+  const int64_t edge = GM_BLOCK_EDGE_2D;
+  double share = 0.25; /* gm_cpdi_support_2d's */
+  if (kept->lowest[0] + kept->reach[0] < edge &&
+      kept->lowest[1] + kept->reach[1] < edge)
+    gather_cpdi_corners_2d(v, links, kept->x, kept->y, &kept->axis[0][0][0],
+                           gradient_c, share, sum, acceleration, gradient,
+                           true);
+  else
+    gather_cpdi_corners_2d(v, links, kept->x, kept->y, &kept->axis[0][0][0],
+                           gradient_c, share, sum, acceleration, gradient,
+                           false);
 }
 
 #endif

@@ -266,8 +266,8 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
     if (found && cpdi)
-      gather_cpdi_corners_2d(v, links, kept.x, kept.y, &kept.axis[0][0][0],
-                             NULL, 0.25, &sum, true, false); /* no g_c */
+      gather_cpdi_kept_2d(v, links, &kept, NULL, &sum, true,
+                          false); /* no g_c read */
     else if (found && is_short)
       gather_short_2d(v, links, x0, y0, axis, &sum, true, false);
     else if (found)
