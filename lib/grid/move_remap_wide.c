@@ -172,12 +172,12 @@ static GM_ALWAYS_INLINE void scatter_cpdi_momentum(momentum_tile *tile,
   double share = 0.25; /* gm_cpdi_support_2d's */
   double share_x = share * momentum_x, share_y = share * momentum_y;
   for (int c = 0; c < 4; c++) {
-    int x = s->x[c], y = s->y[c];
+    /* the corner cell's lower left node; the others at fixed offsets */
+    double(*cell)[2] = &tile->node[s->x[c] + EDGE * s->y[c]];
     for (int b = 0; b < 2; b++) {
-      size_t row = (size_t)(x + EDGE * (y + b));
       for (int a = 0; a < 2; a++) {
         double value = s->axis[c][0][a] * s->axis[c][1][b];
-        double *node = tile->node[row + (size_t)a];
+        double *node = cell[a + EDGE * b];
 #if defined(__GNUC__) /* x and y as one pair, the same operation per lane */
         gm_pair w = {value, value}, part = {share_x, share_y}, sum;
         memcpy(&sum, node, sizeof sum);

@@ -371,8 +371,10 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
         clear_tile_rows(tile, &cleared, rows, tile_edge);
         point_load load;
         load_point(v, p, 2, &load);
-        scatter_cpdi(tile, tile_edge, 2, base, &support.cpdi, &load, do_mass,
-                     do_momentum, do_forces);
+        /* 2D: the tile's edge is a constant (grid->shift is
+         * GM_BLOCK_SHIFT_2D), so a corner's nodes at fixed offsets */
+        scatter_cpdi(tile, 2 * GM_BLOCK_EDGE_2D, 2, base, &support.cpdi, &load,
+                     do_mass, do_momentum, do_forces);
         continue;
       }
     }
