@@ -135,6 +135,56 @@ static double extent_along(const gm_domain *domain,
          fabs(r2[0] * normal[0] + r2[1] * normal[1]);
 }
 
+/* Lowers the gap records of one node to distance (per plane) and its
+ * centre gaps to centre_distance (the first `centres` planes). */
+static GM_ALWAYS_INLINE void lower_node_gaps(gm_grid *grid, size_t node,
+                                             int planes, int centres,
+                                             const double *distance,
+                                             const double *centre_distance) {
+  size_t records = gm_gap_node(grid, node); /* a block with a slot */
+  double *gap = grid->wall_gap + records * (size_t)planes;
+  for (int w = 0; w < planes; w++)
+    gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
+  if (centres == 0)
+    return; /* linear, box faces only: no centre gaps (the array is
+               NULL, and even NULL + 0 is undefined; fuzz/fuzz_api) */
+  double *centre_gap = grid->wall_centre_gap + records * (size_t)centres;
+  for (int w = 0; w < centres; w++)
+    centre_gap[w] =
+        centre_distance[w] < centre_gap[w] ? centre_distance[w] : centre_gap[w];
+}
+
+/* The nodes of a 2D CPDI point's support (support_cpdi.h, bitwise
+ * gm_support_compute's cells and values), corner by corner: the entries
+ * of gm_cpdi_support_expand in its order, those of weight share N_i(x_c)
+ * zero skipped as there (a node two corners share is lowered twice, to
+ * the same minimum). Without the general support's out-of-line calls and
+ * its table. */
+static void lower_cpdi_gaps(gm_domain *domain, const gm_point_domain *point,
+                            const uint32_t *links, const int64_t base[2],
+                            int planes, int centres, const double *distance,
+                            const double *centre_distance) {
+  gm_grid *grid = &domain->grid;
+  gm_cpdi_support s;
+  int64_t reach[2];
+  if (!gm_cpdi_support_2d(&domain->shape_grid, point->position[0],
+                          point->position[1], point->deformation[0],
+                          point->deformation[1], point->deformation[2],
+                          point->deformation[3], point->half_size[0],
+                          point->half_size[1], &s, reach))
+    return; /* cannot happen: the binning placed the point by it */
+  for (int c = 0; c < 4; c++)
+    for (int b = 0; b < 2; b++)
+      for (int a = 0; a < 2; a++) {
+        if (s.share * (s.axis[c][0][a] * s.axis[c][1][b]) == 0.0)
+          continue;
+        size_t node =
+            gm_block_node(links, grid->shift, s.cell[c][0] + a - base[0],
+                          s.cell[c][1] + b - base[1]);
+        lower_node_gaps(grid, node, planes, centres, distance, centre_distance);
+      }
+}
+
 /* Lowers the gaps of the nodes point p reaches to its domain's distance
  * from each plane its support may reach past. */
 static void measure_point(gm_domain *domain, const gap_context *ctx,
@@ -171,12 +221,18 @@ static void measure_point(gm_domain *domain, const gap_context *ctx,
   }
   if (!near)
     return;
-  gm_support support;
-  if (!gm_support_compute(&domain->shape_grid, &point, &support))
-    return; /* cannot happen: the binning placed the point by it */
   const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
   int64_t base[2];
   gm_block_base(grid, grid->block_key[block], base);
+  int centres = gm_centre_gap_plane_count(domain);
+  if (dim == 2 && domain->shape_grid.shape == GM_SHAPE_CPDI) {
+    lower_cpdi_gaps(domain, &point, links, base, planes, centres, distance,
+                    centre_distance);
+    return;
+  }
+  gm_support support;
+  if (!gm_support_compute(&domain->shape_grid, &point, &support))
+    return; /* cannot happen: the binning placed the point by it */
   for (int e = 0; e < support.count; e++) {
     if (support.weight[e] == 0.0)
       continue;
@@ -184,18 +240,7 @@ static void measure_point(gm_domain *domain, const gap_context *ctx,
     int64_t y =
         dim > 1 ? support.lowest[1] - base[1] + support.offset[1][e] : 0;
     size_t node = gm_block_node(links, grid->shift, x, y);
-    size_t records = gm_gap_node(grid, node); /* a block with a slot */
-    double *gap = grid->wall_gap + records * (size_t)planes;
-    for (int w = 0; w < planes; w++)
-      gap[w] = distance[w] < gap[w] ? distance[w] : gap[w];
-    int centres = gm_centre_gap_plane_count(domain);
-    if (centres == 0)
-      continue; /* linear, box faces only: no centre gaps (the array is
-                   NULL, and even NULL + 0 is undefined; fuzz/fuzz_api) */
-    double *centre_gap = grid->wall_centre_gap + records * (size_t)centres;
-    for (int w = 0; w < centres; w++)
-      centre_gap[w] = centre_distance[w] < centre_gap[w] ? centre_distance[w]
-                                                         : centre_gap[w];
+    lower_node_gaps(grid, node, planes, centres, distance, centre_distance);
   }
 }
 
