@@ -83,6 +83,15 @@ int gm_centre_gap_plane_count(const gm_domain *domain);
 /* Slot of box face f (2 axis + side) in a node's gap records; -1 when
  * the face is not measured (open, or a B-spline mirror). */
 int gm_gap_face_slot(const gm_domain *domain, int face);
+/* The gap record layout of a step: gm_gap_plane_count,
+ * gm_centre_gap_plane_count and gm_gap_face_slot per face, taken once per
+ * grid update rather than per node (each loops over the faces). */
+typedef struct gm_gap_layout {
+  int planes;       /* gap records per node */
+  int centres;      /* centre-gap records per node */
+  int face_slot[6]; /* per face (GM_FACE_*); -1: not measured */
+} gm_gap_layout;
+void gm_gap_layout_of(const gm_domain *domain, gm_gap_layout *out);
 /* Cells (less GM_ON_ROW) in front of the wall within which a node's linear
  * tent reaches behind an oblique plane, |n_x| + |n_y| + |n_z|: linear MPM's
  * nodes beyond GM_WALL_REACH but within it get the centre-gap bound, in 2D
@@ -181,8 +190,9 @@ void gm_walls_add_impulse(gm_domain *domain, double dt);
  * centre-gap records), less the contact tolerance, in dt (s); velocity
  * (m/s) is changed in place. The face's own nodes are left to the grid
  * update's face rule. */
-void gm_limit_face_centres(const gm_domain *domain, const double *centre_gap,
-                           const int64_t *index, double dt, double *velocity);
+void gm_limit_face_centres(const gm_domain *domain, const gm_gap_layout *layout,
+                           const double *centre_gap, const int64_t *index,
+                           double dt, double *velocity);
 /* Can the block with lower corner node base (edge nodes a side) hold a
  * node gm_limit_face_centres acts on? Only with the wide shapes, and only
  * within reach (nodes: a support's span) of a measured face: a point less

@@ -26,13 +26,14 @@
 
 #include <math.h>
 
-void gm_limit_face_centres(const gm_domain *domain, const double *centre_gap,
-                           const int64_t *index, double dt, double *velocity) {
+void gm_limit_face_centres(const gm_domain *domain, const gm_gap_layout *layout,
+                           const double *centre_gap, const int64_t *index,
+                           double dt, double *velocity) {
   double tolerance = GM_CONTACT_TOLERANCE * domain->def.cell_size; /* m */
   for (int axis = 0; axis < domain->dim; axis++) {
     int64_t upper = domain->cells[axis] + GM_GHOST_LAYERS; /* face node */
     for (int side = 0; side < 2; side++) {
-      int slot = gm_gap_face_slot(domain, 2 * axis + side);
+      int slot = layout->face_slot[2 * axis + side];
       if (slot < 0 || !(centre_gap[slot] < INFINITY))
         continue;
       if (side ? index[axis] >= upper : index[axis] <= GM_GHOST_LAYERS)

@@ -59,6 +59,13 @@ int gm_gap_face_slot(const gm_domain *domain, int face) {
   return slot;
 }
 
+void gm_gap_layout_of(const gm_domain *domain, gm_gap_layout *out) {
+  out->planes = gm_gap_plane_count(domain);
+  out->centres = gm_centre_gap_plane_count(domain);
+  for (int face = 0; face < 6; face++)
+    out->face_slot[face] = gm_gap_face_slot(domain, face);
+}
+
 int gm_gap_plane_count(const gm_domain *domain) {
   int count = domain->wall_count;
   for (int face = 0; face < 2 * domain->dim; face++)

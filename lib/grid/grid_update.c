@@ -20,6 +20,7 @@ typedef struct update_context {
   double dt; /* s */
   int mode;
   bool wall_friction; /* planar walls apply Coulomb friction (see below) */
+  gm_gap_layout gaps; /* the gap records' layout, once per update */
 } update_context;
 
 /* Whether the planar walls' Coulomb friction acts in this grid update:
@@ -100,14 +101,15 @@ static bool wall_friction(int mode) {
  * whatever the gap: beyond it lies the mirror image of the material, which
  * never opens a gap. The faces of the B-splines are mirrors
  * (bspline_faces.c) and hold as before. */
-static void constrain_faces(const gm_domain *domain, size_t node, int64_t ix,
-                            int64_t iy, double dt, double velocity[2],
-                            bool held[2]) {
+static void constrain_faces(const gm_domain *domain,
+                            const gm_gap_layout *layout, size_t node,
+                            int64_t ix, int64_t iy, double dt,
+                            double velocity[2], bool held[2]) {
   const gm_wall_type *walls = domain->def.walls;
   const gm_grid *grid = &domain->grid;
   held[0] = held[1] = false;
   int64_t index[2] = {ix, iy};
-  int planes = gm_gap_plane_count(domain);
+  int planes = layout->planes;
   double tolerance = GM_CONTACT_TOLERANCE * domain->def.cell_size; /* m */
   double release = GM_FACE_RELEASE * domain->def.cell_size;        /* m */
   for (int axis = 0; axis < domain->dim; axis++) {
@@ -119,7 +121,7 @@ static void constrain_faces(const gm_domain *domain, size_t node, int64_t ix,
       gm_wall_type wall = walls[face];
       if (wall == GM_WALL_OPEN || wall == GM_WALL_PERIODIC)
         continue; /* periodic: the images take their owners' values */
-      int slot = gm_gap_face_slot(domain, face);
+      int slot = layout->face_slot[face];
       double gap =
           slot >= 0 && grid->mass[node] > 0.0
               ? grid->wall_gap[gm_gap_node(grid, node) * (size_t)planes +
@@ -162,11 +164,9 @@ static void apply_walls(const update_context *ctx, size_t node, int64_t ix,
   double before[2] = {velocity[0], velocity[1]};
   int first_wall = -1;
   size_t records = gm_gap_node(grid, node);
-  const double *gap =
-      grid->wall_gap + records * (size_t)gm_gap_plane_count(domain);
+  const double *gap = grid->wall_gap + records * (size_t)ctx->gaps.planes;
   const double *centre_gap =
-      grid->wall_centre_gap +
-      records * (size_t)gm_centre_gap_plane_count(domain);
+      grid->wall_centre_gap + records * (size_t)ctx->gaps.centres;
   gm_wall_pool_record record = {-1, 0.0, 0.0};
   bool acted =
       gm_walls_contact(domain, position, velocity, gap, centre_gap, ctx->dt,
@@ -293,15 +293,15 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
         double velocity[2] = {grid->momentum[0][node],
                               dim > 1 ? grid->momentum[1][node] : 0.0};
         if (on_face)
-          constrain_faces(domain, node, ix, iy, dt, velocity, held);
+          constrain_faces(domain, &ctx->gaps, node, ix, iy, dt, velocity, held);
         if (centres) {
           int64_t index[2] = {ix, iy};
-          gm_limit_face_centres(domain,
-                                grid->wall_centre_gap +
-                                    gm_gap_node(grid, node) *
-                                        (size_t)gm_centre_gap_plane_count(
-                                            domain), /* wide: all planes */
-                                index, dt, velocity);
+          gm_limit_face_centres(
+              domain, &ctx->gaps,
+              grid->wall_centre_gap +
+                  gm_gap_node(grid, node) *
+                      (size_t)ctx->gaps.centres, /* wide: all planes */
+              index, dt, velocity);
         }
         for (int k = 0; k < dim; k++) {
           if (held[k]) {
@@ -332,6 +332,7 @@ void gm_grid_update(gm_domain *domain, double dt, int mode) {
     gm_grid_update_3d(domain, dt, mode);
     return;
   }
-  update_context ctx = {domain, dt, mode, wall_friction(mode)};
+  update_context ctx = {domain, dt, mode, wall_friction(mode), {0, 0, {0}}};
+  gm_gap_layout_of(domain, &ctx.gaps);
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks, &ctx);
 }

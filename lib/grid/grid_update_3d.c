@@ -44,6 +44,7 @@ typedef struct update_3d_context {
   gm_domain *domain;
   double dt; /* s */
   int mode;
+  gm_gap_layout gaps; /* the gap records' layout, once per update */
 } update_3d_context;
 
 /* The planar walls (walls_3d.c) on one node with mass; the acceleration
@@ -183,11 +184,11 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
                             grid->momentum[2][node]}; /* m/s */
       constrain_faces_3d(domain, node, index, dt, velocity, held);
       if (near_faces && mass > 0.0)
-        gm_limit_face_centres(domain,
-                              grid->wall_centre_gap +
-                                  node * (size_t)gm_centre_gap_plane_count(
-                                             domain), /* wide: all planes */
-                              index, dt, velocity);
+        gm_limit_face_centres(
+            domain, &ctx->gaps,
+            grid->wall_centre_gap +
+                node * (size_t)ctx->gaps.centres, /* wide: all planes */
+            index, dt, velocity);
       for (int k = 0; k < 3; k++) {
         if (held[k]) {
           grid->momentum[k][node] = 0.0;
@@ -212,7 +213,8 @@ static void update_blocks_3d(void *context, size_t begin, size_t end,
 }
 
 void gm_grid_update_3d(gm_domain *domain, double dt, int mode) {
-  update_3d_context ctx = {domain, dt, mode};
+  update_3d_context ctx = {domain, dt, mode, {0, 0, {0}}};
+  gm_gap_layout_of(domain, &ctx.gaps);
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks_3d,
                   &ctx);
   if (mode == GM_GRID_FULL && domain->wall_count > 0) /* serial */
