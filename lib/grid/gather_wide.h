@@ -181,27 +181,30 @@ gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
                        sum, acceleration, gradient, false);
 }
 
-/* Does any of the four nodes of a corner's cell have no mass? node[0],
- * node[1] and node[2], node[3] are neighbours along x where contiguous
- * (the cell inside the block), so two pairs of masses compared at once. */
-static GM_ALWAYS_INLINE bool cpdi_corner_has_empty(const gather_view *v,
-                                                   const size_t node[4],
-                                                   const bool contiguous) {
+/* Might one of the four nodes of a corner's cell have no mass? Node
+ * masses are sums of non-negative terms; where their product is positive
+ * none is zero (a zero factor gives 0, or NaN beside an infinite or NaN
+ * one), so false means no massless node; true (a zero, an underflow, a
+ * NaN) sends the corner to the exact test node by node. node[0], node[1]
+ * and node[2], node[3] are neighbours along x where contiguous (the cell
+ * inside the block): two pairs of masses multiplied at once. */
+static GM_ALWAYS_INLINE bool cpdi_corner_may_be_empty(const gather_view *v,
+                                                      const size_t node[4],
+                                                      const bool contiguous) {
 #if defined(__GNUC__)
   if (contiguous) {
-    typedef long long gm_pair_mask
-        __attribute__((vector_size(sizeof(gm_pair))));
-    gm_pair low, high, zero = {0.0, 0.0};
+    gm_pair low, high;
     memcpy(&low, &v->grid_mass[node[0]], sizeof low);
     memcpy(&high, &v->grid_mass[node[2]], sizeof high);
-    gm_pair_mask any = (low == zero) | (high == zero);
-    return (any[0] | any[1]) != 0;
+    gm_pair product = low * high;
+    return !(product[0] * product[1] > 0.0);
   }
 #else
   (void)contiguous;
 #endif
-  return (v->grid_mass[node[0]] == 0.0) | (v->grid_mass[node[1]] == 0.0) |
-         (v->grid_mass[node[2]] == 0.0) | (v->grid_mass[node[3]] == 0.0);
+  return !(v->grid_mass[node[0]] * v->grid_mass[node[1]] *
+               (v->grid_mass[node[2]] * v->grid_mass[node[3]]) >
+           0.0);
 }
 
 /* CPDI in 2D corner by corner (support_cpdi.h), the sums of g2p_wide.c's
@@ -217,7 +220,7 @@ static GM_ALWAYS_INLINE bool cpdi_corner_has_empty(const gather_view *v,
  * gm_cpdi_support's axis[c][k][a]; gradient_c: g_c (1/m) in 2 c + k.
  * A corner whose four nodes all have mass adds nothing to the empty-node
  * sum (+0 four times, then +0 times g_c), so its mass tests are one
- * look at the four masses. */
+ * look at the four masses (cpdi_corner_may_be_empty). */
 static GM_ALWAYS_INLINE void
 gather_cpdi_corners_2d(const gather_view *v, const uint32_t *links,
                        const int x[4], const int y[4], const double *axis,
@@ -256,7 +259,7 @@ gather_cpdi_corners_2d(const gather_view *v, const uint32_t *links,
             (local_x[n & 1] + local_y[n >> 1]);
     }
     double empty = 0.0; /* -, the corner's weight on massless nodes */
-    if (gradient && cpdi_corner_has_empty(v, node, inside))
+    if (gradient && cpdi_corner_may_be_empty(v, node, inside))
       for (int n = 0; n < 4; n++)
         empty += v->grid_mass[node[n]] == 0.0
                      ? axis[4 * c + (n & 1)] * axis[4 * c + 2 + (n >> 1)]
