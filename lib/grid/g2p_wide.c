@@ -260,13 +260,11 @@ void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
   bool try_cpdi = dim == 2 && shape == GM_SHAPE_CPDI;
   for (size_t p = first; p < first + count; p++) {
     int64_t lowest[2], highest[2];
-    if (try_cpdi) { /* support_cpdi.h: gm_support_bounds' corners and tests */
-      double corners[4][2], cells[4][2];
-      if (gm_cpdi_corners_2d(
+    if (try_cpdi) { /* support_cpdi.h: gm_support_bounds' lowest and tests */
+      if (gm_cpdi_lowest_2d(
               v->shape_grid, position[0][p], position[1][p], deformation[0][p],
               deformation[1][p], deformation[2][p], deformation[3][p],
-              0.5 * v->domain_size[0][p], 0.5 * v->domain_size[1][p], corners,
-              cells, lowest, highest)) {
+              0.5 * v->domain_size[0][p], 0.5 * v->domain_size[1][p], lowest)) {
         v->block_key[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);
         continue;
       }

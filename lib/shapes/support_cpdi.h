@@ -97,6 +97,41 @@ static inline bool gm_cpdi_corners_2d(const gm_shape_grid *grid, double x,
   return true;
 }
 
+/* Only the lowest node per axis of such a point and gm_cpdi_corners_2d's
+ * answer (the block keys need no more): its tests on the highest node
+ * without the highest node's floor. The corners' extreme cell high is
+ * finite and below last + 1 once the first test passes, so (floor
+ * monotonic, last and lowest integers) floor(high) + 1 > last exactly
+ * where high >= last, and floor(high) + 2 - lowest > GM_SUPPORT_MAX_SPAN
+ * exactly where high >= lowest + GM_SUPPORT_MAX_SPAN - 1. */
+static inline bool gm_cpdi_lowest_2d(const gm_shape_grid *grid, double x,
+                                     double y, double d_xx, double d_xy,
+                                     double d_yx, double d_yy, double half_x,
+                                     double half_y, int64_t lowest[2]) {
+  double corners[4][2];
+  gm_cpdi_corner_positions_2d(x, y, d_xx, d_xy, d_yx, d_yy, half_x, half_y,
+                              corners);
+  for (int k = 0; k < 2; k++) {
+    double origin = grid->origin[k], inv_cell = grid->inv_cell;
+    double cells[4]; /* cells from node 0 */
+    for (int c = 0; c < 4; c++)
+      cells[c] = (corners[c][k] - origin) * inv_cell;
+    double low = cells[0], high = cells[0]; /* as gm_cpdi_corners_2d */
+    for (int c = 1; c < 4; c++) {
+      low = cells[c] < low ? cells[c] : low;
+      high = cells[c] > high ? cells[c] : high;
+    }
+    double last = (double)grid->last_node[k];
+    if (!(low >= -1.0 && high < last + 1.0))
+      return false;
+    lowest[k] = gm_floor_index(low);
+    if (lowest[k] < 0 || high >= last ||
+        high >= (double)(lowest[k] + GM_SUPPORT_MAX_SPAN - 1))
+      return false;
+  }
+  return true;
+}
+
 /* The whole support of such a point (gm_cpdi_support, corner_count 4,
  * share 1/4), and the reach per axis (the farthest node past lowest that
  * a corner's cell touches, as gm_wide_point_support takes it). False

@@ -962,6 +962,17 @@ static void compare_cpdi_support(const gm_shape_grid *grid,
             "%s: axis %d bounds %lld..%lld, inline %lld..%lld", label, k,
             (long long)lowest[k], (long long)highest[k],
             (long long)inline_lowest[k], (long long)inline_highest[k]);
+  /* The block keys' variant: the same answer and lowest node without the
+   * highest node's floor. */
+  int64_t key_lowest[2];
+  bool keyed =
+      gm_cpdi_lowest_2d(grid, point->position[0], point->position[1], d[0],
+                        d[1], d[2], d[3], half_x, half_y, key_lowest);
+  REQUIRE(keyed == bounded, "%s: bounds general %d, lowest only %d", label,
+          (int)bounded, (int)keyed);
+  for (int k = 0; bounded && k < 2; k++)
+    REQUIRE(key_lowest[k] == lowest[k], "%s: axis %d lowest %lld, keys' %lld",
+            label, k, (long long)lowest[k], (long long)key_lowest[k]);
   if (!found)
     return;
   REQUIRE(inline_support.corner_count == 4 && general.corner_count == 4 &&
@@ -1045,6 +1056,60 @@ START_TEST(test_cpdi_inline_support) {
 }
 END_TEST
 
+/* The block keys' test of the highest node (gm_cpdi_lowest_2d) at its
+ * edges, where random domains never land: a domain whose upper corner
+ * lies exactly on the last node, or exactly on the span limit past its
+ * lowest node, is refused, and one a quarter cell short of either is
+ * taken, as gm_support_bounds does (compare_cpdi_support checks every
+ * answer). An exact grid (origin 0, half-metre cells) and dyadic
+ * positions, so each corner's cell is the number written here. _i: the
+ * axis stretched. */
+START_TEST(test_cpdi_keys_at_edges) {
+  int axis = _i;
+  gm_shape_grid grid;
+  memset(&grid, 0, sizeof grid);
+  grid.shape = GM_SHAPE_CPDI;
+  grid.dim = 2;
+  grid.inv_cell = 2.0; /* 1/m: h = 0.5 m */
+  grid.last_node[0] = grid.last_node[1] = 40;
+  const double span = GM_SUPPORT_MAX_SPAN; /* nodes */
+  /* cells of the lower and upper corner along the axis; expected answer */
+  const struct {
+    double low, high;
+    bool taken;
+  } edges[] = {
+      {33.0, 40.0, false},              /* upper corner on the last node */
+      {33.0, 39.75, true},              /* a quarter cell short of it */
+      {2.0, 2.0 + span - 1.0, false},   /* on the span limit */
+      {2.0, 2.0 + span - 1.25, true},   /* short of it */
+      {2.5, 2.0 + span - 1.0, false},   /* lowest node 2 all the same */
+      {2.5, 2.0 + span - 1.25, true},   /* short of it */
+      {-0.5, -0.5 + span - 1.5, false}, /* below node 0 */
+  };
+  for (size_t e = 0; e < sizeof edges / sizeof edges[0]; e++) {
+    char label[64];
+    snprintf(label, sizeof label, "axis %d, edge %zu", axis, e);
+    gm_point_domain point;
+    memset(&point, 0, sizeof point);
+    point.deformation[0] = point.deformation[3] = 1.0; /* D = 1 */
+    for (int k = 0; k < 2; k++) {
+      double low = k == axis ? edges[e].low : 10.0; /* cells */
+      double high = k == axis ? edges[e].high : 11.0;
+      point.position[k] = 0.25 * (low + high);  /* m: (cells / 2) */
+      point.half_size[k] = 0.25 * (high - low); /* m */
+    }
+    compare_cpdi_support(&grid, &point, label);
+    int64_t lowest[2];
+    const double *d = point.deformation;
+    bool taken = gm_cpdi_lowest_2d(&grid, point.position[0], point.position[1],
+                                   d[0], d[1], d[2], d[3], point.half_size[0],
+                                   point.half_size[1], lowest);
+    REQUIRE(taken == edges[e].taken, "%s: taken %d, expected %d", label,
+            (int)taken, (int)edges[e].taken);
+  }
+}
+END_TEST
+
 static Suite *shape_variants_suite(void) {
   Suite *suite = suite_create("shape_variants");
   TCase *random = tcase_create("random_points");
@@ -1061,6 +1126,7 @@ static Suite *shape_variants_suite(void) {
   tcase_add_loop_test(bounds, test_bounds_at_ghost_layer, 0, 8);
   tcase_add_loop_test(bounds, test_bounds_at_span_limit, 0, 6);
   tcase_add_loop_test(bounds, test_domain_ends_on_nodes, 0, 3);
+  tcase_add_loop_test(bounds, test_cpdi_keys_at_edges, 0, 2);
   suite_add_tcase(suite, bounds);
   return suite;
 }
