@@ -65,6 +65,7 @@ validate: all
 	sh validate/collapse.sh
 	sh validate/collapse_size.sh
 	sh validate/collapse_3d.sh
+	sh validate/silo_refinement.sh
 
 # Fuzzing: a private static build with clang, libFuzzer, ASan and UBSan.
 FUZZ_BUILD ?= build-fuzz
