@@ -15,7 +15,7 @@
 #   make install PREFIX=/usr/local DESTDIR=
 #   make abi-check       compare the library ABI with abi/libgranmpm.abi
 #   make distcheck       build, test and check the release tarball
-#   make validate        the refinement studies (validate/, ~1 h on 2 cores)
+#   make validate        the refinement studies (validate/, ~1.5 h on 2 cores)
 #   make fuzz            build the libFuzzer harnesses (clang) and run each
 #                        for FUZZ_TIME seconds (default 600; fuzz/README.md)
 BUILD ?= build

@@ -378,10 +378,17 @@ void gm_rigid_add_impulse(gm_domain *domain) {
 }
 
 /* The block key of rigid point p's moved position, as the binning keys a
- * B-spline point (bins.c: its support's lowest node); false outside. */
+ * B-spline point (bins.c: its support's lowest node); false if the
+ * position left the grid box (the test of every moved point, g2p.c) or
+ * its support the ghost layer. */
 static bool moved_key(const gm_domain *domain, const gm_point_buffers *next,
                       size_t p, int64_t *key) {
   const gm_points *points = &domain->points;
+  double moved[3] = {0.0, 0.0, 0.0}; /* m */
+  for (int k = 0; k < domain->dim; k++)
+    moved[k] = next->position[k][p];
+  if (!gm_block_key_of(domain, moved, key))
+    return false;
   int64_t lowest[3], highest[2];
   if (domain->dim == 3) {
     const double *const *position = (const double *const *)next->position;

@@ -682,6 +682,48 @@ START_TEST(test_bspline_floor_holds_its_cells) {
 }
 END_TEST
 
+/* _i: the plane, 3D. A B-spline rigid block one cell thick whose
+ * prescribed motion takes its front points 1.5 mm out of the grid box
+ * (x = 2 m) in one step: the step fails with GM_ERR_OUT_OF_GRID naming a
+ * rigid point, and the domain is as it was (positions, time). Their G2P
+ * sum, which the cell rule no longer uses, would have moved them 0.969
+ * times as far (the weight of their held nodes: 1.9995 m, inside), so
+ * only the check on the prescribed position (rigid.c) catches this. */
+START_TEST(test_bspline_rigid_leaving_fails) {
+  bool three_d = _i == 1;
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = three_d ? GM_GEOMETRY_3D : GM_GEOMETRY_PLANE_STRAIN;
+  def.shape = GM_SHAPE_BSPLINE2;
+  def.cell_size = CELL;
+  def.extent[0] = 2.0;
+  def.extent[1] = def.extent[2] = 1.0;
+  gm_domain *domain = test_create_domain(&def);
+  const double velocity[3] = {6.4, 0.0, 0.0}; /* m/s: 0.064 m per step */
+  int plate = add_plate(domain, velocity);
+  const double lower[3] = {1.9, 0.4, 0.4}, upper[3] = {1.95, 0.6, 0.6};
+  size_t count = test_fill_box(domain, plate, lower, upper, 2, NULL);
+  int dim = three_d ? 3 : 2;
+  double *start = malloc((size_t)dim * count * sizeof *start);
+  double *now = malloc((size_t)dim * count * sizeof *now);
+  ck_assert(start && now);
+  test_get_field_by_id(domain, GM_FIELD_POSITION, 0, start);
+  ck_assert_int_eq(gm_domain_step(domain, 0.01), GM_ERR_OUT_OF_GRID);
+  const char *message = gm_domain_last_error(domain);
+  ck_assert_msg(strstr(message, "rigid point id") &&
+                    strstr(message, "would leave the grid box"),
+                "%s", message);
+  test_get_field_by_id(domain, GM_FIELD_POSITION, 0, now);
+  ck_assert(memcmp(start, now, (size_t)dim * count * sizeof *now) == 0);
+  double time = -1.0; /* s */
+  uint64_t steps = 1;
+  TEST_ASSERT_OK(domain, gm_domain_get_time(domain, &time, &steps));
+  ck_assert(time == 0.0 && steps == 0);
+  free(start);
+  free(now);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 int main(void) {
   Suite *suite = suite_create("rigid");
   TCase *tcase = tcase_create("rigid_points");
@@ -694,6 +736,7 @@ int main(void) {
   tcase_add_loop_test(tcase, test_rigid_floor_is_fixed_face, 0, 2);
   tcase_add_loop_test(tcase, test_rigid_arguments, 0, 2);
   tcase_add_loop_test(tcase, test_bspline_floor_holds_its_cells, 0, 4);
+  tcase_add_loop_test(tcase, test_bspline_rigid_leaving_fails, 0, 2);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
