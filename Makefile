@@ -15,7 +15,7 @@
 #   make install PREFIX=/usr/local DESTDIR=
 #   make abi-check       compare the library ABI with abi/libgranmpm.abi
 #   make distcheck       build, test and check the release tarball
-#   make validate        the refinement studies (validate/, ~1 h on 2 cores)
+#   make validate        the refinement studies (validate/, ~1.5 h on 2 cores)
 #   make fuzz            build the libFuzzer harnesses (clang) and run each
 #                        for FUZZ_TIME seconds (default 600; fuzz/README.md)
 BUILD ?= build
@@ -65,6 +65,7 @@ validate: all
 	sh validate/collapse.sh
 	sh validate/collapse_size.sh
 	sh validate/collapse_3d.sh
+	sh validate/silo_refinement.sh
 
 # Fuzzing: a private static build with clang, libFuzzer, ASan and UBSan.
 FUZZ_BUILD ?= build-fuzz

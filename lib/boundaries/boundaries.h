@@ -175,6 +175,12 @@ void gm_rigid_constrain_node(gm_domain *domain, size_t node,
 void gm_rigid_add_impulse(gm_domain *domain);
 /* Rigid points of the new (spare) buffer get their prescribed velocity. */
 void gm_rigid_set_point_velocities(gm_domain *domain);
+/* B-splines (rigid.c's header: the cell rule): rigid points move by the
+ * prescribed velocity times dt and keep F and V, in place of what G2P
+ * gathered from nodes outside their cells; their keys for the next
+ * binning follow. Fails the step (GM_ERR_OUT_OF_GRID) where one would
+ * leave the grid. Other shapes: nothing (their whole support is held). */
+gm_status gm_rigid_move_points(gm_domain *domain, double dt);
 gm_status gm_rigid_reserve(gm_domain *domain);
 /* Does any wall reach into the block with lower corner node (ix, iy)? */
 bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,

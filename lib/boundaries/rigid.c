@@ -10,9 +10,19 @@
  * with the prescribed velocity (their nodes all carry it, so the usual
  * G2P moves them exactly) and keep zero stress.
  *
+ * With the B-splines a rigid point holds the nodes of its own cell (the
+ * linear rule), not its whole support: a quadratic (cubic) B-spline
+ * reaches 1.5 (2) cells, so a floor layer of rigid points lying on the
+ * node row y = 0 would also hold the row y = h above it, raising the
+ * floor and narrowing every opening in it by a cell (the slot silo's
+ * rate, docs/convergence.md sec. 31). The cell rule holds exactly the
+ * nodes inside a body whose faces lie on node lines, and never fewer
+ * than one cell's nodes for a body thinner than a cell.
+ *
  * In 3D the same rule holds with three components: the nodes a rigid
- * point reaches are those of its trilinear cell (linear MPM) or of its
- * GIMP box (support_3d.h) with a nonzero weight, the grid update
+ * point reaches are those of its trilinear cell (linear MPM and the
+ * B-splines) or of its GIMP box (support_3d.h) with a nonzero weight,
+ * the grid update
  * (grid_update_3d.c) gives them the prescribed 3-vector, and the impulse
  * and force have a z component.
  */
@@ -172,8 +182,17 @@ gm_status gm_rigid_reserve(gm_domain *domain) {
   return GM_OK;
 }
 
-/* Marks the nodes of one rigid point (those with a nonzero weight in the
- * domain's shape functions, support.h). */
+/* The shape functions a rigid point marks its nodes with: the domain's,
+ * except that a B-spline point marks its cell's (the header). */
+static gm_shape_grid marking_shapes(const gm_domain *domain) {
+  gm_shape_grid shapes = domain->shape_grid;
+  if (gm_shape_is_bspline(shapes.shape))
+    shapes.shape = GM_SHAPE_LINEAR;
+  return shapes;
+}
+
+/* Marks the nodes of one rigid point (those with a nonzero weight in
+ * marking_shapes, support.h). */
 static void mark_point(gm_domain *domain, size_t p, int32_t mark) {
   gm_grid *grid = &domain->grid;
   const gm_points *points = &domain->points;
@@ -182,7 +201,8 @@ static void mark_point(gm_domain *domain, size_t p, int32_t mark) {
   gm_point_domain point;
   gm_point_domain_at(domain, current, p, &point);
   gm_support support;
-  if (!gm_support_compute(&domain->shape_grid, &point, &support))
+  gm_shape_grid shapes = marking_shapes(domain);
+  if (!gm_support_compute(&shapes, &point, &support))
     return; /* cannot happen: the binning placed the point by it */
   uint32_t block = points->point_block[p];
   const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
@@ -200,9 +220,9 @@ static void mark_point(gm_domain *domain, size_t p, int32_t mark) {
 
 /* mark_point in 3D: the nodes of the point's support with a nonzero
  * weight, reached through the 8 neighbour links of its block as the 3D
- * scatter reaches them (p2g_3d.c): a linear point's trilinear cell, a
- * GIMP point's box (support_3d.h; its block is that of the support's
- * lowest node); CPDI: mark_cpdi_point_3d. */
+ * scatter reaches them (p2g_3d.c): a linear or B-spline point's
+ * trilinear cell (the header), a GIMP point's box (support_3d.h; its
+ * block is that of the support's lowest node); CPDI: mark_cpdi_point_3d. */
 /* mark_point_3d for CPDI: the nodes of the dense support
  * (support_cpdi_3d.h) with a nonzero weight. */
 static void mark_cpdi_point_3d(gm_domain *domain, size_t p, int32_t mark) {
@@ -259,6 +279,22 @@ static void mark_point_3d(gm_domain *domain, size_t p, int32_t mark) {
                                support.gradient[axis]) &
           (GM_BLOCK_EDGE_3D - 1);
       support.span[axis] = 2;
+    }
+  } else if (gm_shape_is_bspline(domain->shape_grid.shape)) {
+    /* The cell rule (header), from the block of the B-spline support's
+     * lowest node, where the binning put the point: the cell's lowest
+     * node is at or above that node and at most one node beyond it. */
+    int64_t base[3];
+    gm_block_coordinates_3d(grid, grid->block_key[block], base);
+    for (int axis = 0; axis < 3; axis++) {
+      local[axis] =
+          gm_shape_linear_axis(x[axis], domain->shape_grid.origin[axis],
+                               domain->inv_cell, support.weight[axis],
+                               support.gradient[axis]) -
+          (base[axis] << GM_BLOCK_SHIFT_3D);
+      support.span[axis] = 2;
+      if (local[axis] < 0 || local[axis] + 2 > 2 * GM_BLOCK_EDGE_3D)
+        return; /* cannot happen (the comment above) */
     }
   } else {
     gm_box_half_edges_3d(domain->shape_grid.shape,
@@ -339,6 +375,70 @@ void gm_rigid_add_impulse(gm_domain *domain) {
     for (int k = 0; k < domain->dim; k++)
       material->rigid_impulse[k] += grid->rigid_impulse[k][node];
   }
+}
+
+/* The block key of rigid point p's moved position, as the binning keys a
+ * B-spline point (bins.c: its support's lowest node); false if the
+ * position left the grid box (the test of every moved point, g2p.c) or
+ * its support the ghost layer. */
+static bool moved_key(const gm_domain *domain, const gm_point_buffers *next,
+                      size_t p, int64_t *key) {
+  const gm_points *points = &domain->points;
+  double moved[3] = {0.0, 0.0, 0.0}; /* m */
+  for (int k = 0; k < domain->dim; k++)
+    moved[k] = next->position[k][p];
+  if (!gm_block_key_of(domain, moved, key))
+    return false;
+  int64_t lowest[3], highest[2];
+  if (domain->dim == 3) {
+    const double *const *position = (const double *const *)next->position;
+    if (!gm_wide_lowest_3d(&domain->shape_grid, position,
+                           (const double *const *)points->domain_size,
+                           (const double *const *)next->deformation, p, lowest))
+      return false;
+    *key =
+        gm_block_key_of_node_3d(&domain->grid, lowest[0], lowest[1], lowest[2]);
+    return true;
+  }
+  double y = domain->dim > 1 ? next->position[1][p] : 0.0; /* m */
+  if (!gm_support_bspline_bounds(&domain->shape_grid, next->position[0][p], y,
+                                 lowest, highest))
+    return false;
+  *key = gm_block_key_of_node(&domain->grid, lowest[0], lowest[1]);
+  return true;
+}
+
+gm_status gm_rigid_move_points(gm_domain *domain, double dt) {
+  if (!gm_shape_is_bspline(domain->shape_grid.shape))
+    return GM_OK; /* their G2P moved them exactly (the header) */
+  gm_points *points = &domain->points;
+  const gm_point_buffers *current = &points->buffer[points->cur];
+  gm_point_buffers *next = &points->buffer[points->cur ^ 1];
+  const int64_t *binned = domain->grid.block_key; /* keys of this binning */
+  for (size_t p = 0; p < points->count; p++) {
+    const gm_material *material = &domain->materials[points->material[p]];
+    if (!material->rigid)
+      continue;
+    for (int k = 0; k < domain->dim; k++)
+      next->position[k][p] =
+          current->position[k][p] + dt * material->rigid_velocity[k];
+    for (int k = 0; k < GM_F_SLOTS; k++)
+      if (next->deformation[k])
+        next->deformation[k][p] = current->deformation[k][p];
+    next->volume[p] = current->volume[p];
+    int64_t key;
+    if (!moved_key(domain, next, p, &key))
+      return gm_set_error(
+          domain, GM_ERR_OUT_OF_GRID,
+          "step: rigid point id %lld would leave the grid box (x = %g, y = "
+          "%g m at t = %g s); the step was not taken",
+          (long long)points->id[p], next->position[0][p],
+          domain->dim > 1 ? next->position[1][p] : 0.0, domain->time + dt);
+    if (key != binned[points->point_block[p]])
+      points->blocks_kept = false; /* the next binning rebuilds the grid */
+    points->block_key[p] = key;
+  }
+  return GM_OK;
 }
 
 void gm_rigid_set_point_velocities(gm_domain *domain) {

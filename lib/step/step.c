@@ -62,8 +62,10 @@
  *     MOVE_AND_STRESS_SECOND_HALF
  *                          MUSL: x_p += dt sum N v^L over the whole dt,
  *                          then as STRESS_SECOND_HALF
- *     RIGID_POINTS         rigid points take their prescribed velocity;
- *                          their nodes' impulse goes to the body
+ *     RIGID_POINTS         rigid points take their prescribed velocity
+ *                          (with the B-splines their position, F and V
+ *                          too: they hold only their cells' nodes,
+ *                          rigid.c); their nodes' impulse goes to the body
  *   commit (try_step): flip the point buffers, granular summary, wall
  *     impulse, signal speed for the next dt, time and step count, reorder
  *     every GM_REORDER_INTERVAL steps
@@ -419,6 +421,9 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
   }
   case STAGE_RIGID_POINTS:
     if (domain->rigid_count > 0) { /* prescribed, not FLIP, velocities */
+      status = gm_rigid_move_points(domain, dt);
+      if (status != GM_OK)
+        return status;
       gm_rigid_set_point_velocities(domain);
       gm_rigid_add_impulse(domain);
     }

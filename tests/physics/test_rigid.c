@@ -24,6 +24,10 @@
  *    block's elastic vibration (bounded by the 1D wave solution). 1 and 2
  *    workers give the same bits. The same block on a fixed box face in
  *    place of the floor moves the same to round-off.
+ *  - With the B-splines (plane and 3D) a floor of rigid points holds only
+ *    its cells' nodes: an elastic block gliding two cells above it keeps
+ *    its momentum and velocity to round-off and the floor takes no
+ *    impulse (the floor held the next node row up before 2026-11-29).
  *  - Misuse: non-finite velocity components (z in 3D), non-rigid ids,
  *    periodic x faces.
  *
@@ -599,6 +603,127 @@ START_TEST(test_rigid_arguments) {
 }
 END_TEST
 
+/* _i: B-spline2, B-spline3 (_i % 2) in the plane and in 3D (_i / 2).
+ * With the B-splines a rigid point holds only the nodes of its own cell
+ * (rigid.c): a floor layer on [y0 - h, y0] holds the node rows up to y0,
+ * not the row y0 + h its quadratic (1.5 cells) or cubic (2 cells) support
+ * also reaches. An elastic block gliding at u = 0.5 m/s two cells above
+ * the layer (no gravity) reaches down to the row y0 + h (its lowest
+ * points, y0 + 2.25 h, reach 1.5 or 2 cells) and no further: nothing may
+ * touch it, so its momentum and every point's velocity stay exactly
+ * what they were (a velocity change of one held node's share, ~1e-3 of
+ * u, fails: the rule of every reached node held the row y0 + h and
+ * stopped the block's lowest points), the floor reports no impulse, and
+ * the floor's points stay where they were, to the bit. */
+START_TEST(test_bspline_floor_holds_its_cells) {
+  gm_shape shape = _i % 2 ? GM_SHAPE_BSPLINE3 : GM_SHAPE_BSPLINE2;
+  bool three_d = _i >= 2;
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = three_d ? GM_GEOMETRY_3D : GM_GEOMETRY_PLANE_STRAIN;
+  def.scheme = GM_SCHEME_MUSL;
+  def.shape = shape;
+  def.cell_size = CELL;
+  def.extent[0] = 2.0;
+  def.extent[1] = def.extent[2] = 1.0;
+  gm_domain *domain = test_create_domain(&def);
+  const double rest[3] = {0.0, 0.0, 0.0};
+  int floor = add_plate(domain, rest);
+  const double y0 = 0.2; /* m, the floor's top, on a node row */
+  const double floor_lower[3] = {0.2, y0 - CELL, 0.2};
+  const double floor_upper[3] = {1.8, y0, 0.8};
+  int64_t floor_first = -1;
+  size_t floor_count =
+      test_fill_box(domain, floor, floor_lower, floor_upper, 2, &floor_first);
+  int block = test_add_elastic(domain, YOUNGS, POISSON, DENSITY);
+  const double u = 0.5; /* m/s */
+  gm_fill_def fill = gm_fill_def_default();
+  fill.material = block;
+  const double block_lower[3] = {0.6, y0 + 2 * CELL, 0.4};
+  const double block_upper[3] = {1.0, y0 + 4 * CELL, 0.6};
+  memcpy(fill.lower, block_lower, sizeof fill.lower);
+  memcpy(fill.upper, block_upper, sizeof fill.upper);
+  fill.velocity[0] = u;
+  TEST_ASSERT_OK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
+  int dim = three_d ? 3 : 2;
+  size_t count = gm_domain_point_count(domain);
+  double *start = malloc((size_t)dim * count * sizeof *start);
+  double *now = malloc((size_t)dim * count * sizeof *now);
+  ck_assert(start && now);
+  test_get_field_by_id(domain, GM_FIELD_POSITION, floor_first, start);
+  gm_summary summary = gm_summary_default();
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &summary));
+  double momentum = summary.momentum[0]; /* kg m/s, the block's */
+  const double dt = 5e-4; /* s, below the stable 0.5 h / c = 7.9e-4 s */
+  double impulse = 0.0;   /* N s, |J| summed */
+  for (int step = 0; step < 200; step++) { /* 0.05 m: a cell */
+    TEST_ASSERT_OK(domain, gm_domain_step(domain, dt));
+    gm_rigid_load load = gm_rigid_load_default();
+    TEST_ASSERT_OK(domain, gm_domain_get_rigid_load(domain, floor, &load));
+    for (int k = 0; k < dim; k++)
+      impulse += fabs(load.impulse[k]);
+  }
+  TEST_ASSERT_OK(domain, gm_domain_get_summary(domain, &summary));
+  /* Round-off only: the block's nodes sum ~100 terms per step. */
+  ck_assert_msg(fabs(summary.momentum[0] - momentum) < 1e-12 * momentum,
+                "%dD %s: block momentum %.15g, was %.15g", dim,
+                test_shape_name(shape), summary.momentum[0], momentum);
+  ck_assert_msg(impulse == 0.0, "%dD %s: the floor took %g N s", dim,
+                test_shape_name(shape), impulse);
+  test_get_field_by_id(domain, GM_FIELD_VELOCITY, floor_first, now);
+  for (size_t i = floor_count; i < count; i++) /* the block's points */
+    ck_assert_msg(fabs(now[(size_t)dim * i] - u) < 1e-12 * u,
+                  "%dD %s: block point %zu at v_x %.15g", dim,
+                  test_shape_name(shape), i, now[(size_t)dim * i]);
+  test_get_field_by_id(domain, GM_FIELD_POSITION, floor_first, now);
+  ck_assert(memcmp(start, now, (size_t)dim * floor_count * sizeof *now) == 0);
+  free(start);
+  free(now);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
+/* _i: the plane, 3D. A B-spline rigid block one cell thick whose
+ * prescribed motion takes its front points 1.5 mm out of the grid box
+ * (x = 2 m) in one step: the step fails with GM_ERR_OUT_OF_GRID naming a
+ * rigid point, and the domain is as it was (positions, time). Their G2P
+ * sum, which the cell rule no longer uses, would have moved them 0.969
+ * times as far (the weight of their held nodes: 1.9995 m, inside), so
+ * only the check on the prescribed position (rigid.c) catches this. */
+START_TEST(test_bspline_rigid_leaving_fails) {
+  bool three_d = _i == 1;
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = three_d ? GM_GEOMETRY_3D : GM_GEOMETRY_PLANE_STRAIN;
+  def.shape = GM_SHAPE_BSPLINE2;
+  def.cell_size = CELL;
+  def.extent[0] = 2.0;
+  def.extent[1] = def.extent[2] = 1.0;
+  gm_domain *domain = test_create_domain(&def);
+  const double velocity[3] = {6.4, 0.0, 0.0}; /* m/s: 0.064 m per step */
+  int plate = add_plate(domain, velocity);
+  const double lower[3] = {1.9, 0.4, 0.4}, upper[3] = {1.95, 0.6, 0.6};
+  size_t count = test_fill_box(domain, plate, lower, upper, 2, NULL);
+  int dim = three_d ? 3 : 2;
+  double *start = malloc((size_t)dim * count * sizeof *start);
+  double *now = malloc((size_t)dim * count * sizeof *now);
+  ck_assert(start && now);
+  test_get_field_by_id(domain, GM_FIELD_POSITION, 0, start);
+  ck_assert_int_eq(gm_domain_step(domain, 0.01), GM_ERR_OUT_OF_GRID);
+  const char *message = gm_domain_last_error(domain);
+  ck_assert_msg(strstr(message, "rigid point id") &&
+                    strstr(message, "would leave the grid box"),
+                "%s", message);
+  test_get_field_by_id(domain, GM_FIELD_POSITION, 0, now);
+  ck_assert(memcmp(start, now, (size_t)dim * count * sizeof *now) == 0);
+  double time = -1.0; /* s */
+  uint64_t steps = 1;
+  TEST_ASSERT_OK(domain, gm_domain_get_time(domain, &time, &steps));
+  ck_assert(time == 0.0 && steps == 0);
+  free(start);
+  free(now);
+  gm_domain_destroy(domain);
+}
+END_TEST
+
 int main(void) {
   Suite *suite = suite_create("rigid");
   TCase *tcase = tcase_create("rigid_points");
@@ -610,6 +735,8 @@ int main(void) {
   tcase_add_loop_test(tcase, test_resting_block, 0, 2);
   tcase_add_loop_test(tcase, test_rigid_floor_is_fixed_face, 0, 2);
   tcase_add_loop_test(tcase, test_rigid_arguments, 0, 2);
+  tcase_add_loop_test(tcase, test_bspline_floor_holds_its_cells, 0, 4);
+  tcase_add_loop_test(tcase, test_bspline_rigid_leaving_fails, 0, 2);
   suite_add_tcase(suite, tcase);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
