@@ -17,7 +17,10 @@
  * floor and narrowing every opening in it by a cell (the slot silo's
  * rate, docs/convergence.md sec. 31). The cell rule holds exactly the
  * nodes inside a body whose faces lie on node lines, and never fewer
- * than one cell's nodes for a body thinner than a cell.
+ * than one cell's nodes for a body thinner than a cell. The supports of
+ * its outer points then reach free nodes, so G2P no longer moves them
+ * exactly: B-spline rigid points are moved by the prescribed velocity
+ * itself and keep F and V (gm_rigid_move_points, the step's last stage).
  *
  * In 3D the same rule holds with three components: the nodes a rigid
  * point reaches are those of its trilinear cell (linear MPM and the
