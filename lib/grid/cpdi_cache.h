@@ -65,11 +65,12 @@ static inline void gm_cpdi_cache_store(const gm_cpdi_cache *cache, size_t p,
 }
 
 /* A kept support as the two later passes read it: each corner's cell
- * from the block's base node as stored (no int64 cells rebuilt from the
- * base and taken apart again by the gather), its bilinear factors, and
- * the lowest node and reach from the base. */
+ * as the tile node x + 16 y of its lower left node (x, y from the block's
+ * base node: the byte the word stores, so one shift and mask per corner;
+ * the gathers' tile table and the sweep's tile take it as it is), its
+ * bilinear factors, and the lowest node and reach from the base. */
 typedef struct gm_cpdi_kept {
-  int x[4], y[4];       /* cells, corner c's from the base node */
+  int tile[4];          /* corner c's cell, tile node x + 16 y */
   double axis[4][2][2]; /* (1 - f, f) per corner and axis, as axis */
   int64_t lowest[2];    /* the lowest node from the base */
   int64_t reach[2];     /* nodes past lowest per axis */
@@ -97,10 +98,8 @@ static inline bool gm_cpdi_kept_load(const gm_cpdi_cache *cache, size_t p,
   if (key >= 0)
     return false;
   uint64_t packed = (uint64_t)key; /* modulo 2^64: the low bits as stored */
-  for (int c = 0; c < 4; c++) {
-    kept->x[c] = (int)((packed >> (8 * c)) & 15);
-    kept->y[c] = (int)((packed >> (8 * c + 4)) & 15);
-  }
+  for (int c = 0; c < 4; c++)      /* nibbles x, y: the byte x + 16 y */
+    kept->tile[c] = (int)((packed >> (8 * c)) & 255);
   for (int k = 0; k < 2; k++) {
     kept->lowest[k] =
         (int64_t)((packed >> (GM_CPDI_CACHE_LOWEST + 4 * k)) & 15);
@@ -116,8 +115,8 @@ static inline void gm_cpdi_kept_from_support(const gm_cpdi_support *s,
                                              const int64_t reach[2],
                                              gm_cpdi_kept *kept) {
   for (int c = 0; c < 4; c++) {
-    kept->x[c] = (int)(s->cell[c][0] - base[0]);
-    kept->y[c] = (int)(s->cell[c][1] - base[1]);
+    kept->tile[c] =
+        (int)(s->cell[c][0] - base[0]) + 16 * (int)(s->cell[c][1] - base[1]);
     for (int k = 0; k < 2; k++)
       for (int a = 0; a < 2; a++)
         kept->axis[c][k][a] = s->axis[c][k][a];
@@ -144,10 +143,10 @@ static inline void gm_cpdi_kept_fractions(
       map[3][p], 0.5 * domain_size[0][p], 0.5 * domain_size[1][p], corners);
   for (int k = 0; k < 2; k++) {
     double origin = grid->origin[k], inv_cell = grid->inv_cell;
-    const int *local = k == 0 ? kept->x : kept->y;
     for (int c = 0; c < 4; c++) {
       double cell = (corners[c][k] - origin) * inv_cell; /* cells */
-      double fraction = cell - cells->at[k][local[c]];
+      int local = (kept->tile[c] >> (4 * k)) & 15; /* x or y of x + 16 y */
+      double fraction = cell - cells->at[k][local];
       kept->axis[c][k][0] = 1.0 - fraction;
       kept->axis[c][k][1] = fraction;
     }

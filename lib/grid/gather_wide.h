@@ -202,16 +202,17 @@ static GM_ALWAYS_INLINE bool cpdi_corner_may_be_empty(const gather_view *v,
  * gradient and the empty-node sum only where it deforms (each sum taken
  * alone, so the ones kept have the same bits), and a node's x and y
  * components summed as one pair. A corner's four nodes come from the
- * block's tile table (tile_nodes.h), wherever its cell lies. x, y:
- * corner c's cell from the block's base node; axis: its bilinear
+ * block's tile table (tile_nodes.h), wherever its cell lies. cell_node:
+ * corner c's cell as the tile node x + 16 y of its lower left node (x, y
+ * from the block's base node); axis: its bilinear
  * factors, axis[4 c + 2 k + a] as gm_cpdi_support's axis[c][k][a];
  * gradient_c: g_c (1/m) in 2 c + k. A corner whose four nodes all have
  * mass adds nothing to the empty-node sum (+0 four times, then +0 times
  * g_c), so its mass tests are one look at the four masses
  * (cpdi_corner_may_be_empty). */
 static GM_ALWAYS_INLINE void gather_cpdi_corners_2d(
-    const gather_view *v, const gm_tile_nodes *tile, const int x[4],
-    const int y[4], const double *axis, const double *gradient_c, double share,
+    const gather_view *v, const gm_tile_nodes *tile, const int cell_node[4],
+    const double *axis, const double *gradient_c, double share,
     point_gather *sum, const bool acceleration, const bool gradient) {
   const int edge = GM_TILE_EDGE_2D;
 #if defined(__GNUC__)
@@ -221,7 +222,7 @@ static GM_ALWAYS_INLINE void gather_cpdi_corners_2d(
 #endif
   for (int c = 0; c < 4; c++) {
     /* (a, b) = (0, 0), (1, 0), (0, 1), (1, 1) */
-    const size_t *cell = &tile->node[x[c] + edge * y[c]];
+    const size_t *cell = &tile->node[cell_node[c]];
     size_t node[4] = {cell[0], cell[1], cell[edge], cell[edge + 1]};
     double empty = 0.0; /* -, the corner's weight on massless nodes */
     if (gradient && cpdi_corner_may_be_empty(v, node))
@@ -297,12 +298,12 @@ gather_cpdi_2d(const gather_view *v, const gm_tile_nodes *tile,
                const int64_t base[2], const gm_cpdi_support *support,
                point_gather *sum, const bool acceleration,
                const bool gradient) {
-  int x[4], y[4]; /* fits the block's 16 x 16 tile (gm_wide_support_fits) */
-  for (int c = 0; c < 4; c++) {
-    x[c] = (int)(support->cell[c][0] - base[0]);
-    y[c] = (int)(support->cell[c][1] - base[1]);
-  }
-  gather_cpdi_corners_2d(v, tile, x, y, &support->axis[0][0][0],
+  /* fits the block's 16 x 16 tile (gm_wide_support_fits) */
+  int cell_node[4]; /* tile node x + 16 y of each corner's cell */
+  for (int c = 0; c < 4; c++)
+    cell_node[c] = (int)(support->cell[c][0] - base[0]) +
+                   GM_TILE_EDGE_2D * (int)(support->cell[c][1] - base[1]);
+  gather_cpdi_corners_2d(v, tile, cell_node, &support->axis[0][0][0],
                          &support->corner_gradient[0][0], support->share, sum,
                          acceleration, gradient);
 }
@@ -314,8 +315,8 @@ gather_cpdi_kept_2d(const gather_view *v, const gm_tile_nodes *tile,
                     point_gather *sum, const bool acceleration,
                     const bool gradient) {
   double share = 0.25; /* gm_cpdi_support_2d's */
-  gather_cpdi_corners_2d(v, tile, kept->x, kept->y, &kept->axis[0][0][0],
-                         gradient_c, share, sum, acceleration, gradient);
+  gather_cpdi_corners_2d(v, tile, kept->tile, &kept->axis[0][0][0], gradient_c,
+                         share, sum, acceleration, gradient);
 }
 
 #endif

@@ -173,7 +173,7 @@ static GM_ALWAYS_INLINE void scatter_cpdi_momentum(momentum_tile *tile,
   double share_x = share * momentum_x, share_y = share * momentum_y;
   for (int c = 0; c < 4; c++) {
     /* the corner cell's lower left node; the others at fixed offsets */
-    double(*cell)[2] = &tile->node[s->x[c] + EDGE * s->y[c]];
+    double(*cell)[2] = &tile->node[s->tile[c]]; /* EDGE = 16 */
     for (int b = 0; b < 2; b++) {
       for (int a = 0; a < 2; a++) {
         double value = s->axis[c][0][a] * s->axis[c][1][b];
