@@ -27,7 +27,7 @@
 #ifndef GM_CPDI_CACHE_H
 #define GM_CPDI_CACHE_H
 
-#include "grid/pair.h"
+#include "core/pair.h"
 #include "shapes/shapes.h"
 
 #include <stdbool.h>

@@ -97,8 +97,6 @@ gather_node_pair(const gather_view *v, size_t node, double weight,
      * (g < 0) at a node with mass, and a sum that starts at +0 is never
      * -0 and gains nothing from a zero of either sign; g is finite on the
      * short support (its bounds refuse NaN). */
-    typedef long long gm_pair_mask
-        __attribute__((vector_size(sizeof(gm_pair))));
     gm_pair mass = {v->grid_mass[node], v->grid_mass[node]};
     gm_pair zero = {0.0, 0.0}, g = {grad_x, grad_y};
     *empty += (gm_pair)((gm_pair_mask)g & (mass == zero));

@@ -10,7 +10,7 @@
 
 #include "grid/cpdi_cache.h"
 #include "grid/grid.h"
-#include "grid/pair.h"
+#include "core/pair.h"
 
 #include <string.h>
 
