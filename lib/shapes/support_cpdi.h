@@ -57,8 +57,17 @@ static inline bool gm_cpdi_corner_gradients_2d(double corners[4][2],
   double inverse = 0.5 / area; /* 1 / (2 V), 1/m^2 */
   for (int c = 0; c < 4; c++) {
     const double *next = corners[(c + 1) & 3], *prev = corners[(c + 3) & 3];
+#if defined(__GNUC__) /* the x and y differences as one pair */
+    gm_pair to, from;
+    memcpy(&to, next, sizeof to);
+    memcpy(&from, prev, sizeof from);
+    gm_pair edge = to - from; /* m */
+    gm_pair g = (gm_pair){edge[1], -edge[0]} * inverse;
+    memcpy(gradient[c], &g, sizeof g);
+#else
     gradient[c][0] = (next[1] - prev[1]) * inverse;
     gradient[c][1] = -(next[0] - prev[0]) * inverse;
+#endif
   }
   return true;
 }
