@@ -8,9 +8,9 @@
 #ifndef GM_TRANSFER_H
 #define GM_TRANSFER_H
 
+#include "core/pair.h"
 #include "grid/cpdi_cache.h"
 #include "grid/grid.h"
-#include "core/pair.h"
 
 #include <string.h>
 
