@@ -27,11 +27,13 @@
 #ifndef GM_CPDI_CACHE_H
 #define GM_CPDI_CACHE_H
 
+#include "core/pair.h"
 #include "shapes/shapes.h"
 
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 /* Where the cells are kept; packed == NULL: not kept this step. */
 typedef struct gm_cpdi_cache {
@@ -65,11 +67,12 @@ static inline void gm_cpdi_cache_store(const gm_cpdi_cache *cache, size_t p,
 }
 
 /* A kept support as the two later passes read it: each corner's cell
- * from the block's base node as stored (no int64 cells rebuilt from the
- * base and taken apart again by the gather), its bilinear factors, and
- * the lowest node and reach from the base. */
+ * as the tile node x + 16 y of its lower left node (x, y from the block's
+ * base node: the byte the word stores, so one shift and mask per corner;
+ * the gathers' tile table and the sweep's tile take it as it is), its
+ * bilinear factors, and the lowest node and reach from the base. */
 typedef struct gm_cpdi_kept {
-  int x[4], y[4];       /* cells, corner c's from the base node */
+  int tile[4];          /* corner c's cell, tile node x + 16 y */
   double axis[4][2][2]; /* (1 - f, f) per corner and axis, as axis */
   int64_t lowest[2];    /* the lowest node from the base */
   int64_t reach[2];     /* nodes past lowest per axis */
@@ -97,10 +100,8 @@ static inline bool gm_cpdi_kept_load(const gm_cpdi_cache *cache, size_t p,
   if (key >= 0)
     return false;
   uint64_t packed = (uint64_t)key; /* modulo 2^64: the low bits as stored */
-  for (int c = 0; c < 4; c++) {
-    kept->x[c] = (int)((packed >> (8 * c)) & 15);
-    kept->y[c] = (int)((packed >> (8 * c + 4)) & 15);
-  }
+  for (int c = 0; c < 4; c++)      /* nibbles x, y: the byte x + 16 y */
+    kept->tile[c] = (int)((packed >> (8 * c)) & 255);
   for (int k = 0; k < 2; k++) {
     kept->lowest[k] =
         (int64_t)((packed >> (GM_CPDI_CACHE_LOWEST + 4 * k)) & 15);
@@ -116,8 +117,8 @@ static inline void gm_cpdi_kept_from_support(const gm_cpdi_support *s,
                                              const int64_t reach[2],
                                              gm_cpdi_kept *kept) {
   for (int c = 0; c < 4; c++) {
-    kept->x[c] = (int)(s->cell[c][0] - base[0]);
-    kept->y[c] = (int)(s->cell[c][1] - base[1]);
+    kept->tile[c] =
+        (int)(s->cell[c][0] - base[0]) + 16 * (int)(s->cell[c][1] - base[1]);
     for (int k = 0; k < 2; k++)
       for (int a = 0; a < 2; a++)
         kept->axis[c][k][a] = s->axis[c][k][a];
@@ -139,19 +140,45 @@ static inline void gm_cpdi_kept_fractions(
     const double *const map[4], const double *const domain_size[2], size_t p,
     const gm_cpdi_block_cells *cells, gm_cpdi_kept *kept,
     double corners[4][2]) {
+#if defined(__GNUC__)
+  /* x and y as one pair through gm_cpdi_corner_positions_2d's and the
+   * fractions' expressions: the same operation per lane, the same bits,
+   * and a corner's two (1 - f, f) stored as two pairs */
+  double half_x = 0.5 * domain_size[0][p], half_y = 0.5 * domain_size[1][p];
+  gm_pair centre = {position[0][p], position[1][p]};     /* m */
+  gm_pair r1 = (gm_pair){map[0][p], map[2][p]} * half_x; /* m, D r1_0 */
+  gm_pair r2 = (gm_pair){map[1][p], map[3][p]} * half_y; /* m, D r2_0 */
+  gm_pair corner[4] = {
+      centre + -1.0 * r1 + -1.0 * r2, centre + 1.0 * r1 + -1.0 * r2,
+      centre + 1.0 * r1 + 1.0 * r2, centre + -1.0 * r1 + 1.0 * r2};
+  gm_pair origin = {grid->origin[0], grid->origin[1]};
+  gm_pair one = {1.0, 1.0};
+  for (int c = 0; c < 4; c++) {
+    int t = kept->tile[c];                                /* x + 16 y */
+    gm_pair cell = (corner[c] - origin) * grid->inv_cell; /* cells */
+    gm_pair fraction =
+        cell - (gm_pair){cells->at[0][t & 15], cells->at[1][t >> 4]};
+    gm_pair low = one - fraction;
+    gm_pair x = {low[0], fraction[0]}, y = {low[1], fraction[1]};
+    memcpy(kept->axis[c][0], &x, sizeof x);
+    memcpy(kept->axis[c][1], &y, sizeof y);
+    memcpy(corners[c], &corner[c], sizeof corner[c]);
+  }
+#else
   gm_cpdi_corner_positions_2d(
       position[0][p], position[1][p], map[0][p], map[1][p], map[2][p],
       map[3][p], 0.5 * domain_size[0][p], 0.5 * domain_size[1][p], corners);
   for (int k = 0; k < 2; k++) {
     double origin = grid->origin[k], inv_cell = grid->inv_cell;
-    const int *local = k == 0 ? kept->x : kept->y;
     for (int c = 0; c < 4; c++) {
       double cell = (corners[c][k] - origin) * inv_cell; /* cells */
-      double fraction = cell - cells->at[k][local[c]];
+      int local = (kept->tile[c] >> (4 * k)) & 15; /* x or y of x + 16 y */
+      double fraction = cell - cells->at[k][local];
       kept->axis[c][k][0] = 1.0 - fraction;
       kept->axis[c][k][1] = fraction;
     }
   }
+#endif
 }
 
 #endif

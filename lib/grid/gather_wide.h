@@ -11,6 +11,7 @@
 #ifndef GM_GATHER_WIDE_H
 #define GM_GATHER_WIDE_H
 
+#include "grid/tile_nodes.h"
 #include "grid/transfer.h"
 
 /* The sums of one point's gather (g2p.c): acceleration and velocity,
@@ -96,8 +97,6 @@ gather_node_pair(const gather_view *v, size_t node, double weight,
      * (g < 0) at a node with mass, and a sum that starts at +0 is never
      * -0 and gains nothing from a zero of either sign; g is finite on the
      * short support (its bounds refuse NaN). */
-    typedef long long gm_pair_mask
-        __attribute__((vector_size(sizeof(gm_pair))));
     gm_pair mass = {v->grid_mass[node], v->grid_mass[node]};
     gm_pair zero = {0.0, 0.0}, g = {grad_x, grad_y};
     *empty += (gm_pair)((gm_pair_mask)g & (mass == zero));
@@ -185,23 +184,9 @@ gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
  * masses are sums of non-negative terms; where their product is positive
  * none is zero (a zero factor gives 0, or NaN beside an infinite or NaN
  * one), so false means no massless node; true (a zero, an underflow, a
- * NaN) sends the corner to the exact test node by node. node[0], node[1]
- * and node[2], node[3] are neighbours along x where contiguous (the cell
- * inside the block): two pairs of masses multiplied at once. */
+ * NaN) sends the corner to the exact test node by node. */
 static GM_ALWAYS_INLINE bool cpdi_corner_may_be_empty(const gather_view *v,
-                                                      const size_t node[4],
-                                                      const bool contiguous) {
-#if defined(__GNUC__)
-  if (contiguous) {
-    gm_pair low, high;
-    memcpy(&low, &v->grid_mass[node[0]], sizeof low);
-    memcpy(&high, &v->grid_mass[node[2]], sizeof high);
-    gm_pair product = low * high;
-    return !(product[0] * product[1] > 0.0);
-  }
-#else
-  (void)contiguous;
-#endif
+                                                      const size_t node[4]) {
   return !(v->grid_mass[node[0]] * v->grid_mass[node[1]] *
                (v->grid_mass[node[2]] * v->grid_mass[node[3]]) >
            0.0);
@@ -213,53 +198,32 @@ static GM_ALWAYS_INLINE bool cpdi_corner_may_be_empty(const gather_view *v,
  * sum_c v_c and L = sum_c v_c (x) g_c. As gather_short_2d: the
  * acceleration only where the pass reads it (the FLIP update), the
  * gradient and the empty-node sum only where it deforms (each sum taken
- * alone, so the ones kept have the same bits), a corner's cell inside the
- * block found at fixed offsets from the block's first node, and a node's x
- * and y components summed as one pair. x, y: corner c's cell from the
- * block's base node; axis: its bilinear factors, axis[4 c + 2 k + a] as
- * gm_cpdi_support's axis[c][k][a]; gradient_c: g_c (1/m) in 2 c + k.
- * A corner whose four nodes all have mass adds nothing to the empty-node
- * sum (+0 four times, then +0 times g_c), so its mass tests are one
- * look at the four masses (cpdi_corner_may_be_empty). */
-static GM_ALWAYS_INLINE void
-gather_cpdi_corners_2d(const gather_view *v, const uint32_t *links,
-                       const int x[4], const int y[4], const double *axis,
-                       const double *gradient_c, double share,
-                       point_gather *sum, const bool acceleration,
-                       const bool gradient, const bool all_inside) {
-  const int64_t edge = GM_BLOCK_EDGE_2D;
-  size_t first = (size_t)links[0] * GM_BLOCK_NODES;
+ * alone, so the ones kept have the same bits), and a node's x and y
+ * components summed as one pair. A corner's four nodes come from the
+ * block's tile table (tile_nodes.h), wherever its cell lies. cell_node:
+ * corner c's cell as the tile node x + 16 y of its lower left node (x, y
+ * from the block's base node); axis: its bilinear
+ * factors, axis[4 c + 2 k + a] as gm_cpdi_support's axis[c][k][a];
+ * gradient_c: g_c (1/m) in 2 c + k. A corner whose four nodes all have
+ * mass adds nothing to the empty-node sum (+0 four times, then +0 times
+ * g_c), so its mass tests are one look at the four masses
+ * (cpdi_corner_may_be_empty). */
+static GM_ALWAYS_INLINE void gather_cpdi_corners_2d(
+    const gather_view *v, const gm_tile_nodes *tile, const int cell_node[4],
+    const double *axis, const double *gradient_c, double share,
+    point_gather *sum, const bool acceleration, const bool gradient) {
+  const int edge = GM_TILE_EDGE_2D;
 #if defined(__GNUC__)
   gm_pair zero = {0.0, 0.0}, shares = {share, share};
   gm_pair acc = zero, vel = zero, column_x = zero, column_y = zero,
           empty_sum = zero;
 #endif
   for (int c = 0; c < 4; c++) {
-    size_t node[4]; /* (a, b) = (0, 0), (1, 0), (0, 1), (1, 1) */
-    bool inside = all_inside || (x[c] + 1 < edge && y[c] + 1 < edge);
-    if (inside) {
-      node[0] = first + (size_t)(x[c] + edge * y[c]);
-      node[1] = node[0] + 1;
-      node[2] = node[0] + (size_t)edge;
-      node[3] = node[0] + (size_t)edge + 1;
-    } else { /* gm_block_node's indices, the columns' and rows' parts once */
-      const int shift = GM_BLOCK_SHIFT_2D, mask = (1 << shift) - 1;
-      int column[2] = {x[c], x[c] + 1}, row[2] = {y[c], y[c] + 1};
-      int link_x[2], link_y[2];
-      size_t local_x[2], local_y[2];
-      for (int k = 0; k < 2; k++) {
-        link_x[k] = column[k] >> shift;
-        link_y[k] = 2 * (row[k] >> shift);
-        local_x[k] = (size_t)(column[k] & mask);
-        local_y[k] = (size_t)(row[k] & mask) << shift;
-      }
-      for (int n = 0; n < 4; n++)
-        node[n] =
-            (size_t)links[link_x[n & 1] + link_y[n >> 1]] * GM_BLOCK_NODES +
-            (local_x[n & 1] + local_y[n >> 1]);
-    }
+    /* (a, b) = (0, 0), (1, 0), (0, 1), (1, 1) */
+    const size_t *cell = &tile->node[cell_node[c]];
+    size_t node[4] = {cell[0], cell[1], cell[edge], cell[edge + 1]};
     double empty = 0.0; /* -, the corner's weight on massless nodes */
-    if (gradient && cpdi_corner_may_be_empty(v, node, inside))
+    if (gradient && cpdi_corner_may_be_empty(v, node))
       for (int n = 0; n < 4; n++)
         empty += v->grid_mass[node[n]] == 0.0
                      ? axis[4 * c + (n & 1)] * axis[4 * c + 2 + (n >> 1)]
@@ -326,41 +290,31 @@ gather_cpdi_corners_2d(const gather_view *v, const uint32_t *links,
 }
 
 /* The same from a whole support (support_cpdi.h). base: the block's base
- * node. */
+ * node; tile: its tile table. */
 static GM_ALWAYS_INLINE void
-gather_cpdi_2d(const gather_view *v, const uint32_t *links,
+gather_cpdi_2d(const gather_view *v, const gm_tile_nodes *tile,
                const int64_t base[2], const gm_cpdi_support *support,
                point_gather *sum, const bool acceleration,
                const bool gradient) {
-  int x[4], y[4]; /* fits the block's 16 x 16 tile (gm_wide_support_fits) */
-  for (int c = 0; c < 4; c++) {
-    x[c] = (int)(support->cell[c][0] - base[0]);
-    y[c] = (int)(support->cell[c][1] - base[1]);
-  }
-  gather_cpdi_corners_2d(v, links, x, y, &support->axis[0][0][0],
+  /* fits the block's 16 x 16 tile (gm_wide_support_fits) */
+  int cell_node[4]; /* tile node x + 16 y of each corner's cell */
+  for (int c = 0; c < 4; c++)
+    cell_node[c] = (int)(support->cell[c][0] - base[0]) +
+                   GM_TILE_EDGE_2D * (int)(support->cell[c][1] - base[1]);
+  gather_cpdi_corners_2d(v, tile, cell_node, &support->axis[0][0][0],
                          &support->corner_gradient[0][0], support->share, sum,
-                         acceleration, gradient, false);
+                         acceleration, gradient);
 }
 
-/* The same from a kept support (cpdi_cache.h): where its nodes all lie in
- * the block (its lowest node plus reach below the block's edge per axis,
- * so every corner cell's upper node too), without a test per corner. */
+/* The same from a kept support (cpdi_cache.h). */
 static GM_ALWAYS_INLINE void
-gather_cpdi_kept_2d(const gather_view *v, const uint32_t *links,
+gather_cpdi_kept_2d(const gather_view *v, const gm_tile_nodes *tile,
                     const gm_cpdi_kept *kept, const double *gradient_c,
                     point_gather *sum, const bool acceleration,
                     const bool gradient) {
-  const int64_t edge = GM_BLOCK_EDGE_2D;
   double share = 0.25; /* gm_cpdi_support_2d's */
-  if (kept->lowest[0] + kept->reach[0] < edge &&
-      kept->lowest[1] + kept->reach[1] < edge)
-    gather_cpdi_corners_2d(v, links, kept->x, kept->y, &kept->axis[0][0][0],
-                           gradient_c, share, sum, acceleration, gradient,
-                           true);
-  else
-    gather_cpdi_corners_2d(v, links, kept->x, kept->y, &kept->axis[0][0][0],
-                           gradient_c, share, sum, acceleration, gradient,
-                           false);
+  gather_cpdi_corners_2d(v, tile, kept->tile, &kept->axis[0][0][0], gradient_c,
+                         share, sum, acceleration, gradient);
 }
 
 #endif

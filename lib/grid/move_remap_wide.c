@@ -173,7 +173,7 @@ static GM_ALWAYS_INLINE void scatter_cpdi_momentum(momentum_tile *tile,
   double share_x = share * momentum_x, share_y = share * momentum_y;
   for (int c = 0; c < 4; c++) {
     /* the corner cell's lower left node; the others at fixed offsets */
-    double(*cell)[2] = &tile->node[s->x[c] + EDGE * s->y[c]];
+    double(*cell)[2] = &tile->node[s->tile[c]]; /* EDGE = 16 */
     for (int b = 0; b < 2; b++) {
       for (int a = 0; a < 2; a++) {
         double value = s->axis[c][0][a] * s->axis[c][1][b];
@@ -223,8 +223,11 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
   int64_t base[2];
   gm_block_base(&domain->grid, domain->grid.block_key[block], base);
   gm_cpdi_block_cells block_cells; /* the fractions' cells (cpdi_cache.h) */
-  if (cpdi)
+  gm_tile_nodes tile_nodes;        /* the corners' nodes (tile_nodes.h) */
+  if (cpdi) {
     gm_cpdi_block_cells_init(base, &block_cells);
+    gm_tile_nodes_init(links, &tile_nodes);
+  }
   memset(tile, 0, sizeof *tile);
   *columns = 0;
   *rows = 1;
@@ -266,7 +269,7 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
     if (found && cpdi)
-      gather_cpdi_kept_2d(v, links, &kept, NULL, &sum, true,
+      gather_cpdi_kept_2d(v, &tile_nodes, &kept, NULL, &sum, true,
                           false); /* no g_c read */
     else if (found && is_short)
       gather_short_2d(v, links, x0, y0, axis, &sum, true, false);

@@ -18,16 +18,16 @@
 /* Nodes of the tile: 16 x 16 in 2D, 128 in 1D (two blocks either way). */
 #define WIDE_TILE_NODES (4 * GM_BLOCK_NODES)
 
-/* A node's fields side by side (as p2g.c's tile): a point's update of a
- * node touches one 40-byte record, not five arrays. */
-typedef struct wide_tile_node {
-  double mass;        /* kg */
-  double momentum[2]; /* kg m/s */
-  double force[2];    /* N */
-} wide_tile_node;
-
+/* One array per field, nodes along x side by side: CPDI's corner hands
+ * the two nodes of a cell row the values (N_a0, N_a1) N_b of one pair
+ * product, and each field of the two nodes takes them as one pair
+ * (scatter_cpdi), where a record per node (mass, momentum, force side by
+ * side, as p2g.c's tile) took each node's mass alone and each node's
+ * value broadcast to a pair (bench/results/2026-11-29-cpdi19.md). */
 typedef struct wide_tile {
-  wide_tile_node node[WIDE_TILE_NODES];
+  double mass[WIDE_TILE_NODES];        /* kg */
+  double momentum[2][WIDE_TILE_NODES]; /* kg m/s */
+  double force[2][WIDE_TILE_NODES];    /* N */
 } wide_tile;
 
 /* Adds the tile's first `rows` x `columns` nodes to the grid. */
@@ -43,12 +43,12 @@ static void flush_wide_tile(const scatter_view *v, const gm_p2g_pass *pass,
       size_t node = gm_block_node(links, v->shift, x, y);
       size_t t = (size_t)(x + tile_edge * y);
       if (pass->mass)
-        v->grid_mass[node] += tile->node[t].mass;
+        v->grid_mass[node] += tile->mass[t];
       for (int k = 0; k < dim; k++) {
         if (pass->momentum)
-          v->grid_momentum[k][node] += tile->node[t].momentum[k];
+          v->grid_momentum[k][node] += tile->momentum[k][t];
         if (pass->forces)
-          v->grid_force[k][node] += tile->node[t].force[k];
+          v->grid_force[k][node] += tile->force[k][t];
       }
     }
   }
@@ -105,15 +105,15 @@ add_to_node(wide_tile *tile, size_t t, double weight, double grad_x,
             double grad_y, const point_load *load, const bool do_mass,
             const bool do_momentum, const bool do_forces) {
   if (do_mass)
-    tile->node[t].mass += weight * load->mass;
+    tile->mass[t] += weight * load->mass;
   if (do_momentum) {
-    tile->node[t].momentum[0] += weight * load->momentum[0];
-    tile->node[t].momentum[1] += weight * load->momentum[1];
+    tile->momentum[0][t] += weight * load->momentum[0];
+    tile->momentum[1][t] += weight * load->momentum[1];
   }
   if (do_forces) {
-    tile->node[t].force[0] +=
+    tile->force[0][t] +=
         weight * load->body[0] - (load->txx * grad_x + load->txy * grad_y);
-    tile->node[t].force[1] +=
+    tile->force[1][t] +=
         weight * load->body[1] - (load->txy * grad_x + load->tyy * grad_y);
   }
 }
@@ -167,6 +167,18 @@ scatter_short_2d(wide_tile *tile, int64_t tile_edge, int64_t x0, int64_t y0,
   }
 }
 
+#if defined(__GNUC__)
+/* field[0], field[1] += value * (part, part): two neighbouring nodes'
+ * sums, each the same operation as alone. */
+static GM_ALWAYS_INLINE void add_pair(double *field, gm_pair value,
+                                      double part) {
+  gm_pair sum;
+  memcpy(&sum, field, sizeof sum);
+  sum += value * (gm_pair){part, part};
+  memcpy(field, &sum, sizeof sum);
+}
+#endif
+
 /* CPDI, corner by corner (support.c): corner c hands each node i of its
  * cell the bilinear value N_i(x_c) times the corner's part of the point's
  * mass, momentum and force, the force's being share * body - sigma V g_c:
@@ -192,37 +204,37 @@ scatter_cpdi(wide_tile *tile, int64_t tile_edge, int dim, const int64_t base[2],
         share * load->body[0] - (load->txx * g_x + load->txy * g_y),
         share * load->body[1] - (load->txy * g_x + load->tyy * g_y)};
     for (int b = 0; b < rows; b++) {
-      size_t row = (size_t)(x + tile_edge * (y + b));
-      for (int a = 0; a < 2; a++) {
-        size_t t = row + (size_t)a;
-        double value = support->axis[c][0][a] * support->axis[c][1][b];
-        if (do_mass)
-          tile->node[t].mass += value * mass;
-#if defined(__GNUC__) /* x and y as one pair, the same operation per lane */
-        gm_pair w = {value, value}, sum;
-        if (do_momentum) {
-          gm_pair part = {momentum[0], momentum[1]};
-          memcpy(&sum, tile->node[t].momentum, sizeof sum);
-          sum += w * part;
-          memcpy(tile->node[t].momentum, &sum, sizeof sum);
-        }
-        if (do_forces) {
-          gm_pair part = {force[0], force[1]};
-          memcpy(&sum, tile->node[t].force, sizeof sum);
-          sum += w * part;
-          memcpy(tile->node[t].force, &sum, sizeof sum);
-        }
-#else
-        if (do_momentum) {
-          tile->node[t].momentum[0] += value * momentum[0];
-          tile->node[t].momentum[1] += value * momentum[1];
-        }
-        if (do_forces) {
-          tile->node[t].force[0] += value * force[0];
-          tile->node[t].force[1] += value * force[1];
-        }
-#endif
+      size_t t = (size_t)(x + tile_edge * (y + b)); /* node (0, b) */
+      double weight_y = support->axis[c][1][b];
+#if defined(__GNUC__) /* the row's two nodes as one pair, N_a N_b per lane */
+      gm_pair axis_x, value;
+      memcpy(&axis_x, support->axis[c][0], sizeof axis_x);
+      value = axis_x * (gm_pair){weight_y, weight_y};
+      if (do_mass)
+        add_pair(&tile->mass[t], value, mass);
+      if (do_momentum) {
+        add_pair(&tile->momentum[0][t], value, momentum[0]);
+        add_pair(&tile->momentum[1][t], value, momentum[1]);
       }
+      if (do_forces) {
+        add_pair(&tile->force[0][t], value, force[0]);
+        add_pair(&tile->force[1][t], value, force[1]);
+      }
+#else
+      for (int a = 0; a < 2; a++) {
+        double value = support->axis[c][0][a] * weight_y;
+        if (do_mass)
+          tile->mass[t + a] += value * mass;
+        if (do_momentum) {
+          tile->momentum[0][t + a] += value * momentum[0];
+          tile->momentum[1][t + a] += value * momentum[1];
+        }
+        if (do_forces) {
+          tile->force[0][t + a] += value * force[0];
+          tile->force[1][t + a] += value * force[1];
+        }
+      }
+#endif
     }
   }
 }
@@ -259,12 +271,10 @@ static void scatter_entries_affine(wide_tile *tile, int64_t tile_edge,
     add_to_node(tile, t, weight, support->gradient[0][e],
                 support->gradient[1][e], load, pass->mass, false, pass->forces);
     double wm = weight * m; /* kg; m_p N_ip (v_p + C (x_i - x_p)) */
-    tile->node[t].momentum[0] +=
-        weight * load->momentum[0] +
-        wm * (c[0] * offset[0][e] + c[1] * offset[1][e]);
-    tile->node[t].momentum[1] +=
-        weight * load->momentum[1] +
-        wm * (c[2] * offset[0][e] + c[3] * offset[1][e]);
+    tile->momentum[0][t] += weight * load->momentum[0] +
+                            wm * (c[0] * offset[0][e] + c[1] * offset[1][e]);
+    tile->momentum[1][t] += weight * load->momentum[1] +
+                            wm * (c[2] * offset[0][e] + c[3] * offset[1][e]);
   }
 }
 
@@ -297,8 +307,13 @@ static GM_ALWAYS_INLINE void clear_tile_rows(wide_tile *tile, int64_t *cleared,
                                              int64_t rows, int64_t tile_edge) {
   if (rows <= *cleared)
     return;
-  memset(&tile->node[*cleared * tile_edge], 0,
-         (size_t)((rows - *cleared) * tile_edge) * sizeof tile->node[0]);
+  size_t first = (size_t)(*cleared * tile_edge);
+  size_t bytes = (size_t)((rows - *cleared) * tile_edge) * sizeof(double);
+  memset(&tile->mass[first], 0, bytes);
+  for (int k = 0; k < 2; k++) {
+    memset(&tile->momentum[k][first], 0, bytes);
+    memset(&tile->force[k][first], 0, bytes);
+  }
   *cleared = rows;
 }
 

@@ -8,20 +8,11 @@
 #ifndef GM_TRANSFER_H
 #define GM_TRANSFER_H
 
+#include "core/pair.h"
 #include "grid/cpdi_cache.h"
 #include "grid/grid.h"
 
 #include <string.h>
-
-#if defined(__GNUC__)
-/* Two doubles, the x and y components of one sum, in one vector register
- * (GCC and Clang vector extension; SSE2 on x86-64), for the wide kernels
- * (gather_wide.h, p2g_wide.c): each lane does the scalar code's operation
- * on its component, so every sum keeps its bits (the library is built
- * with -std=c11, which keeps a * b + c two roundings). Other compilers
- * take the scalar code. */
-typedef double gm_pair __attribute__((vector_size(2 * sizeof(double))));
-#endif
 
 /* The fused move and momentum re-map (move_remap.c, move_remap_wide.c)
  * sums the new nodal momenta (kg m/s) into spare per-node arrays: cleared

@@ -17,11 +17,13 @@
 #ifndef GM_SUPPORT_CPDI_H
 #define GM_SUPPORT_CPDI_H
 
+#include "core/pair.h"
 #include "shapes/shape_gimp.h"
 #include "shapes/support.h"
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 /* The corners (m) of the parallelogram of centre x, y, domain map D
  * (D_xx, D_xy, D_yx, D_yy) and initial half edges half_x, half_y (m),
@@ -55,11 +57,51 @@ static inline bool gm_cpdi_corner_gradients_2d(double corners[4][2],
   double inverse = 0.5 / area; /* 1 / (2 V), 1/m^2 */
   for (int c = 0; c < 4; c++) {
     const double *next = corners[(c + 1) & 3], *prev = corners[(c + 3) & 3];
+#if defined(__GNUC__) /* the x and y differences as one pair */
+    gm_pair to, from;
+    memcpy(&to, next, sizeof to);
+    memcpy(&from, prev, sizeof from);
+    gm_pair edge = to - from; /* m */
+    gm_pair g = (gm_pair){edge[1], -edge[0]} * inverse;
+    memcpy(gradient[c], &g, sizeof g);
+#else
     gradient[c][0] = (next[1] - prev[1]) * inverse;
     gradient[c][1] = -(next[0] - prev[0]) * inverse;
+#endif
   }
   return true;
 }
+
+#if defined(__GNUC__)
+/* gm_cpdi_corner_positions_2d's corners with x and y as one pair (its
+ * expressions per lane, so its bits), their positions in cells from node
+ * 0 and the extreme cells per axis as gm_cpdi_corners_2d takes them
+ * (gm_pair_min and gm_pair_max: its selects per lane): half the
+ * arithmetic and no minimum per axis. */
+static inline void gm_cpdi_cells_pair_2d(const gm_shape_grid *grid, double x,
+                                         double y, double d_xx, double d_xy,
+                                         double d_yx, double d_yy,
+                                         double half_x, double half_y,
+                                         gm_pair corner[4], gm_pair cell[4],
+                                         gm_pair *low, gm_pair *high) {
+  gm_pair centre = {x, y};                             /* m */
+  gm_pair r1 = {d_xx * half_x, d_yx * half_x};         /* m, D r1_0 */
+  gm_pair r2 = {d_xy * half_y, d_yy * half_y};         /* m, D r2_0 */
+  corner[0] = centre + -1.0 * r1 + -1.0 * r2;          /* signs (-,-) */
+  corner[1] = centre + 1.0 * r1 + -1.0 * r2;           /* (+,-) */
+  corner[2] = centre + 1.0 * r1 + 1.0 * r2;            /* (+,+) */
+  corner[3] = centre + -1.0 * r1 + 1.0 * r2;           /* (-,+) */
+  gm_pair origin = {grid->origin[0], grid->origin[1]}; /* m */
+  for (int c = 0; c < 4; c++)
+    cell[c] = (corner[c] - origin) * grid->inv_cell;
+  *low = cell[0];
+  *high = cell[0];
+  for (int c = 1; c < 4; c++) {
+    *low = gm_pair_min(cell[c], *low);
+    *high = gm_pair_max(cell[c], *high);
+  }
+}
+#endif
 
 /* The corners (m) of the parallelogram of centre x, y, domain map D
  * (D_xx, D_xy, D_yx, D_yy) and initial half edges half_x, half_y (m),
@@ -73,6 +115,24 @@ static inline bool gm_cpdi_corners_2d(const gm_shape_grid *grid, double x,
                                       double half_y, double corners[4][2],
                                       double cells[4][2], int64_t lowest[2],
                                       int64_t highest[2]) {
+#if defined(__GNUC__)
+  gm_pair corner[4], cell[4], low, high; /* m, cells */
+  gm_cpdi_cells_pair_2d(grid, x, y, d_xx, d_xy, d_yx, d_yy, half_x, half_y,
+                        corner, cell, &low, &high);
+  for (int c = 0; c < 4; c++) {
+    memcpy(corners[c], &corner[c], sizeof corner[c]);
+    memcpy(cells[c], &cell[c], sizeof cell[c]);
+  }
+  for (int k = 0; k < 2; k++) {
+    if (!(low[k] >= -1.0 && high[k] < (double)grid->last_node[k] + 1.0))
+      return false; /* also catches NaN; keeps the casts in range */
+    lowest[k] = gm_floor_index(low[k]);
+    highest[k] = gm_floor_index(high[k]) + 1;
+    if (lowest[k] < 0 || highest[k] > grid->last_node[k] ||
+        highest[k] - lowest[k] + 1 > GM_SUPPORT_MAX_SPAN)
+      return false; /* as bounds_valid */
+  }
+#else
   gm_cpdi_corner_positions_2d(x, y, d_xx, d_xy, d_yx, d_yy, half_x, half_y,
                               corners);
   for (int k = 0; k < 2; k++) {
@@ -94,6 +154,7 @@ static inline bool gm_cpdi_corners_2d(const gm_shape_grid *grid, double x,
         highest[k] - lowest[k] + 1 > GM_SUPPORT_MAX_SPAN)
       return false; /* as bounds_valid */
   }
+#endif
   return true;
 }
 
@@ -108,6 +169,20 @@ static inline bool gm_cpdi_lowest_2d(const gm_shape_grid *grid, double x,
                                      double y, double d_xx, double d_xy,
                                      double d_yx, double d_yy, double half_x,
                                      double half_y, int64_t lowest[2]) {
+#if defined(__GNUC__)
+  gm_pair corner[4], cell[4], low, high; /* m, cells */
+  gm_cpdi_cells_pair_2d(grid, x, y, d_xx, d_xy, d_yx, d_yy, half_x, half_y,
+                        corner, cell, &low, &high);
+  for (int k = 0; k < 2; k++) {
+    double last = (double)grid->last_node[k];
+    if (!(low[k] >= -1.0 && high[k] < last + 1.0))
+      return false;
+    lowest[k] = gm_floor_index(low[k]);
+    if (lowest[k] < 0 || high[k] >= last ||
+        high[k] >= (double)(lowest[k] + GM_SUPPORT_MAX_SPAN - 1))
+      return false;
+  }
+#else
   double corners[4][2];
   gm_cpdi_corner_positions_2d(x, y, d_xx, d_xy, d_yx, d_yy, half_x, half_y,
                               corners);
@@ -129,6 +204,7 @@ static inline bool gm_cpdi_lowest_2d(const gm_shape_grid *grid, double x,
         high >= (double)(lowest[k] + GM_SUPPORT_MAX_SPAN - 1))
       return false;
   }
+#endif
   return true;
 }
 
