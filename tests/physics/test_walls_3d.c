@@ -22,6 +22,11 @@
  * within 2 % of m g cos th. Before walls_3d.c a 3D domain refused
  * gm_domain_add_wall.
  *
+ * The wide shapes on the same plane (uGIMP, cpGIMP, CPDI, and since
+ * 2026-11-29 the quadratic and cubic B-splines, which gm_domain_add_wall
+ * refused in 3D before), with no point centre left behind the plane; the
+ * B-splines also on 20 deg over mu = 0.2 and with 1 and 2 workers.
+ *
  * Also: the same state bitwise with 1 and 2 workers (a sliding block, each
  * scheme), and the wall's impulse equal to the block's momentum change
  * less gravity's impulse (momentum balance, to round-off).
@@ -356,16 +361,21 @@ START_TEST(test_slide_refinement) {
 END_TEST
 
 /* The wide shapes on the same oblique plane (walls anywhere in 3D with
- * uGIMP, cpGIMP and CPDI since 2026-11-28; before, gm_domain_add_wall
- * refused a wall off the open box faces with them, and every case here
- * failed at that call). _i: shape (3) x slope (2), USL, the plane 0.3 or
- * 0.7 cells off a node (each shape gets both); asserted as
- * test_block_on_oblique_plane: the slide within 2 % of the closed form
- * (slip) or below 2 % of the frictionless slide (stick), the mean normal
- * force over the second half within 2 % of m g cos th. Measured (all 12
+ * uGIMP, cpGIMP and CPDI since 2026-11-28, with the B-splines since
+ * 2026-11-29; before, gm_domain_add_wall refused a wall off the open box
+ * faces with them, and every case here failed at that call). _i: shape
+ * (5) x slope (2), USL, the plane 0.3 or 0.7 cells off a node (each shape
+ * gets both); asserted as test_block_on_oblique_plane: the slide within
+ * 2 % of the closed form (slip; slide_tolerance below for the cubic
+ * B-spline at 30 deg) or below 2 % of the frictionless slide (stick), the
+ * mean normal force over the second half within 2 % of m g cos th, and no
+ * point centre behind the plane at any step. Measured (all 20
  * combinations once): slides +0.86 / +0.85 % (uGIMP, cpGIMP; plane 0.3 /
- * 0.7 cells off), +0.83 / +0.82 % (CPDI), linear's +0.45 / +0.46 %; stuck
- * blocks 6e-6 m of 0.092 m; normal force within 1e-4. */
+ * 0.7 cells off), +0.83 / +0.82 % (CPDI), +0.81 / +0.77 % (B-spline2),
+ * +2.84 / +2.97 % (B-spline3), linear's +0.45 / +0.46 %; stuck blocks
+ * 6e-6 m of 0.092 m (B-spline3 7e-6 m); normal force within 1e-4
+ * (B-spline3 +0.2 %); the lowest point centre stays 0.0125 m (a quarter
+ * cell, where it started) in front of the plane. */
 enum { WIDE_COUNT = 5 };
 static const gm_shape WIDE[WIDE_COUNT] = {GM_SHAPE_UGIMP, GM_SHAPE_CPGIMP,
                                           GM_SHAPE_CPDI, GM_SHAPE_BSPLINE2,
@@ -376,9 +386,9 @@ static const char *const WIDE_NAMES[WIDE_COUNT] = {"uGIMP", "cpGIMP", "CPDI",
 /* The slide's tolerance (of the closed form) for shape WIDE[shape] on
  * slope s: the issue's 2 % (SLIDE_TOLERANCE), but 4 % for the cubic
  * B-spline at 30 deg on mu = 0.4, where it slides +2.84 % (plane 0.3
- * cells off a node) and +2.97 % (0.7) too far: the friction a sliding
- * patch loses is 1.3 % of mu N there (a friction coefficient 1 % short
- * slides this block 2.3 % too far). Its support puts the bottom points'
+ * cells off a node) and +2.97 % (0.7) too far, as if its friction were
+ * 1.3 % short (a friction coefficient 1 % short slides this block 2.3 %
+ * too far). Its support puts the bottom points'
  * mass on nodes up to 2.25 cells in front of the plane, outside the
  * patches, which then carry little tangential momentum against their
  * normal impulse and stick in some steps while the block slides (the
