@@ -47,8 +47,9 @@
  * support radius (1.5 cells quadratic, 2 cubic; shape_bspline.h) from the
  * face's plane, on either side, would have material at it whose support
  * reaches the face's nodes: refused, naming the face (use an open face
- * with the wall on its plane for a frictional B-spline face, as
- * test_walls_3d.c does). A wall 2 cells or more inside, as the 3D silo's
+ * with the wall on its plane for a frictional B-spline face, which
+ * test_face_friction_3d.c's test_which_walls accepts). A wall 2 cells or
+ * more inside, as the 3D silo's
  * side walls (examples/papers/wieckowski1999_silo_discharge.c), never
  * meets the mirror's nodes; an oblique wall crosses a face along a line,
  * where its material meets both as at any corner of two walls. */
@@ -81,7 +82,7 @@ static gm_status check_bspline_mirrors_3d(gm_domain *domain,
           "B-spline shapes (gm_domain_def.shape %d) that face is a mirror, "
           "and a wall less than %.3g cells from it is not supported in 3D "
           "in this version: make the face GM_WALL_OPEN to put a wall on "
-          "its plane, or move the wall %.3g cells or more inside",
+          "its plane, or keep the wall %.3g cells or more from it",
           domain->wall_count, apart, names[face], face, (int)type,
           (int)domain->def.shape, radius, radius);
   }
