@@ -15,7 +15,8 @@
  * their collapse, and slip box faces (normal velocity zero, no friction)
  * are exactly those symmetry conditions. The floor: --floor wall, a planar
  * wall at z = 0 with Coulomb friction --floor-mu (gm_walls(3); in 3D
- * planar walls take every shape but the B-splines); --floor face,
+ * planar walls take every shape, the B-splines since 2026-11-29 on this
+ * open floor face); --floor face,
  * the fixed (no-slip) box face, which every 3D shape takes.
  *
  * Material: by default docs/convergence.md sec. 20's recommended setting,
@@ -620,8 +621,8 @@ int main(int argc, char **argv) {
        &scene.friction_deg, NULL},
       {"youngs", "Young's modulus E, Pa", &scene.youngs_modulus, NULL},
       {"floor",
-       "wall (Coulomb planar wall on the open floor face: any method but "
-       "the B-splines) | face (no-slip box face, any method)",
+       "wall (Coulomb planar wall on the open floor face, any method) | "
+       "face (no-slip box face, any method)",
        NULL, &scene.floor},
       {"floor-mu", "Coulomb friction of the floor wall", &scene.floor_mu, NULL},
       {"fluidity", "perzyna: fluidity gamma, 1/s", &scene.fluidity, NULL},

@@ -8,11 +8,16 @@
  * centre, for cpGIMP its edges stretched by |F_kk| (support_3d.h); its
  * half extent along the normal n is h_x |n_x| + h_y |n_y| + h_z |n_z|
  * (half edges h_k); CPDI's is the parallelepiped of edges F r_k, whose
- * half extent is sum_k |F r_k . n|. The nodes that get the gap are those
- * the point has
- * weight on: the 8 of its tent with linear MPM, the nodes of its GIMP
- * support (up to 3 per axis, support_3d.h) with uGIMP and cpGIMP, those of
- * its dense support with CPDI (support_cpdi_3d.h).
+ * half extent is sum_k |F r_k . n|. A B-spline point has no box of its
+ * own; its domain is the initial box moved with its centre, as uGIMP's
+ * and as the 2D B-splines' (wall_gaps.c: the same extent_along). The
+ * nodes that get the gap are those the point has weight on: the 8 of its
+ * tent with linear MPM, the nodes of its GIMP support (up to 3 per axis,
+ * support_3d.h) with uGIMP and cpGIMP, those of its dense support with
+ * CPDI (support_cpdi_3d.h), the 3 x 3 x 3 (quadratic) or 4 x 4 x 4
+ * (cubic) nodes of its B-spline support (gm_box_support_compute_3d, the
+ * factors p2g_3d.c and g2p_3d.c multiply; a cubic node at exactly 2
+ * cells, of weight 0, is skipped as the transfers' zero weights are).
  *
  * The box faces that hold material (slip and fixed; not the B-splines'
  * mirrors) get the same measure after the walls, in the slots of
@@ -23,7 +28,8 @@
  *
  * Each node also gets, per planar wall, the smallest distance from the
  * wall to the centre of a point it carries (grid->wall_centre_gap), as in
- * 2D (wall_gaps.c): a wide support (uGIMP, cpGIMP, CPDI), and a linear
+ * 2D (wall_gaps.c): a wide support (uGIMP, cpGIMP, CPDI, the B-splines),
+ * and a linear
  * tent where the plane is oblique, reaches nodes in front of the ones the
  * wall's contact acts on, and walls_3d.c keeps those from carrying a
  * point's centre past the wall. With the wide shapes the measured box
@@ -53,7 +59,10 @@
  * gap. 4 cells keeps a margin. A GIMP support reaches h + l/2 from the
  * centre (1.25 cells with 2 points per cell, 1.5 with one; cpGIMP's
  * stretched box farther): GM_GAP_REACH_WIDE_3D keeps the same margin for
- * boxes up to 3 cells long, the longest the 3D blocks take. */
+ * boxes up to 3 cells long, the longest the 3D blocks take. A B-spline
+ * reaches 1.5 (quadratic) or 2 cells (cubic) from its centre, so points
+ * less than 4 cells in front lower the gaps that matter: inside the same
+ * 6 cells. */
 #define GM_GAP_REACH_3D      4.0
 #define GM_GAP_REACH_WIDE_3D 6.0
 
@@ -132,7 +141,9 @@ static bool block_may_reach_3d(const gm_domain *domain,
 
 /* The nodes point p at x (m) has weight on, as a box support: the tent's
  * 2 per axis with linear MPM (the factors of the linear kernels, so the
- * linear gaps are those of before), the GIMP support otherwise. False if
+ * linear gaps are those of before), the GIMP support with uGIMP and
+ * cpGIMP, the B-spline's 3 or 4 per axis with the B-splines (half
+ * unused). False if
  * the support leaves the grid (the transfers have failed the step then). */
 static bool point_support_3d(const gm_domain *domain, const double x[3],
                              const double half[3], gm_box_support_3d *out) {

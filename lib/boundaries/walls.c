@@ -32,21 +32,61 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* In 3D linear MPM, uGIMP, cpGIMP and CPDI take planar walls anywhere,
- * of any normal (walls_3d.c, with the wide shapes' centre-gap rule of 2D
- * since 2026-11-28). The B-splines do not: their 3D gaps would need their
- * supports in wall_gaps_3d.c, and their box faces are mirrors
- * (bspline_faces.c), which a wall on a face's plane would fight. */
-static gm_status check_wide_3d(gm_domain *domain) {
-  gm_shape shape = domain->def.shape;
-  if (domain->dim != 3 || !gm_shape_is_bspline(shape))
+/* In 3D every shape takes planar walls anywhere, of any normal
+ * (walls_3d.c; the wide shapes' centre-gap rule of 2D since 2026-11-28,
+ * the B-splines since 2026-11-29, their supports measured in
+ * wall_gaps_3d.c), but for one place with the B-splines: on or near the
+ * plane of a box face that holds material (slip, fixed, symmetry). Such a
+ * face is a mirror for them (bspline_faces.c): it folds the ghost nodes'
+ * mass and momentum into the nodes inside and, after the update, gives the
+ * ghosts their mirror nodes' reflected velocities, free along the face
+ * (slip, symmetry). A wall on that plane would push and rub on the same
+ * face and ghost nodes, whose velocities the mirror then overwrites, and
+ * its reported impulse would count what the mirror undoes; the face
+ * already is that wall without friction. A parallel wall less than a
+ * support radius (1.5 cells quadratic, 2 cubic; shape_bspline.h) from the
+ * face's plane, on either side, would have material at it whose support
+ * reaches the face's nodes: refused, naming the face (use an open face
+ * with the wall on its plane for a frictional B-spline face, which
+ * test_face_friction_3d.c's test_which_walls accepts). A wall 2 cells or
+ * more inside, as the 3D silo's
+ * side walls (examples/papers/wieckowski1999_silo_discharge.c), never
+ * meets the mirror's nodes; an oblique wall crosses a face along a line,
+ * where its material meets both as at any corner of two walls. */
+static gm_status check_bspline_mirrors_3d(gm_domain *domain,
+                                          const double normal[3],
+                                          const double point[3]) {
+  static const char *const names[6] = {"xmin", "xmax", "ymin",
+                                       "ymax", "zmin", "zmax"};
+  if (domain->dim != 3 || !gm_shape_is_bspline(domain->def.shape))
     return GM_OK;
-  return gm_set_error(domain, GM_ERR_UNSUPPORTED,
-                      "gm_domain_add_wall: planar walls in 3D are not "
-                      "supported with the B-spline shapes (gm_domain_def."
-                      "shape %d) in this version; use GM_SHAPE_LINEAR, "
-                      "GM_SHAPE_UGIMP, GM_SHAPE_CPGIMP or GM_SHAPE_CPDI",
-                      (int)shape);
+  double h = domain->def.cell_size; /* m */
+  double radius =                   /* cells */
+      domain->def.shape == GM_SHAPE_BSPLINE2 ? 1.5 : 2.0;
+  for (int face = 0; face < 6; face++) {
+    gm_wall_type type = domain->def.walls[face];
+    if (type == GM_WALL_OPEN || type == GM_WALL_PERIODIC)
+      continue; /* no mirror (periodic: images of the other side) */
+    int axis = face / 2, side = face % 2;
+    /* parallel: the normal along the face's axis (unit, so the others 0) */
+    if (normal[(axis + 1) % 3] != 0.0 || normal[(axis + 2) % 3] != 0.0)
+      continue;
+    double plane = domain->def.origin[axis] +
+                   (side ? (double)domain->cells[axis] * h : 0.0); /* m */
+    double apart = fabs(point[axis] - plane) / h;                  /* cells */
+    if (apart < radius)
+      return gm_set_error(
+          domain, GM_ERR_UNSUPPORTED,
+          "gm_domain_add_wall: wall %d lies %.3g cells from the %s box face "
+          "(gm_domain_def.walls[%d] = %d), parallel to it; with the "
+          "B-spline shapes (gm_domain_def.shape %d) that face is a mirror, "
+          "and a wall less than %.3g cells from it is not supported in 3D "
+          "in this version: make the face GM_WALL_OPEN to put a wall on "
+          "its plane, or keep the wall %.3g cells or more from it",
+          domain->wall_count, apart, names[face], face, (int)type,
+          (int)domain->def.shape, radius, radius);
+  }
+  return GM_OK;
 }
 
 gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
@@ -101,18 +141,21 @@ gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
                         "friction_kinetic = %g must satisfy 0 <= kinetic <= "
                         "static",
                         mu_s, mu_k);
-  status = check_wide_3d(domain);
+  double inverse_length = 1.0 / sqrt(length_squared);
+  double unit[3]; /* the unit normal, as stored below */
+  for (int k = 0; k < 3; k++)
+    unit[k] = def->normal[k] * inverse_length;
+  status = check_bspline_mirrors_3d(domain, unit, def->point);
   if (status != GM_OK)
     return status;
   gm_wall *wall = &domain->walls[domain->wall_count];
-  double inverse_length = 1.0 / sqrt(length_squared);
   for (int k = 0; k < 3; k++) {
     /* Coordinates beyond the geometry's mean nothing (the nodes of a 1D
      * grid all lie at y = 0) and are not range-checked above: a 1D wall at
      * y = -1.6e29 m (found by fuzz/fuzz_api) overflowed the friction-strip
      * index, which measures along the plane. They are stored as 0. */
     wall->point[k] = k < domain->dim ? def->point[k] : 0.0;
-    wall->normal[k] = def->normal[k] * inverse_length;
+    wall->normal[k] = unit[k];
   }
   wall->friction_static = mu_s;
   wall->friction_kinetic = mu_k;

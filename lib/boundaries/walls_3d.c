@@ -1,7 +1,8 @@
 /*
  * walls_3d.c - planar walls of any normal with Coulomb friction in 3D
- * (GM_GEOMETRY_3D; linear shapes, uGIMP, cpGIMP and CPDI; the B-splines
- * are refused, walls.c): the contact of walls.c on the nodes of
+ * (GM_GEOMETRY_3D; every shape, the B-splines but on or near the plane
+ * of a box face they mirror, walls.c): the contact of walls.c on the
+ * nodes of
  * the 3D grid, and its friction pooled over patches of the plane one cell
  * by one cell instead of one-cell strips along a line.
  *
@@ -20,7 +21,8 @@
  * vector in the plane: the patch sticks when |T| <= mu_s N, otherwise
  * every node of it keeps the fraction 1 - mu_k N / |T| of its tangential
  * velocity, so the patch loses mu_k N against its sliding direction.
- * The wide shapes (uGIMP, cpGIMP, CPDI) get the centre-gap rule of 2D
+ * The wide shapes (uGIMP, cpGIMP, CPDI, the B-splines) get the
+ * centre-gap rule of 2D
  * (walls.c, gm_walls_contact): their supports reach nodes in front of
  * those that share the wall, and a point gathering from a node that
  * shares it and from one farther out moving toward the wall could be
@@ -29,7 +31,9 @@
  * tolerance, in the step (wall_gaps_3d.c measures it); where that binds
  * the node takes the wall's normal impulse and Coulomb friction as a node
  * that shares the wall does, and joins its patch. Their gaps are measured
- * over their GIMP or CPDI supports (wall_gaps_3d.c). Linear MPM gets the
+ * over their GIMP, CPDI or B-spline supports (wall_gaps_3d.c; a quadratic
+ * B-spline point on the plane has weight on nodes up to 1.5 cells in front
+ * of it, a cubic one 2 cells). Linear MPM gets the
  * same bound on the nodes between one cell and |n_x| + |n_y| + |n_z|
  * cells in front of an oblique plane (gm_wall_tent_reach, walls.c), whose tents
  * still reach behind it; for a plane normal to an axis there are none, and its
@@ -222,7 +226,16 @@ bool gm_walls_contact_3d(const gm_domain *domain, const double position[3],
      * 3D"): with those rows the run-out fell 16 % (R0/6) and 9 % (R0/8)
      * short of the axisymmetric uGIMP run, without them +4.4 % and +3.6 %;
      * the sliding block of tests/physics/test_face_friction_3d.c stops
-     * within 0.4 % of the closed form either way. */
+     * within 0.4 % of the closed form either way. The same with the
+     * quadratic B-spline on that example's floor wall (2026-11-29, a = 1,
+     * 2 x 2 x 2 points per cell; the axisymmetric run of the same column
+     * 0.849 at R0/6, 0.897 at R0/8): 3D run-out 0.744 (-12.4 %) and
+     * 0.814 (-9.3 %) with those rows, 0.898 (+5.7 %) and 0.933 (+4.0 %)
+     * without; on the elastic block of tests/physics/test_walls_3d.c at
+     * 30 deg on mu = 0.4 they would take the cubic B-spline's slide from
+     * +2.9 % to +0.2 % of the closed form (docs/3d.md, "Planar walls with
+     * the B-splines in 3D"), but a deforming flow is the case that
+     * matters, so the B-splines stay without them. */
     bool strip_only = domain->def.shape == GM_SHAPE_LINEAR && !shares &&
                       distance < GM_STRIP_REACH * h;
     /* A node in front that carries a point centre near the wall

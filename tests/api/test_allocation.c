@@ -9,8 +9,9 @@
  * across periodic x faces (GM_WALL_PERIODIC), and for a 3D block
  * (GM_GEOMETRY_3D) resting on a fixed floor against a rigid plate, with
  * linear, uGIMP and cpGIMP shapes, the linear block beside an oblique
- * planar wall (also with GM_TRANSFER_APIC), and a 3D layer sliding across
- * periodic x faces. Also
+ * planar wall (also with GM_TRANSFER_APIC), the cubic B-spline block
+ * beside the same wall (B-spline walls in 3D since 2026-11-29), and a 3D
+ * layer sliding across periodic x faces. Also
  * checks that every
  * allocation is freed by gm_domain_destroy (the counts balance), and that
  * running out of memory in the middle of a step or of a material registration
@@ -90,7 +91,9 @@ static gm_domain *resting_block_3d(gm_update_scheme scheme, int workers,
   const double plate_lower[3] = {0.7, 0.35, 0.05};
   const double plate_upper[3] = {0.75, 0.65, 0.35};
   test_fill_box(domain, plate_id, plate_lower, plate_upper, 2, NULL);
-  if (shape != GM_SHAPE_LINEAR) /* 3D walls take linear shapes only */
+  /* The wall with linear MPM and the cubic B-spline (the widest support's
+   * gaps); the uGIMP and cpGIMP scenes keep what they tested before. */
+  if (shape != GM_SHAPE_LINEAR && shape != GM_SHAPE_BSPLINE3)
     return domain;
   /* A frictional wall of oblique normal against the block's x side, 0.01
    * to 0.09 m from it (wall gaps, contact and friction patches). */
@@ -154,7 +157,8 @@ static gm_domain *resting_block(gm_update_scheme scheme, int workers,
 /* Scene numbers: 0..5 linear MPM; 6..11 granular CPDI with a planar wall;
  * 12..17 the periodic layer; 18..35 the 3D block, linear, uGIMP, cpGIMP;
  * 36..41 the linear 3D block with APIC; 42..47 the 3D periodic layer;
- * within each six, USL, MUSL, USF with one worker, then with two. */
+ * 48..53 the 3D block, cubic B-spline, with the wall; within each six,
+ * USL, MUSL, USF with one worker, then with two. */
 static void check_no_allocation_after_warm_up(int scene) {
   static const gm_update_scheme schemes[3] = {GM_SCHEME_USL, GM_SCHEME_MUSL,
                                               GM_SCHEME_USF};
@@ -163,11 +167,12 @@ static void check_no_allocation_after_warm_up(int scene) {
   bool granular = scene >= 6 && scene < 12;
   bool periodic = scene >= 12 && scene < 18;
   /* GM_GEOMETRY_3D: linear, uGIMP, cpGIMP, then linear with APIC */
-  bool solid = scene >= 18 && scene < 42;
+  bool solid = (scene >= 18 && scene < 42) || scene >= 48;
   bool apic = scene >= 36 && scene < 42;
-  bool layer_3d = scene >= 42; /* the 3D periodic layer */
-  static const gm_shape solid_shapes[4] = {GM_SHAPE_LINEAR, GM_SHAPE_UGIMP,
-                                           GM_SHAPE_CPGIMP, GM_SHAPE_LINEAR};
+  bool layer_3d = scene >= 42 && scene < 48; /* the 3D periodic layer */
+  static const gm_shape solid_shapes[6] = {
+      GM_SHAPE_LINEAR, GM_SHAPE_UGIMP, GM_SHAPE_CPGIMP,
+      GM_SHAPE_LINEAR, GM_SHAPE_UGIMP, GM_SHAPE_BSPLINE3}; /* by six */
   gm_shape shape = layer_3d ? GM_SHAPE_UGIMP
                    : solid  ? solid_shapes[(scene - 18) / 6]
                             : GM_SHAPE_LINEAR;
@@ -436,7 +441,7 @@ int main(void) {
   tcase_set_timeout(tcase, 60);
   /* Every 2D scene, and every 3D one in USL with one and two workers. */
   tcase_add_loop_test(tcase, test_no_allocation_after_warm_up, 0, 18);
-  tcase_add_loop_test(tcase, test_no_allocation_3d_usl, 0, 10);
+  tcase_add_loop_test(tcase, test_no_allocation_3d_usl, 0, 12);
   tcase_add_test(tcase, test_out_of_memory_while_growing_the_grid);
   tcase_add_test(tcase, test_out_of_memory_while_widening_state);
   /* 0: plain, 1: granular family. */
@@ -448,7 +453,7 @@ int main(void) {
   TCase *schemes_3d = tcase_create("3D schemes");
   tcase_set_tags(schemes_3d, "slow");
   tcase_set_timeout(schemes_3d, 60);
-  tcase_add_loop_test(schemes_3d, test_no_allocation_3d_musl_usf, 0, 20);
+  tcase_add_loop_test(schemes_3d, test_no_allocation_3d_musl_usf, 0, 24);
   suite_add_tcase(suite, schemes_3d);
   return test_run_suite(suite) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
