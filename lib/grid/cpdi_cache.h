@@ -27,7 +27,6 @@
 #ifndef GM_CPDI_CACHE_H
 #define GM_CPDI_CACHE_H
 
-#include "core/pair.h"
 #include "shapes/shapes.h"
 
 #include <stdbool.h>

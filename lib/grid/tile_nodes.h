@@ -15,7 +15,7 @@
 #ifndef GM_TILE_NODES_H
 #define GM_TILE_NODES_H
 
-#include "core/block_grid.h"
+#include "core/domain.h"
 
 #include <stddef.h>
 #include <stdint.h>

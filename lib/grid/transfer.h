@@ -8,7 +8,6 @@
 #ifndef GM_TRANSFER_H
 #define GM_TRANSFER_H
 
-#include "core/pair.h"
 #include "grid/cpdi_cache.h"
 #include "grid/grid.h"
 

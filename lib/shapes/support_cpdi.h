@@ -17,7 +17,7 @@
 #ifndef GM_SUPPORT_CPDI_H
 #define GM_SUPPORT_CPDI_H
 
-#include "core/pair.h"
+#include "shapes/pair.h"
 #include "shapes/shape_gimp.h"
 #include "shapes/support.h"
 
