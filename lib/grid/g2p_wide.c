@@ -143,7 +143,7 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
    * cells as doubles for the fractions. */
   bool kept_cells = try_cpdi && v->cpdi_cache.packed;
   gm_cpdi_block_cells block_cells;
-  gm_tile_nodes tile_nodes; /* CPDI: the block's tile (tile_nodes.h) */
+  gm_tile_values tile_values; /* CPDI: the block's tile (tile_values.h) */
   uint32_t base_block = GM_NO_BLOCK;
   int64_t base[2] = {0, 0}; /* node of base_block's lower corner */
   for (size_t j = 0; j < count; j++) {
@@ -158,7 +158,7 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
       if (kept_cells)
         gm_cpdi_block_cells_init(base, &block_cells);
       if (try_cpdi)
-        gm_tile_nodes_init(links, &tile_nodes);
+        gm_tile_values_start(links, &tile_values);
     }
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
@@ -189,7 +189,7 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
       gm_cpdi_kept_fractions(&shape_grid, v->position, deformation,
                              v->domain_size, p, &block_cells, &kept, corners);
       (void)gm_cpdi_corner_gradients_2d(corners, corner_gradient);
-      gather_cpdi_kept_2d(v, &tile_nodes, &kept, &corner_gradient[0][0], &sum,
+      gather_cpdi_kept_2d(v, &tile_values, &kept, &corner_gradient[0][0], &sum,
                           acceleration, gradient);
       store_point_gather(v, p, j, &sum, affine, out, 2, acceleration, false);
       continue;
@@ -201,8 +201,8 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
         int64_t cx = corners->lowest[0] - base[0];
         int64_t cy = corners->lowest[1] - base[1];
         if (gm_wide_support_fits(2, cx, cy, reach, edge)) {
-          gather_cpdi_2d(v, &tile_nodes, base, corners, &sum, acceleration,
-                         gradient);
+          gather_cpdi_2d(v, &tile_values, base, corners, reach, &sum,
+                         acceleration, gradient);
           store_point_gather(v, p, j, &sum, affine, out, 2, acceleration,
                              false); /* not taken with APIC */
           continue;

@@ -11,7 +11,7 @@
 #ifndef GM_GATHER_WIDE_H
 #define GM_GATHER_WIDE_H
 
-#include "grid/tile_nodes.h"
+#include "grid/tile_values.h"
 #include "grid/transfer.h"
 
 /* The sums of one point's gather (g2p.c): acceleration and velocity,
@@ -184,12 +184,11 @@ gather_short_2d(const gather_view *v, const uint32_t *links, int64_t x0,
  * masses are sums of non-negative terms; where their product is positive
  * none is zero (a zero factor gives 0, or NaN beside an infinite or NaN
  * one), so false means no massless node; true (a zero, an underflow, a
- * NaN) sends the corner to the exact test node by node. */
-static GM_ALWAYS_INLINE bool cpdi_corner_may_be_empty(const gather_view *v,
-                                                      const size_t node[4]) {
-  return !(v->grid_mass[node[0]] * v->grid_mass[node[1]] *
-               (v->grid_mass[node[2]] * v->grid_mass[node[3]]) >
-           0.0);
+ * NaN) sends the corner to the exact test node by node. mass: the tile's
+ * masses from the cell's lower left node. */
+static GM_ALWAYS_INLINE bool cpdi_corner_may_be_empty(const double *mass) {
+  const int edge = GM_TILE_EDGE_2D;
+  return !(mass[0] * mass[1] * (mass[edge] * mass[edge + 1]) > 0.0);
 }
 
 /* CPDI in 2D corner by corner (support_cpdi.h), the sums of g2p_wide.c's
@@ -199,8 +198,9 @@ static GM_ALWAYS_INLINE bool cpdi_corner_may_be_empty(const gather_view *v,
  * acceleration only where the pass reads it (the FLIP update), the
  * gradient and the empty-node sum only where it deforms (each sum taken
  * alone, so the ones kept have the same bits), and a node's x and y
- * components summed as one pair. A corner's four nodes come from the
- * block's tile table (tile_nodes.h), wherever its cell lies. cell_node:
+ * components summed as one pair. A corner's four nodes are read from the
+ * block's tile of nodal values (tile_values.h; its rows up to the
+ * support's copied), wherever its cell lies. cell_node:
  * corner c's cell as the tile node x + 16 y of its lower left node (x, y
  * from the block's base node); axis: its bilinear
  * factors, axis[4 c + 2 k + a] as gm_cpdi_support's axis[c][k][a];
@@ -208,10 +208,11 @@ static GM_ALWAYS_INLINE bool cpdi_corner_may_be_empty(const gather_view *v,
  * mass adds nothing to the empty-node sum (+0 four times, then +0 times
  * g_c), so its mass tests are one look at the four masses
  * (cpdi_corner_may_be_empty). */
-static GM_ALWAYS_INLINE void gather_cpdi_corners_2d(
-    const gather_view *v, const gm_tile_nodes *tile, const int cell_node[4],
-    const double *axis, const double *gradient_c, double share,
-    point_gather *sum, const bool acceleration, const bool gradient) {
+static GM_ALWAYS_INLINE void
+gather_cpdi_corners_2d(const gm_tile_values *tile, const int cell_node[4],
+                       const double *axis, const double *gradient_c,
+                       double share, point_gather *sum, const bool acceleration,
+                       const bool gradient) {
   const int edge = GM_TILE_EDGE_2D;
 #if defined(__GNUC__)
   gm_pair zero = {0.0, 0.0}, shares = {share, share};
@@ -219,13 +220,13 @@ static GM_ALWAYS_INLINE void gather_cpdi_corners_2d(
           empty_sum = zero;
 #endif
   for (int c = 0; c < 4; c++) {
-    /* (a, b) = (0, 0), (1, 0), (0, 1), (1, 1) */
-    const size_t *cell = &tile->node[cell_node[c]];
-    size_t node[4] = {cell[0], cell[1], cell[edge], cell[edge + 1]};
+    /* tile nodes (a, b) = (0, 0), (1, 0), (0, 1), (1, 1) */
+    int first = cell_node[c];
+    int node[4] = {first, first + 1, first + edge, first + edge + 1};
     double empty = 0.0; /* -, the corner's weight on massless nodes */
-    if (gradient && cpdi_corner_may_be_empty(v, node))
+    if (gradient && cpdi_corner_may_be_empty(&tile->mass[first]))
       for (int n = 0; n < 4; n++)
-        empty += v->grid_mass[node[n]] == 0.0
+        empty += tile->mass[node[n]] == 0.0
                      ? axis[4 * c + (n & 1)] * axis[4 * c + 2 + (n >> 1)]
                      : 0.0;
 #if defined(__GNUC__)
@@ -234,21 +235,22 @@ static GM_ALWAYS_INLINE void gather_cpdi_corners_2d(
     double velocity[2] = {0.0, 0.0}, corner_acc[2] = {0.0, 0.0};
 #endif
     for (int n = 0; n < 4; n++) {
-      size_t i = node[n];
+      int i = node[n];
       double value = axis[4 * c + (n & 1)] * axis[4 * c + 2 + (n >> 1)];
 #if defined(__GNUC__)
-      gm_pair w = {value, value};
-      gm_pair nodal = {v->grid_velocity[0][i], v->grid_velocity[1][i]};
+      gm_pair w = {value, value}, nodal;
+      memcpy(&nodal, tile->velocity[i], sizeof nodal);
       velocity += w * nodal;
       if (acceleration) {
-        gm_pair a = {v->grid_acceleration[0][i], v->grid_acceleration[1][i]};
+        gm_pair a;
+        memcpy(&a, tile->acceleration[i], sizeof a);
         corner_acc += w * a;
       }
 #else
       for (int k = 0; k < 2; k++) {
-        velocity[k] += value * v->grid_velocity[k][i];
+        velocity[k] += value * tile->velocity[i][k];
         if (acceleration)
-          corner_acc[k] += value * v->grid_acceleration[k][i];
+          corner_acc[k] += value * tile->acceleration[i][k];
       }
 #endif
     }
@@ -289,31 +291,37 @@ static GM_ALWAYS_INLINE void gather_cpdi_corners_2d(
 #endif
 }
 
-/* The same from a whole support (support_cpdi.h). base: the block's base
- * node; tile: its tile table. */
+/* The same from a whole support (support_cpdi.h) of reach `reach` that
+ * fits the tile. base: the block's base node; tile: its values, whose rows
+ * the support reaches are copied here. */
 static GM_ALWAYS_INLINE void
-gather_cpdi_2d(const gather_view *v, const gm_tile_nodes *tile,
+gather_cpdi_2d(const gather_view *v, gm_tile_values *tile,
                const int64_t base[2], const gm_cpdi_support *support,
-               point_gather *sum, const bool acceleration,
-               const bool gradient) {
+               const int64_t reach[2], point_gather *sum,
+               const bool acceleration, const bool gradient) {
   /* fits the block's 16 x 16 tile (gm_wide_support_fits) */
   int cell_node[4]; /* tile node x + 16 y of each corner's cell */
   for (int c = 0; c < 4; c++)
     cell_node[c] = (int)(support->cell[c][0] - base[0]) +
                    GM_TILE_EDGE_2D * (int)(support->cell[c][1] - base[1]);
-  gather_cpdi_corners_2d(v, tile, cell_node, &support->axis[0][0][0],
+  gm_tile_values_reach(v, tile,
+                       (int)(support->lowest[1] - base[1] + reach[1] + 1),
+                       acceleration, gradient);
+  gather_cpdi_corners_2d(tile, cell_node, &support->axis[0][0][0],
                          &support->corner_gradient[0][0], support->share, sum,
                          acceleration, gradient);
 }
 
 /* The same from a kept support (cpdi_cache.h). */
 static GM_ALWAYS_INLINE void
-gather_cpdi_kept_2d(const gather_view *v, const gm_tile_nodes *tile,
+gather_cpdi_kept_2d(const gather_view *v, gm_tile_values *tile,
                     const gm_cpdi_kept *kept, const double *gradient_c,
                     point_gather *sum, const bool acceleration,
                     const bool gradient) {
   double share = 0.25; /* gm_cpdi_support_2d's */
-  gather_cpdi_corners_2d(v, tile, kept->tile, &kept->axis[0][0][0], gradient_c,
+  gm_tile_values_reach(v, tile, (int)(kept->lowest[1] + kept->reach[1] + 1),
+                       acceleration, gradient);
+  gather_cpdi_corners_2d(tile, kept->tile, &kept->axis[0][0][0], gradient_c,
                          share, sum, acceleration, gradient);
 }
 

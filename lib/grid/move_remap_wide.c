@@ -223,10 +223,10 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
   int64_t base[2];
   gm_block_base(&domain->grid, domain->grid.block_key[block], base);
   gm_cpdi_block_cells block_cells; /* the fractions' cells (cpdi_cache.h) */
-  gm_tile_nodes tile_nodes;        /* the corners' nodes (tile_nodes.h) */
+  gm_tile_values tile_values; /* the corners' nodal values (tile_values.h) */
   if (cpdi) {
     gm_cpdi_block_cells_init(base, &block_cells);
-    gm_tile_nodes_init(links, &tile_nodes);
+    gm_tile_values_start(links, &tile_values);
   }
   memset(tile, 0, sizeof *tile);
   *columns = 0;
@@ -269,7 +269,7 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
     if (found && cpdi)
-      gather_cpdi_kept_2d(v, &tile_nodes, &kept, NULL, &sum, true,
+      gather_cpdi_kept_2d(v, &tile_values, &kept, NULL, &sum, true,
                           false); /* no g_c read */
     else if (found && is_short)
       gather_short_2d(v, links, x0, y0, axis, &sum, true, false);
