@@ -46,29 +46,10 @@ typedef struct gm_cpdi_cache {
 #define GM_CPDI_CACHE_LOWEST 32
 #define GM_CPDI_CACHE_REACH  40
 
-/* Keeps the cells of point p's support s (base: the block's base node;
- * reach per axis), a support that fits the block's 16 x 16 tile. */
-static inline void gm_cpdi_cache_store(const gm_cpdi_cache *cache, size_t p,
-                                       const gm_cpdi_support *s,
-                                       const int64_t base[2],
-                                       const int64_t reach[2]) {
-  uint64_t packed = 0;
-  for (int c = 0; c < 4; c++)
-    for (int k = 0; k < 2; k++)
-      packed |= (uint64_t)(s->cell[c][k] - base[k]) << (4 * (2 * c + k));
-  for (int k = 0; k < 2; k++) {
-    packed |= (uint64_t)(s->lowest[k] - base[k])
-              << (GM_CPDI_CACHE_LOWEST + 4 * k);
-    packed |= (uint64_t)reach[k] << (GM_CPDI_CACHE_REACH + 4 * k);
-  }
-  /* below 2^48: INT64_MIN + packed is negative and keeps the low bits */
-  cache->packed[p] = INT64_MIN + (int64_t)packed;
-}
-
 /* A kept support as the two later passes read it: each corner's cell
  * as the tile node x + 16 y of its lower left node (x, y from the block's
  * base node: the byte the word stores, so one shift and mask per corner;
- * the gathers' tile table and the sweep's tile take it as it is), its
+ * the gathers' tile of values and the sweep's tile take it as it is), its
  * bilinear factors, and the lowest node and reach from the base. */
 typedef struct gm_cpdi_kept {
   int tile[4];          /* corner c's cell, tile node x + 16 y */
@@ -126,6 +107,105 @@ static inline void gm_cpdi_kept_from_support(const gm_cpdi_support *s,
     kept->lowest[k] = s->lowest[k] - base[k];
     kept->reach[k] = reach[k];
   }
+}
+
+/* Keeps point p's support, in its kept form, as p's word (the bits
+ * above: corner c's byte x + 16 y is its two nibbles); the support fits
+ * the block's 16 x 16 tile. Below 2^48, so INT64_MIN + packed is negative
+ * and keeps the low bits. */
+static inline void gm_cpdi_cache_store_kept(const gm_cpdi_cache *cache,
+                                            size_t p,
+                                            const gm_cpdi_kept *kept) {
+  uint64_t packed = 0;
+  for (int c = 0; c < 4; c++)
+    packed |= (uint64_t)kept->tile[c] << (8 * c);
+  for (int k = 0; k < 2; k++) {
+    packed |= (uint64_t)kept->lowest[k] << (GM_CPDI_CACHE_LOWEST + 4 * k);
+    packed |= (uint64_t)kept->reach[k] << (GM_CPDI_CACHE_REACH + 4 * k);
+  }
+  cache->packed[p] = INT64_MIN + (int64_t)packed;
+}
+
+/* Point p's whole support (gm_cpdi_point_support_2d: the same tests in
+ * the same order, the same bits) straight into the kept form of the
+ * block of base node base, with the corner gradients g_c (1/m); false
+ * where gm_cpdi_point_support_2d refuses or the support does not fit the
+ * block's 16 x 16 tile (gm_wide_support_fits). map: the domain map D.
+ *
+ * Why: the scatter took the floors of the eight corner cells one at a
+ * time and the cells as integers, then their offsets from the base for
+ * the tile and again for the kept word (bench/results/2026-11-29-cpdi20.md).
+ * Here a corner's x and y go as one pair: its position past the lowest
+ * node, local = cell - lowest, is exact (lowest is an integer with
+ * 0 <= lowest <= cell < 2^52, so cell's last bit is at or below lowest's
+ * units) and not negative, so its truncation (SSE2's cvttpd2dq, both
+ * lanes; the values are below 16) is floor(cell) - lowest, and the
+ * fraction local - floor(local) is cell - floor(cell) exactly, as is
+ * gm_cpdi_support_2d's (both are exact: Sterbenz). The lowest and
+ * highest nodes keep gm_floor_index, so every refusal is the same. A NaN
+ * corner that the extremes skip cannot pass: the corners share their
+ * terms, so a non-finite term makes corner 0 non-finite, which the bounds
+ * test refuses. */
+static inline bool gm_cpdi_kept_support_2d(
+    const gm_shape_grid *grid, const double *const position[2],
+    const double *const map[4], const double *const domain_size[2], size_t p,
+    const int64_t base[2], gm_cpdi_kept *kept, double gradient[4][2]) {
+#if defined(__GNUC__) && defined(__SSE2__)
+  gm_pair corner[4], cell[4], low, high; /* m, cells */
+  gm_cpdi_cells_pair_2d(grid, position[0][p], position[1][p], map[0][p],
+                        map[1][p], map[2][p], map[3][p],
+                        0.5 * domain_size[0][p], 0.5 * domain_size[1][p],
+                        corner, cell, &low, &high);
+  int64_t lowest[2];
+  for (int k = 0; k < 2; k++) { /* gm_cpdi_corners_2d's tests */
+    if (!(low[k] >= -1.0 && high[k] < (double)grid->last_node[k] + 1.0))
+      return false; /* also catches NaN; keeps the casts in range */
+    lowest[k] = gm_floor_index(low[k]);
+    int64_t highest = gm_floor_index(high[k]) + 1;
+    if (lowest[k] < 0 || highest > grid->last_node[k] ||
+        highest - lowest[k] + 1 > GM_SUPPORT_MAX_SPAN)
+      return false; /* as bounds_valid */
+    kept->lowest[k] = lowest[k] - base[k];
+    kept->reach[k] = highest - lowest[k];
+  }
+  double corners[4][2]; /* m */
+  memcpy(corners, corner, sizeof corners);
+  if (!gm_cpdi_corner_gradients_2d(corners, gradient))
+    return false;
+  const int64_t edge = 16; /* the tile's (gm_wide_support_fits) */
+  if (!(kept->lowest[0] >= 0 && kept->lowest[1] >= 0 &&
+        kept->lowest[0] + kept->reach[0] < edge &&
+        kept->lowest[1] + kept->reach[1] < edge))
+    return false;
+  gm_pair lowest_cell = {(double)lowest[0], (double)lowest[1]}; /* cells */
+  int first = (int)kept->lowest[0] + 16 * (int)kept->lowest[1]; /* x + 16 y */
+  gm_pair one = {1.0, 1.0};
+  for (int c = 0; c < 4; c++) {
+    gm_pair local = cell[c] - lowest_cell; /* exact, >= 0 (see above) */
+    __m128i whole = _mm_cvttpd_epi32((__m128d)local);
+    gm_pair fraction = local - (gm_pair)_mm_cvtepi32_pd(whole);
+    int x = _mm_cvtsi128_si32(whole);
+    int y = _mm_cvtsi128_si32(_mm_shuffle_epi32(whole, 1));
+    kept->tile[c] = first + x + 16 * y;
+    gm_pair lower = one - fraction;
+    gm_pair axis_x = {lower[0], fraction[0]}, axis_y = {lower[1], fraction[1]};
+    memcpy(kept->axis[c][0], &axis_x, sizeof axis_x);
+    memcpy(kept->axis[c][1], &axis_y, sizeof axis_y);
+  }
+  return true;
+#else
+  gm_cpdi_support support;
+  int64_t reach[2];
+  if (!gm_cpdi_point_support_2d(grid, position, map, domain_size, p, &support,
+                                reach))
+    return false;
+  int64_t x0 = support.lowest[0] - base[0], y0 = support.lowest[1] - base[1];
+  if (!(x0 >= 0 && y0 >= 0 && x0 + reach[0] < 16 && y0 + reach[1] < 16))
+    return false;
+  gm_cpdi_kept_from_support(&support, base, reach, kept);
+  memcpy(gradient, support.corner_gradient, sizeof support.corner_gradient);
+  return true;
+#endif
 }
 
 /* The bilinear factors (1 - f, f) of point p's kept support, whose cells

@@ -179,17 +179,67 @@ static GM_ALWAYS_INLINE void add_pair(double *field, gm_pair value,
 }
 #endif
 
+/* One CPDI corner (scatter_cpdi): each node i of its cell takes the
+ * bilinear value N_i(x_c) times the corner's part of the point's mass,
+ * momentum and force, the force's being share * body - sigma V g_c.
+ * t: the cell's lower left node in the tile; axis: its (1 - f, f) per
+ * axis; g: g_c (1/m); rows: 2 in 2D, 1 in 1D. */
+static GM_ALWAYS_INLINE void
+scatter_cpdi_corner(wide_tile *tile, int64_t tile_edge, int rows, size_t t,
+                    const double axis[2][2], const double g[2], double share,
+                    double mass, const double momentum[2],
+                    const point_load *load, const bool do_mass,
+                    const bool do_momentum, const bool do_forces) {
+  double g_x = g[0], g_y = g[1]; /* 1/m */
+  double force[2] = {
+      /* N */
+      share * load->body[0] - (load->txx * g_x + load->txy * g_y),
+      share * load->body[1] - (load->txy * g_x + load->tyy * g_y)};
+  for (int b = 0; b < rows; b++) {
+    size_t row = t + (size_t)(tile_edge * b); /* node (0, b) */
+    double weight_y = axis[1][b];
+#if defined(__GNUC__) /* the row's two nodes as one pair, N_a N_b per lane */
+    gm_pair axis_x, value;
+    memcpy(&axis_x, axis[0], sizeof axis_x);
+    value = axis_x * (gm_pair){weight_y, weight_y};
+    if (do_mass)
+      add_pair(&tile->mass[row], value, mass);
+    if (do_momentum) {
+      add_pair(&tile->momentum[0][row], value, momentum[0]);
+      add_pair(&tile->momentum[1][row], value, momentum[1]);
+    }
+    if (do_forces) {
+      add_pair(&tile->force[0][row], value, force[0]);
+      add_pair(&tile->force[1][row], value, force[1]);
+    }
+#else
+    for (int a = 0; a < 2; a++) {
+      double value = axis[0][a] * weight_y;
+      if (do_mass)
+        tile->mass[row + a] += value * mass;
+      if (do_momentum) {
+        tile->momentum[0][row + a] += value * momentum[0];
+        tile->momentum[1][row + a] += value * momentum[1];
+      }
+      if (do_forces) {
+        tile->force[0][row + a] += value * force[0];
+        tile->force[1][row + a] += value * force[1];
+      }
+    }
+#endif
+  }
+}
+
 /* CPDI, corner by corner (support.c): corner c hands each node i of its
  * cell the bilinear value N_i(x_c) times the corner's part of the point's
- * mass, momentum and force, the force's being share * body - sigma V g_c:
- * the entry sums of 004 eqs 3.13-3.15 with weight share N_i and gradient
- * N_i g_c, factored per corner (half the multiplications of the entries;
- * equal to round-off). base: the block's base node. */
+ * mass, momentum and force (scatter_cpdi_corner): the entry sums of 004
+ * eqs 3.13-3.15 with weight share N_i and gradient N_i g_c, factored per
+ * corner (half the multiplications of the entries; equal to round-off).
+ * base: the block's base node. */
 static GM_ALWAYS_INLINE void
 scatter_cpdi(wide_tile *tile, int64_t tile_edge, int dim, const int64_t base[2],
              const gm_cpdi_support *support, const point_load *load,
              const bool do_mass, const bool do_momentum, const bool do_forces) {
-  int rows = dim > 1 ? 2 : 1;
   double share = support->share;
   double mass = share * load->mass; /* kg */
   double momentum[2] = {share * load->momentum[0],
@@ -197,46 +247,28 @@ scatter_cpdi(wide_tile *tile, int64_t tile_edge, int dim, const int64_t base[2],
   for (int c = 0; c < support->corner_count; c++) {
     int64_t x = support->cell[c][0] - base[0];
     int64_t y = dim > 1 ? support->cell[c][1] - base[1] : 0;
-    double g_x = support->corner_gradient[c][0]; /* 1/m */
-    double g_y = support->corner_gradient[c][1];
-    double force[2] = {
-        /* N */
-        share * load->body[0] - (load->txx * g_x + load->txy * g_y),
-        share * load->body[1] - (load->txy * g_x + load->tyy * g_y)};
-    for (int b = 0; b < rows; b++) {
-      size_t t = (size_t)(x + tile_edge * (y + b)); /* node (0, b) */
-      double weight_y = support->axis[c][1][b];
-#if defined(__GNUC__) /* the row's two nodes as one pair, N_a N_b per lane */
-      gm_pair axis_x, value;
-      memcpy(&axis_x, support->axis[c][0], sizeof axis_x);
-      value = axis_x * (gm_pair){weight_y, weight_y};
-      if (do_mass)
-        add_pair(&tile->mass[t], value, mass);
-      if (do_momentum) {
-        add_pair(&tile->momentum[0][t], value, momentum[0]);
-        add_pair(&tile->momentum[1][t], value, momentum[1]);
-      }
-      if (do_forces) {
-        add_pair(&tile->force[0][t], value, force[0]);
-        add_pair(&tile->force[1][t], value, force[1]);
-      }
-#else
-      for (int a = 0; a < 2; a++) {
-        double value = support->axis[c][0][a] * weight_y;
-        if (do_mass)
-          tile->mass[t + a] += value * mass;
-        if (do_momentum) {
-          tile->momentum[0][t + a] += value * momentum[0];
-          tile->momentum[1][t + a] += value * momentum[1];
-        }
-        if (do_forces) {
-          tile->force[0][t + a] += value * force[0];
-          tile->force[1][t + a] += value * force[1];
-        }
-      }
-#endif
-    }
+    scatter_cpdi_corner(tile, tile_edge, dim > 1 ? 2 : 1,
+                        (size_t)(x + tile_edge * y), support->axis[c],
+                        support->corner_gradient[c], share, mass, momentum,
+                        load, do_mass, do_momentum, do_forces);
   }
+}
+
+/* The same from a 2D support in its kept form (cpdi_cache.h), g_c
+ * (1/m) apart: each corner's cell is its tile node as it is. */
+static GM_ALWAYS_INLINE void
+scatter_cpdi_kept(wide_tile *tile, const gm_cpdi_kept *kept,
+                  double gradient[4][2], const point_load *load,
+                  const bool do_mass, const bool do_momentum,
+                  const bool do_forces) {
+  double share = 0.25;              /* gm_cpdi_support_2d's */
+  double mass = share * load->mass; /* kg */
+  double momentum[2] = {share * load->momentum[0],
+                        share * load->momentum[1]}; /* kg m/s */
+  for (int c = 0; c < 4; c++)
+    scatter_cpdi_corner(tile, 2 * GM_BLOCK_EDGE_2D, 2, (size_t)kept->tile[c],
+                        kept->axis[c], gradient[c], share, mass, momentum, load,
+                        do_mass, do_momentum, do_forces);
 }
 
 /* The entry table with APIC's affine momentum (offsets per entry). */
@@ -373,23 +405,22 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
     }
     /* The support's lowest node and its reach (nodes past it) per axis. */
     int64_t lowest[2], reach[2];
-    if (try_cpdi &&
-        gm_cpdi_point_support_2d(&shape_grid, v->position, v->deformation,
-                                 v->domain_size, p, &support.cpdi, reach)) {
-      int64_t cx = support.cpdi.lowest[0] - base[0];
-      int64_t cy = support.cpdi.lowest[1] - base[1];
-      if (gm_wide_support_fits(2, cx, cy, reach, tile_edge)) {
+    if (try_cpdi) { /* the support in its kept form (cpdi_cache.h) */
+      gm_cpdi_kept kept;
+      double gradient[4][2]; /* 1/m, g_c */
+      if (gm_cpdi_kept_support_2d(&shape_grid, v->position, v->deformation,
+                                  v->domain_size, p, base, &kept, gradient)) {
         if (v->cpdi_cache.packed) /* for the sweep and the deformation */
-          gm_cpdi_cache_store(&v->cpdi_cache, p, &support.cpdi, base, reach);
-        columns = cx + reach[0] + 1 > columns ? cx + reach[0] + 1 : columns;
-        rows = cy + reach[1] + 1 > rows ? cy + reach[1] + 1 : rows;
+          gm_cpdi_cache_store_kept(&v->cpdi_cache, p, &kept);
+        int64_t cx = kept.lowest[0], cy = kept.lowest[1];
+        columns =
+            cx + kept.reach[0] + 1 > columns ? cx + kept.reach[0] + 1 : columns;
+        rows = cy + kept.reach[1] + 1 > rows ? cy + kept.reach[1] + 1 : rows;
         clear_tile_rows(tile, &cleared, rows, tile_edge);
         point_load load;
         load_point(v, p, 2, &load);
-        /* 2D: the tile's edge is a constant (grid->shift is
-         * GM_BLOCK_SHIFT_2D), so a corner's nodes at fixed offsets */
-        scatter_cpdi(tile, 2 * GM_BLOCK_EDGE_2D, 2, base, &support.cpdi, &load,
-                     do_mass, do_momentum, do_forces);
+        scatter_cpdi_kept(tile, &kept, gradient, &load, do_mass, do_momentum,
+                          do_forces);
         continue;
       }
     }
