@@ -154,6 +154,7 @@ typedef struct silo {
   double friction;        /* rad, phi of the fill (002's 25 deg) */
   double wall_friction;   /* -, mu_w of the silo and hopper walls */
   const char *scheme;     /* --scheme usl|musl|usf */
+  const char *transfer;   /* --transfer flip|apic */
   const char *profile;    /* path of the steady profiles' CSV; "" = none */
   double cfl;             /* -, Courant number of the stable dt */
   double drop;            /* m, free fall below the orifice before the sink
@@ -210,6 +211,8 @@ static gm_status create_domain(const silo *s, double damping,
   else if (strcmp(s->scheme, "usf") == 0)
     def.scheme = GM_SCHEME_USF;
   def.pic_fraction = s->pic;
+  if (strcmp(s->transfer, "apic") == 0)
+    def.transfer = GM_TRANSFER_APIC; /* Jiang et al. 2015 */
   def.cell_size = cell;
   /* the floor layer, the free fall of --drop and the sink below 0 */
   def.origin[1] = -3.0 * cell - s->drop;
@@ -1144,6 +1147,7 @@ static int configure(silo *s, int argc, char **argv) {
   const char *dilation = "none";
   s->volumetric = "point";
   s->scheme = "musl";
+  s->transfer = "flip";
   double fluid = 0.0;                                  /* Pa */
   double friction = FRICTION_ANGLE;                    /* deg */
   double pic = 0.0;                                    /* - */
@@ -1195,6 +1199,8 @@ static int configure(silo *s, int argc, char **argv) {
        "Coulomb mu_w of the silo and hopper walls (002's tan 20 deg)",
        &wall_friction, NULL},
       {"scheme", "usl | musl | usf (001 sec 3)", NULL, &s->scheme},
+      {"transfer", "flip | apic (the affine particle-in-cell transfer)", NULL,
+       &s->transfer},
       {"youngs",
        "> 0: Young's modulus E, Pa, in place of 002's 1 MPa (the dt "
        "shrinks as 1/sqrt(E))",
@@ -1305,6 +1311,10 @@ static int configure(silo *s, int argc, char **argv) {
       (strcmp(s->scheme, "usl") != 0 && strcmp(s->scheme, "musl") != 0 &&
        strcmp(s->scheme, "usf") != 0)) {
     fprintf(stderr, "--pic must lie in [0, 1], --scheme be usl|musl|usf\n");
+    return 2;
+  }
+  if (strcmp(s->transfer, "flip") != 0 && strcmp(s->transfer, "apic") != 0) {
+    fprintf(stderr, "--transfer: '%s' is not flip or apic\n", s->transfer);
     return 2;
   }
   if (strcmp(dilation, "none") != 0) {
