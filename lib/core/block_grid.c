@@ -86,8 +86,31 @@ static bool hash_insert(gm_grid *grid, int64_t key) {
     slot = (slot + 1) & (grid->hash_capacity - 1);
   }
   grid->hash_key[slot] = key;
+  grid->hash_value[slot] = 0; /* see NEIGHBOURS_IN */
   grid->hash_used++;
   return true;
+}
+
+/* While gm_grid_build inserts, before the values are set, a key's value
+ * says whether its block was inserted with its neighbours (NEIGHBOURS_IN)
+ * or only as another block's neighbour (0). A key met again in a later
+ * run of points (the granular cloud's first binning meets each plain key
+ * once per node layer) is then looked up once instead of inserted with
+ * its neighbours again: the same keys inserted in the same order, so the
+ * same hash. A growth of the hash clears the marks (hash_rebuild inserts
+ * afresh), which only costs a repeated insertion. */
+#define NEIGHBOURS_IN 1u
+
+static uint32_t *build_mark(gm_grid *grid, int64_t key) {
+  if (!grid->hash_capacity)
+    return NULL;
+  size_t slot = hash_slot(grid, key);
+  while (grid->hash_key[slot] != -1) {
+    if (grid->hash_key[slot] == key)
+      return &grid->hash_value[slot];
+    slot = (slot + 1) & (grid->hash_capacity - 1);
+  }
+  return NULL;
 }
 
 static void hash_clear(gm_grid *grid) {
@@ -455,10 +478,15 @@ gm_status gm_grid_build(gm_domain *domain) {
        * the work of a layer that fills the period. */
       int64_t first = periodic ? previous - previous % blocks_x : previous;
       int64_t last = periodic ? first + blocks_x - 1 : previous;
+      uint32_t *mark = periodic ? NULL : build_mark(grid, previous);
+      if (mark && *mark == NEIGHBOURS_IN)
+        continue;
       for (int64_t key = first; key <= last; key++)
         if (!insert_with_neighbours(grid, key))
           return gm_set_error(domain, GM_ERR_NO_MEMORY,
                               "grid: out of memory for the block hash");
+      if (!periodic && (mark = build_mark(grid, previous)) != NULL)
+        *mark = NEIGHBOURS_IN;
     }
   }
   if (!reserve_blocks(domain, grid->hash_used))
