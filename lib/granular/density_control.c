@@ -74,6 +74,52 @@ static void scale_to_critical(const gm_domain *domain, gm_point_buffers *to,
   to->volume[p] = jacobian * points->initial_volume[p];
 }
 
+/* The point arrays a disconnected or returned point rewrites, gathered
+ * once per chunk: the stored stress components it zeroes, and the stored
+ * F components, CPDI domain map and volume it takes from the previous
+ * step (clear_stress and keep_previous_deformation without a test per slot
+ * and point: about 50 instructions per disconnected point, 15 per
+ * point-step of the granular cloud). */
+typedef struct rewritten_arrays {
+  double *zeroed[GM_STRESS_SLOTS];
+  int zeroed_count;
+  double *kept[GM_F_SLOTS + 5]; /* F, D (CPDI), V */
+  const double *previous[GM_F_SLOTS + 5];
+  int kept_count;
+} rewritten_arrays;
+
+static void gather_rewritten(const gm_point_buffers *from, gm_point_buffers *to,
+                             rewritten_arrays *arrays) {
+  arrays->zeroed_count = arrays->kept_count = 0;
+  for (int k = 0; k < GM_STRESS_SLOTS; k++)
+    if (to->stress[k])
+      arrays->zeroed[arrays->zeroed_count++] = to->stress[k];
+  for (int k = 0; k < GM_F_SLOTS; k++)
+    if (to->deformation[k]) {
+      arrays->kept[arrays->kept_count] = to->deformation[k];
+      arrays->previous[arrays->kept_count++] = from->deformation[k];
+    }
+  for (int k = 0; k < 4; k++)
+    if (to->domain_map[k]) {
+      arrays->kept[arrays->kept_count] = to->domain_map[k];
+      arrays->previous[arrays->kept_count++] = from->domain_map[k];
+    }
+  arrays->kept[arrays->kept_count] = to->volume;
+  arrays->previous[arrays->kept_count++] = from->volume;
+}
+
+/* clear_stress and keep_previous_deformation through the gathered arrays:
+ * the same values stored. */
+static void clear_stress_of(const rewritten_arrays *arrays, size_t p) {
+  for (int k = 0; k < arrays->zeroed_count; k++)
+    arrays->zeroed[k][p] = 0.0;
+}
+
+static void keep_previous_of(const rewritten_arrays *arrays, size_t p) {
+  for (int k = 0; k < arrays->kept_count; k++)
+    arrays->kept[k][p] = arrays->previous[k][p];
+}
+
 /* The granular family's rules for a chunk whose points are all of one
  * granular material (the common chunk): the branches of the loop below
  * with the material's constants in locals and, where one component holds
@@ -93,18 +139,20 @@ static void granular_chunk(gm_domain *domain, size_t first, size_t count,
   const double *mass = points->mass; /* kg */
   const double *volume = to->volume; /* the updated volume */
   uint8_t *states = to->granular_state;
+  rewritten_arrays arrays;
+  gather_rewritten(from, to, &arrays);
   for (size_t p = first; p < first + count; p++) {
     bool disconnected =
         !all_connected && work->component_size[work->label[p]] == 1;
     int state = disconnected ? GM_STATE_DISCONNECTED : GM_STATE_QUASI_STATIC;
     double density = mass[p] / volume[p]; /* kg/m^3 */
     if (disconnected) {
-      clear_stress(to, p);
-      keep_previous_deformation(from, to, p);
+      clear_stress_of(&arrays, p);
+      keep_previous_of(&arrays, p);
     } else if (density < loosest) {
-      clear_stress(to, p);
+      clear_stress_of(&arrays, p);
       if (keep)
-        keep_previous_deformation(from, to, p);
+        keep_previous_of(&arrays, p);
       else
         scale_to_critical(domain, to, p, mass[p] / critical);
       state = GM_STATE_MODERATE;

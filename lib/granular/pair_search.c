@@ -143,19 +143,22 @@ static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
     low[k] = from[k] > base[k] ? from[k] - base[k] : 0;
     high[k] = to[k] - base[k] < last ? to[k] - base[k] : last;
   }
+  /* The cells low[0]..high[0] of one row are consecutive local cells, so
+   * their points are one run of cell_order: a row at a time, the same
+   * points in the same order as cell by cell. */
   for (int64_t z = low[2]; z <= high[2]; z++) {
     for (int64_t y = low[1]; y <= high[1]; y++) {
-      for (int64_t x = low[0]; x <= high[0]; x++) {
-        int64_t cell = x + (y << shift) + (z << (2 * shift));
-        for (uint32_t k = start[cell]; k < start[cell + 1]; k++) {
-          uint32_t q = work->cell_order[k];
-          if ((half && !later_in_raster(work, dim, p, q)) || q == p ||
-              (!window_shares && !gm_supports_share_node(work, dim, p, q)))
-            continue;
-          gm_status status = handle_pair(domain, pass, p, q, root_p, !half);
-          if (status != GM_OK)
-            return status;
-        }
+      int64_t row = (y << shift) + (z << (2 * shift));
+      uint32_t run_first = start[row + low[0]];
+      uint32_t run_end = start[row + high[0] + 1];
+      for (uint32_t k = run_first; k < run_end; k++) {
+        uint32_t q = work->cell_order[k];
+        if ((half && !later_in_raster(work, dim, p, q)) || q == p ||
+            (!window_shares && !gm_supports_share_node(work, dim, p, q)))
+          continue;
+        gm_status status = handle_pair(domain, pass, p, q, root_p, !half);
+        if (status != GM_OK)
+          return status;
       }
     }
   }

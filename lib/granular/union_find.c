@@ -10,14 +10,6 @@ void gm_union_find_init(uint32_t *parent, uint32_t *size, size_t count) {
   }
 }
 
-uint32_t gm_union_find_root(uint32_t *parent, uint32_t element) {
-  while (parent[element] != element) {
-    parent[element] = parent[parent[element]]; /* path halving */
-    element = parent[element];
-  }
-  return element;
-}
-
 int gm_union_find_join(uint32_t *parent, uint32_t *size, uint32_t a,
                        uint32_t b) {
   a = gm_union_find_root(parent, a);
