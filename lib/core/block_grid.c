@@ -8,6 +8,7 @@
 #include "core/core.h"
 
 #include "core/domain.h"
+#include "core/key_sort.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -117,109 +118,6 @@ static void hash_clear(gm_grid *grid) {
   if (grid->hash_capacity)
     memset(grid->hash_key, 0xff, grid->hash_capacity * sizeof(int64_t));
   grid->hash_used = 0;
-}
-
-/* Block keys are distinct, so any correct sort gives the one ascending
- * order that fixes every grid sum: the sort below (an introsort on the
- * keys in place) replaced qsort, whose merge sort through a comparison
- * callback took about 100 instructions per point-step in the granular
- * cloud's two binnings (docs/performance.md, "The granular cloud"), and
- * which may allocate its merge buffer inside a step. */
-
-/* Below this many keys a range is finished by insertion. */
-#define KEY_SORT_SMALL 16
-
-static void swap_keys(int64_t *keys, size_t a, size_t b) {
-  int64_t kept = keys[a];
-  keys[a] = keys[b];
-  keys[b] = kept;
-}
-
-static void insertion_sort_keys(int64_t *keys, size_t count) {
-  for (size_t i = 1; i < count; i++) {
-    int64_t key = keys[i];
-    size_t j = i;
-    for (; j > 0 && keys[j - 1] > key; j--)
-      keys[j] = keys[j - 1];
-    keys[j] = key;
-  }
-}
-
-/* Heapsort: the fallback that bounds the introsort at O(n log n). */
-static void sift_down_keys(int64_t *keys, size_t root, size_t count) {
-  for (size_t child = 2 * root + 1; child < count; child = 2 * root + 1) {
-    if (child + 1 < count && keys[child + 1] > keys[child])
-      child++;
-    if (keys[root] >= keys[child])
-      return;
-    swap_keys(keys, root, child);
-    root = child;
-  }
-}
-
-static void heap_sort_keys(int64_t *keys, size_t count) {
-  for (size_t root = count / 2; root-- > 0;)
-    sift_down_keys(keys, root, count);
-  for (size_t end = count; end-- > 1;) {
-    swap_keys(keys, 0, end);
-    sift_down_keys(keys, 0, end);
-  }
-}
-
-/* Partitions around the median of the first, middle and last keys (moved
- * to the front); returns the pivot's final index. */
-static size_t partition_keys(int64_t *keys, size_t count) {
-  size_t middle = count / 2, last = count - 1;
-  if (keys[middle] < keys[0])
-    swap_keys(keys, middle, 0);
-  if (keys[last] < keys[0])
-    swap_keys(keys, last, 0);
-  if (keys[last] < keys[middle])
-    swap_keys(keys, last, middle);
-  swap_keys(keys, 0, middle); /* the median as the pivot, at 0 */
-  int64_t pivot = keys[0];
-  size_t low = 1, high = last; /* keys[last] >= pivot: a sentinel */
-  for (;;) {
-    while (keys[low] < pivot)
-      low++;
-    while (keys[high] > pivot)
-      high--;
-    if (low >= high)
-      break;
-    swap_keys(keys, low++, high--);
-  }
-  swap_keys(keys, 0, high);
-  return high;
-}
-
-/* Sorts keys ascending in place: quicksort down to small ranges, heapsort
- * past 2 log2(count) levels. */
-static void introsort_keys(int64_t *keys, size_t count, int depth) {
-  while (count > KEY_SORT_SMALL) {
-    if (depth-- == 0) {
-      heap_sort_keys(keys, count);
-      return;
-    }
-    size_t pivot = partition_keys(keys, count);
-    /* Recurse into the smaller side, loop on the larger: the depth of
-     * the recursion stays below log2(count). */
-    if (pivot < count - pivot - 1) {
-      introsort_keys(keys, pivot, depth);
-      keys += pivot + 1;
-      count -= pivot + 1;
-    } else {
-      introsort_keys(keys + pivot + 1, count - pivot - 1, depth);
-      count = pivot;
-    }
-  }
-  insertion_sort_keys(keys, count);
-}
-
-static void sort_keys(int64_t *keys, size_t count) {
-  int depth = 0;
-  for (size_t n = count; n > 1; n >>= 1)
-    depth += 2;
-  introsort_keys(keys, count, depth);
 }
 
 /* Makes room for block_count blocks (node fields, links, counters). */
@@ -496,8 +394,14 @@ gm_status gm_grid_build(gm_domain *domain) {
   for (size_t slot = 0; slot < grid->hash_capacity; slot++)
     if (grid->hash_key[slot] != -1)
       grid->block_key[count++] = grid->hash_key[slot];
-  /* Sorted keys fix the order of every grid sum. */
-  sort_keys(grid->block_key, count);
+  /* Sorted keys fix the order of every grid sum. The keys are distinct,
+   * so any correct sort gives the one ascending order: gm_key_sort
+   * (core/key_sort.c, an introsort in place) replaced qsort, whose merge
+   * sort through a comparison callback took about 100 instructions per
+   * point-step in the granular cloud's two binnings (docs/performance.md,
+   * "The granular cloud"), and which may allocate its merge buffer inside
+   * a step. */
+  gm_key_sort(grid->block_key, count);
   grid->block_count = count;
   for (size_t b = 0; b < count; b++) {
     size_t slot = hash_slot(grid, grid->block_key[b]);
