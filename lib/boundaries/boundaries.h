@@ -175,12 +175,26 @@ void gm_rigid_constrain_node(gm_domain *domain, size_t node,
 void gm_rigid_add_impulse(gm_domain *domain);
 /* Rigid points of the new (spare) buffer get their prescribed velocity. */
 void gm_rigid_set_point_velocities(gm_domain *domain);
+/* B-splines: after the FLIP update of the point velocities and before
+ * the remap's scatter (USL, MUSL), rigid points take their prescribed
+ * velocity again. Their update gathered the free nodes of their support
+ * too (the cell rule), and a rigid body's momentum on the grid is its
+ * prescribed one, in the remap as in the first scatter. Other shapes:
+ * nothing (their whole support is held, the update is the prescribed
+ * velocity already). */
+void gm_rigid_hold_remap_velocities(gm_domain *domain);
 /* B-splines (rigid.c's header: the cell rule): rigid points move by the
  * prescribed velocity times dt and keep F and V, in place of what G2P
  * gathered from nodes outside their cells; their keys for the next
  * binning follow. Fails the step (GM_ERR_OUT_OF_GRID) where one would
  * leave the grid. Other shapes: nothing (their whole support is held). */
 gm_status gm_rigid_move_points(gm_domain *domain, double dt);
+/* Is point p's G2P move provisional (a rigid point with the B-splines,
+ * whose position gm_rigid_move_points sets and tests afterwards)? G2P's
+ * test of the moved point then skips it: the move it gathered from the
+ * free nodes of its support, which may leave the grid box under an
+ * unstable update there, is thrown away. */
+bool gm_rigid_move_is_provisional(const gm_domain *domain, size_t p);
 gm_status gm_rigid_reserve(gm_domain *domain);
 /* Does any wall reach into the block with lower corner node (ix, iy)? */
 bool gm_walls_near_block(const gm_domain *domain, int64_t base_x,

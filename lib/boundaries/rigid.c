@@ -411,6 +411,16 @@ static bool moved_key(const gm_domain *domain, const gm_point_buffers *next,
   return true;
 }
 
+void gm_rigid_hold_remap_velocities(gm_domain *domain) {
+  if (gm_shape_is_bspline(domain->shape_grid.shape))
+    gm_rigid_set_point_velocities(domain);
+}
+
+bool gm_rigid_move_is_provisional(const gm_domain *domain, size_t p) {
+  return gm_shape_is_bspline(domain->shape_grid.shape) &&
+         domain->materials[domain->points.material[p]].rigid;
+}
+
 gm_status gm_rigid_move_points(gm_domain *domain, double dt) {
   if (!gm_shape_is_bspline(domain->shape_grid.shape))
     return GM_OK; /* their G2P moved them exactly (the header) */

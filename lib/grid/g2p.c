@@ -10,6 +10,8 @@
  */
 #include "grid/grid.h"
 
+#include "boundaries/boundaries.h"
+
 #include "grid/apic_linear.h"
 #include "grid/transfer.h"
 
@@ -418,6 +420,8 @@ static void report_outside_moves(gm_domain *domain, gm_worker_scratch *scratch,
 
 void gm_report_moved_point(gm_domain *domain, gm_worker_scratch *scratch,
                            size_t p, double dt) {
+  if (gm_rigid_move_is_provisional(domain, p))
+    return; /* RIGID_POINTS sets and tests its position (rigid.c) */
   const gm_point_buffers *next = &domain->points.buffer[domain->points.cur ^ 1];
   double moved[2] = {next->position[0][p],
                      domain->dim > 1 ? next->position[1][p] : 0.0};

@@ -23,6 +23,8 @@
  */
 #include "grid/grid.h"
 
+#include "boundaries/boundaries.h"
+
 #include "grid/apic_3d.h"
 #include "grid/apic_linear.h"
 
@@ -479,6 +481,8 @@ static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
     }
     if (inside && domain->shape_grid.shape != GM_SHAPE_LINEAR)
       continue;
+    if (!inside && gm_rigid_move_is_provisional(domain, p))
+      continue; /* RIGID_POINTS sets and tests its position (rigid.c) */
     if (inside) {
       points->block_key[p] =
           gm_block_key_inside_3d(&domain->grid, moved[0], moved[1], moved[2],
@@ -577,6 +581,8 @@ static void keys_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
       left |= points->block_key[p] != binned[points->point_block[p]];
       continue;
     }
+    if (gm_rigid_move_is_provisional(domain, p))
+      continue; /* RIGID_POINTS sets its position and key (rigid.c) */
     gm_worker_error(scratch, GM_ERR_OUT_OF_GRID, p,
                     "step: the domain of point id %lld (half edges %g, %g, "
                     "%g m at x = %g, y = %g, z = %g m, t = %g s) would reach "

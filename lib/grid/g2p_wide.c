@@ -10,6 +10,8 @@
  */
 #include "grid/grid.h"
 
+#include "boundaries/boundaries.h"
+
 #include "grid/gather_wide.h"
 #include "grid/transfer.h"
 
@@ -287,6 +289,8 @@ void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
       v->block_key[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);
       continue;
     }
+    if (gm_rigid_move_is_provisional(domain, p))
+      continue; /* RIGID_POINTS sets its position and key (rigid.c) */
     gm_point_domain point; /* the failure path only: for the message */
     gm_load_point_domain(dim, position, deformation, v->domain_size, p, &point);
     double corners[4][2];

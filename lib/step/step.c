@@ -373,11 +373,15 @@ static gm_status run_stage(gm_domain *domain, step_stage stage, double dt,
   case STAGE_UPDATE_POINTS: {
     gm_g2p_pass pass = {true, true, false, false, dt, false, 0.0};
     gm_g2p(domain, &pass);
+    if (domain->rigid_count > 0) /* the remap scatters prescribed momenta */
+      gm_rigid_hold_remap_velocities(domain);
     break;
   }
   case STAGE_UPDATE_VELOCITIES: {
     gm_g2p_pass pass = {true, false, false, false, dt, false, 0.0};
     gm_g2p(domain, &pass);
+    if (domain->rigid_count > 0)
+      gm_rigid_hold_remap_velocities(domain);
     break;
   }
   case STAGE_REMAP_MOMENTUM: {
