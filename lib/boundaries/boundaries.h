@@ -177,8 +177,8 @@ void gm_rigid_add_impulse(gm_domain *domain);
 void gm_rigid_set_point_velocities(gm_domain *domain);
 /* B-splines: after the FLIP update of the point velocities and before
  * the remap's scatter (USL, MUSL, USF), rigid points take their
- * prescribed velocity again. Their update gathered the free nodes of their support
- * too (the cell rule), and a rigid body's momentum on the grid is its
+ * prescribed velocity again. Their update gathered the free nodes of their
+ * support too (the cell rule), and a rigid body's momentum on the grid is its
  * prescribed one, in the remap as in the first scatter. Other shapes:
  * nothing (their whole support is held, the update is the prescribed
  * velocity already). */
