@@ -372,11 +372,13 @@ GM_API int gm_elastic_update(const gm_material_batch *batch, void *user,
  * near the plane (with the shapes wider than a tent; with linear shapes
  * those less than h (|n_x| + |n_y| + |n_z|) in front of an oblique plane,
  * in 2D as in 3D) approach it at most by that centre's distance in a
- * step, so no point centre passes through a wall. In 3D with the
- * B-splines a wall parallel to a slip, fixed or symmetry box face and
- * less than 1.5 (quadratic) or 2 (cubic) cells from its plane is refused
- * (GM_ERR_UNSUPPORTED): those faces are mirrors for them; leave the face
- * GM_WALL_OPEN to put a wall on its plane. See gm_walls(3). */
+ * step, so no point centre passes through a wall. With the B-splines,
+ * in every geometry, a wall parallel to a slip, fixed or symmetry box
+ * face (or to the axis r = 0 in axisymmetry) and less than 1.5
+ * (quadratic) or 2 (cubic) cells from its plane is refused
+ * (GM_ERR_UNSUPPORTED): those faces are mirrors for them, which would undo
+ * its friction; leave the face GM_WALL_OPEN to put a wall on its plane.
+ * See gm_walls(3). */
 typedef struct gm_wall_def {
   size_t struct_size;
   double point[3];         /* m, any point of the plane */

@@ -32,41 +32,63 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* In 3D every shape takes planar walls anywhere, of any normal
- * (walls_3d.c; the wide shapes' centre-gap rule of 2D since 2026-11-28,
+/* Every shape takes planar walls anywhere, of any normal (in 3D
+ * walls_3d.c; the wide shapes' centre-gap rule of 2D since 2026-11-28,
  * the B-splines since 2026-11-29, their supports measured in
- * wall_gaps_3d.c), but for one place with the B-splines: on or near the
- * plane of a box face that holds material (slip, fixed, symmetry). Such a
- * face is a mirror for them (bspline_faces.c): it folds the ghost nodes'
- * mass and momentum into the nodes inside and, after the update, gives the
- * ghosts their mirror nodes' reflected velocities, free along the face
- * (slip, symmetry). A wall on that plane would push and rub on the same
- * face and ghost nodes, whose velocities the mirror then overwrites, and
- * its reported impulse would count what the mirror undoes; the face
- * already is that wall without friction. A parallel wall less than a
- * support radius (1.5 cells quadratic, 2 cubic; shape_bspline.h) from the
- * face's plane, on either side, would have material at it whose support
- * reaches the face's nodes: refused, naming the face (use an open face
- * with the wall on its plane for a frictional B-spline face, which
- * test_face_friction_3d.c's test_which_walls accepts). A wall 2 cells or
- * more inside, as the 3D silo's
- * side walls (examples/papers/wieckowski1999_silo_discharge.c), never
- * meets the mirror's nodes; an oblique wall crosses a face along a line,
- * where its material meets both as at any corner of two walls. */
-static gm_status check_bspline_mirrors_3d(gm_domain *domain,
-                                          const double normal[3],
-                                          const double point[3]) {
+ * wall_gaps_3d.c), but for one place with the B-splines, in every
+ * geometry: on or near the plane of a box face that holds material (slip,
+ * fixed, symmetry; and the axis r = 0 in axisymmetry, whatever its
+ * walls[] entry). Such a face is a mirror for them (grid/bspline_faces.c):
+ * it folds the ghost nodes' mass and momentum into the nodes inside and,
+ * after the update, gives the ghosts their mirror nodes' reflected
+ * velocities, free along the face (slip, symmetry). A wall on that plane
+ * would push and rub on the same face and ghost nodes, whose velocities
+ * the mirror then overwrites, and its reported impulse would count what
+ * the mirror undoes; the face already is that wall without friction. A
+ * parallel wall less than a support radius (1.5 cells quadratic, 2 cubic;
+ * shape_bspline.h) from the face's plane, on either side, would have
+ * material at it whose support reaches the face's nodes: refused, naming
+ * the face (use an open face with the wall on its plane for a frictional
+ * B-spline face, which test_face_friction_3d.c's test_which_walls and
+ * test_face_mirror_walls.c accept). In 1D and 2D it was accepted until
+ * 2026-11-29 and the friction lost: a block at 0.6 m/s on mu = 0.2 on
+ * the plane of a slip floor face kept its speed (Coulomb: 0.21 m/s after
+ * 0.2 s), with the floor half a cell above the face it still moved at
+ * 0.31-0.37 m/s, and on a fixed face the block stuck
+ * (test_face_mirror_walls.c). A wall 2 cells or more inside, as the 3D
+ * silo's side walls (examples/papers/wieckowski1999_silo_discharge.c),
+ * never meets the mirror's nodes; an oblique wall crosses a face along a
+ * line, where its material meets both as at any corner of two walls. */
+
+/* Whether box face `face` is the axis r = 0 of an axisymmetric domain,
+ * which the B-splines mirror whatever its walls[] entry. */
+static bool is_symmetry_axis(const gm_domain *domain, int face) {
+  return face == GM_FACE_XMIN && domain->axisymmetric &&
+         domain->def.origin[0] == 0.0;
+}
+
+/* Whether the B-splines mirror box face `face` (as face_signs in
+ * grid/bspline_faces.c): a face that holds material, or the axis. */
+static bool bspline_mirrors_face(const gm_domain *domain, int face) {
+  gm_wall_type type = domain->def.walls[face];
+  return is_symmetry_axis(domain, face) ||
+         (type != GM_WALL_OPEN && type != GM_WALL_PERIODIC); /* periodic:
+                                    images of the other side, no mirror */
+}
+
+static gm_status check_bspline_mirrors(gm_domain *domain,
+                                       const double normal[3],
+                                       const double point[3]) {
   static const char *const names[6] = {"xmin", "xmax", "ymin",
                                        "ymax", "zmin", "zmax"};
-  if (domain->dim != 3 || !gm_shape_is_bspline(domain->def.shape))
+  if (!gm_shape_is_bspline(domain->def.shape))
     return GM_OK;
   double h = domain->def.cell_size; /* m */
   double radius =                   /* cells */
       domain->def.shape == GM_SHAPE_BSPLINE2 ? 1.5 : 2.0;
-  for (int face = 0; face < 6; face++) {
-    gm_wall_type type = domain->def.walls[face];
-    if (type == GM_WALL_OPEN || type == GM_WALL_PERIODIC)
-      continue; /* no mirror (periodic: images of the other side) */
+  for (int face = 0; face < 2 * domain->dim; face++) {
+    if (!bspline_mirrors_face(domain, face))
+      continue;
     int axis = face / 2, side = face % 2;
     /* parallel: the normal along the face's axis (unit, so the others 0) */
     if (normal[(axis + 1) % 3] != 0.0 || normal[(axis + 2) % 3] != 0.0)
@@ -78,13 +100,21 @@ static gm_status check_bspline_mirrors_3d(gm_domain *domain,
       return gm_set_error(
           domain, GM_ERR_UNSUPPORTED,
           "gm_domain_add_wall: wall %d lies %.3g cells from the %s box face "
-          "(gm_domain_def.walls[%d] = %d), parallel to it; with the "
+          "(gm_domain_def.walls[%d] = %d%s), parallel to it; with the "
           "B-spline shapes (gm_domain_def.shape %d) that face is a mirror, "
-          "and a wall less than %.3g cells from it is not supported in 3D "
-          "in this version: make the face GM_WALL_OPEN to put a wall on "
-          "its plane, or keep the wall %.3g cells or more from it",
-          domain->wall_count, apart, names[face], face, (int)type,
-          (int)domain->def.shape, radius, radius);
+          "and a wall less than %.3g cells from it is not supported in "
+          "this version (the mirror would undo its friction): %s, or keep the "
+          "wall "
+          "%.3g cells or more from it",
+          domain->wall_count, apart, names[face], face,
+          (int)domain->def.walls[face],
+          is_symmetry_axis(domain, face) ? ", the symmetry axis r = 0" : "",
+          (int)domain->def.shape, radius,
+          is_symmetry_axis(domain, face)
+              ? "start the grid at r > 0 (gm_domain_def.origin[0]) with "
+                "the face GM_WALL_OPEN to put a wall on its plane"
+              : "make the face GM_WALL_OPEN to put a wall on its plane",
+          radius);
   }
   return GM_OK;
 }
@@ -145,7 +175,7 @@ gm_status gm_domain_add_wall(gm_domain *domain, const gm_wall_def *def,
   double unit[3]; /* the unit normal, as stored below */
   for (int k = 0; k < 3; k++)
     unit[k] = def->normal[k] * inverse_length;
-  status = check_bspline_mirrors_3d(domain, unit, def->point);
+  status = check_bspline_mirrors(domain, unit, def->point);
   if (status != GM_OK)
     return status;
   gm_wall *wall = &domain->walls[domain->wall_count];

@@ -656,7 +656,7 @@ START_TEST(test_unsupported_refused_3d) {
    * since test_granular_3d.c). */
   /* Planar walls work with the B-splines in 3D since 2026-11-29
    * (tests/physics/test_walls_3d.c), but not on or near the plane of a
-   * box face they mirror (walls.c, check_bspline_mirrors_3d): the default
+   * box face they mirror (walls.c, check_bspline_mirrors): the default
    * wall, y = 0 facing +y, is accepted over an open ymin face and refused,
    * naming the face, over a slip one, and the domain keeps no wall. */
   for (int i = 0; i < 2; i++)

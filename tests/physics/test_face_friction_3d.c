@@ -272,7 +272,7 @@ END_TEST
  * the walls act as it does with linear MPM). Until then uGIMP and cpGIMP
  * took the planes of open box faces only. The B-splines, refused until
  * 2026-11-29, take any wall but one parallel to a face they mirror and
- * less than a support radius from it (check_bspline_mirrors_3d): that
+ * less than a support radius from it (check_bspline_mirrors): that
  * refusal names the face. */
 typedef struct wall_row {
   gm_shape shape;
@@ -293,7 +293,7 @@ START_TEST(test_which_walls) {
       {GM_SHAPE_BSPLINE3, GM_WALL_OPEN, 0.2, {0.1, 1, 0}, true},
       {GM_SHAPE_BSPLINE2, GM_WALL_OPEN, 0.0, {0, 1, 0}, true},
       /* B-splines over a slip face, which is their mirror (walls.c,
-       * check_bspline_mirrors_3d): refused parallel to it and less than a
+       * check_bspline_mirrors): refused parallel to it and less than a
        * support radius (1.5 cells quadratic, 2 cubic) from its plane,
        * facing in or out; accepted farther in or oblique. */
       {GM_SHAPE_BSPLINE2, GM_WALL_SLIP, 0.0, {0, 1, 0}, false},
