@@ -146,6 +146,13 @@ static gm_domain *create_domain(const example_options *options) {
   def.gravity[1] = -GRAVITY;
   for (int face = GM_FACE_XMIN; face <= GM_FACE_YMAX; face++)
     def.walls[face] = GM_WALL_FIXED;
+  /* The floor wall lies a cell above the ymin face (FLOOR_Y), and the
+   * B-splines mirror a fixed face: gm_domain_add_wall refuses a wall that
+   * near it, whose friction the mirror would undo (gm_walls(3)). With them
+   * the face behind the floor is left open; no material reaches it. */
+  if (options->shape == GM_SHAPE_BSPLINE2 ||
+      options->shape == GM_SHAPE_BSPLINE3)
+    def.walls[GM_FACE_YMIN] = GM_WALL_OPEN;
   def.scheme = GM_SCHEME_MUSL;
   return example_create_domain(&def);
 }
