@@ -232,11 +232,11 @@ static void mark_cpdi_point_3d(gm_domain *domain, size_t p, int32_t mark) {
   gm_grid *grid = &domain->grid;
   const gm_points *points = &domain->points;
   const gm_point_buffers *current = &points->buffer[points->cur];
-  const double *const *deformation =
-      (const double *const *)current->deformation;
+  /* The domain map D (cpdi_reset.c). */
+  const double *const *deformation = gm_support_slots_3d(domain, current);
   double x[3] = {current->position[0][p], current->position[1][p],
                  current->position[2][p]}; /* m */
-  double half[3], f[9];                    /* m; F row-major */
+  double half[3], f[9];                    /* m; D row-major */
   gm_box_half_edges_3d(GM_SHAPE_CPDI,
                        (const double *const *)points->domain_size, deformation,
                        p, half);
@@ -302,7 +302,7 @@ static void mark_point_3d(gm_domain *domain, size_t p, int32_t mark) {
   } else {
     gm_box_half_edges_3d(domain->shape_grid.shape,
                          (const double *const *)points->domain_size,
-                         (const double *const *)current->deformation, p, half);
+                         gm_support_slots_3d(domain, current), p, half);
     if (!gm_box_support_compute_3d(&domain->shape_grid, x, half, &support))
       return; /* cannot happen: the binning placed the point by it */
     int64_t base[3];
@@ -397,7 +397,7 @@ static bool moved_key(const gm_domain *domain, const gm_point_buffers *next,
     const double *const *position = (const double *const *)next->position;
     if (!gm_wide_lowest_3d(&domain->shape_grid, position,
                            (const double *const *)points->domain_size,
-                           (const double *const *)next->deformation, p, lowest))
+                           gm_support_slots_3d(domain, next), p, lowest))
       return false;
     *key =
         gm_block_key_of_node_3d(&domain->grid, lowest[0], lowest[1], lowest[2]);

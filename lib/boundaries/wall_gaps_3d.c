@@ -224,13 +224,14 @@ static void measure_point_3d(gm_domain *domain, const gap_3d_context *ctx,
   double half[3];                          /* m, the box's half edges */
   gm_box_half_edges_3d(domain->def.shape,
                        (const double *const *)points->domain_size,
-                       (const double *const *)current->deformation, p, half);
-  /* CPDI: the parallelepiped of edges r_k = half_k (column k of F), whose
-   * half extent along n is sum_k |r_k . n| (support_cpdi_3d.h). */
+                       gm_support_slots_3d(domain, current), p, half);
+  /* CPDI: the parallelepiped of edges r_k = half_k (column k of the
+   * domain map D), whose half extent along n is sum_k |r_k . n|
+   * (support_cpdi_3d.h). */
   bool cpdi = domain->def.shape == GM_SHAPE_CPDI;
-  double f[9] = {0.0}; /* F, row-major */
+  double f[9] = {0.0}; /* D, row-major */
   if (cpdi)
-    gm_deformation_rows_3d((const double *const *)current->deformation, p, f);
+    gm_deformation_rows_3d(gm_support_slots_3d(domain, current), p, f);
   bool near = false;
   for (int w = 0; w < pg.planes; w++) {
     const gap_plane_3d *plane = &ctx->planes[w];

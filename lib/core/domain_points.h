@@ -23,12 +23,13 @@ typedef struct gm_point_buffers {
   double *velocity[3];             /* m/s */
   double *stress[GM_STRESS_SLOTS]; /* Pa, xx yy zz xy (yz zx: 3D) */
   double *deformation[GM_F_SLOTS]; /* F components, see F_XX.. */
-  /* CPDI only (NULL otherwise): the domain map D, F_XX..F_YY slots. The
-   * domain's half edges are r1 = D (l_x/2, 0), r2 = D (0, l_y/2) with l
-   * the initial edges (domain_size). D takes the same increments as F
-   * (and the same density control), so D = F bitwise until the domain of
-   * an over-distorted point is reset (cpdi_reset.c). */
-  double *domain_map[4];
+  /* CPDI only (NULL otherwise): the domain map D, in F's slots (F_XX..
+   * F_YY below 3D, all nine F_XX..F_ZY in 3D). The domain's half edges
+   * are r_k = D (l_k/2) e_k with l the initial edges (domain_size). D
+   * takes the same increments as F (and the same density control), so D
+   * = F bitwise until the domain of an over-distorted point is reset
+   * (cpdi_reset.c). */
+  double *domain_map[GM_F_SLOTS];
   double *volume; /* current volume (units: gm_points_def) */
   double *state;  /* state[i*stride+k]: one pool for all
                      materials, stride = max state_count */

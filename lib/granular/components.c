@@ -162,8 +162,8 @@ static void cpdi_geometry_3d(gm_domain *domain, size_t p, const double x[3],
                              const double half[3], double measure) {
   gm_granular_work *work = &domain->granular;
   const gm_point_buffers *current = &domain->points.buffer[domain->points.cur];
-  double f[9]; /* F row-major */
-  gm_deformation_rows_3d((const double *const *)current->deformation, p, f);
+  double f[9]; /* the domain map D row-major (cpdi_reset.c) */
+  gm_deformation_rows_3d(gm_support_slots_3d(domain, current), p, f);
   int64_t low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
   /* Cannot fail: the binning checked the same support. */
   gm_cpdi_support_bounds_3d(&domain->shape_grid, x, f, half, low, high);
@@ -196,7 +196,7 @@ static void point_geometry_3d(void *context, size_t begin, size_t end,
                    current->position[2][p]}; /* m */
     double half[3];                          /* m */
     gm_box_half_edges_3d(domain->shape_grid.shape, size,
-                         (const double *const *)current->deformation, p, half);
+                         gm_support_slots_3d(domain, current), p, half);
     const gm_material *material = &domain->materials[points->material[p]];
     double measure = 0.0; /* non-granular: its own domain */
     if (material->granular && !work->boxes_valid)

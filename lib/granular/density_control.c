@@ -29,7 +29,7 @@ static void keep_previous_deformation(const gm_point_buffers *from,
   for (int k = 0; k < GM_F_SLOTS; k++) /* nine in 3D */
     if (to->deformation[k])
       to->deformation[k][p] = from->deformation[k][p];
-  for (int k = 0; k < 4; k++) /* CPDI: the domain goes back with F */
+  for (int k = 0; k < GM_F_SLOTS; k++) /* CPDI: the domain goes back with F */
     if (to->domain_map[k])
       to->domain_map[k][p] = from->domain_map[k][p];
   to->volume[p] = from->volume[p];
@@ -50,6 +50,8 @@ static void scale_to_critical(const gm_domain *domain, gm_point_buffers *to,
     for (int c = 0; c < 9; c++) {
       to->deformation[slot[c]][p] *= factor;
       f[c] = to->deformation[slot[c]][p];
+      if (to->domain_map[slot[c]]) /* CPDI: the domain scales with F */
+        to->domain_map[slot[c]][p] *= factor;
     }
     double jacobian = f[0] * (f[4] * f[8] - f[5] * f[7]) -
                       f[1] * (f[3] * f[8] - f[5] * f[6]) +
@@ -83,8 +85,8 @@ static void scale_to_critical(const gm_domain *domain, gm_point_buffers *to,
 typedef struct rewritten_arrays {
   double *zeroed[GM_STRESS_SLOTS];
   int zeroed_count;
-  double *kept[GM_F_SLOTS + 5]; /* F, D (CPDI), V */
-  const double *previous[GM_F_SLOTS + 5];
+  double *kept[2 * GM_F_SLOTS + 1]; /* F, D (CPDI), V */
+  const double *previous[2 * GM_F_SLOTS + 1];
   int kept_count;
 } rewritten_arrays;
 
@@ -99,7 +101,7 @@ static void gather_rewritten(const gm_point_buffers *from, gm_point_buffers *to,
       arrays->kept[arrays->kept_count] = to->deformation[k];
       arrays->previous[arrays->kept_count++] = from->deformation[k];
     }
-  for (int k = 0; k < 4; k++)
+  for (int k = 0; k < GM_F_SLOTS; k++)
     if (to->domain_map[k]) {
       arrays->kept[arrays->kept_count] = to->domain_map[k];
       arrays->previous[arrays->kept_count++] = from->domain_map[k];

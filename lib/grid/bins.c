@@ -106,8 +106,7 @@ static void keys_3d(gm_domain *domain, int worker, size_t begin, size_t end) {
     int64_t lowest[3]; /* GIMP box, B-spline or CPDI parallelepiped */
     if (gm_wide_lowest_3d(&domain->shape_grid, position,
                           (const double *const *)points->domain_size,
-                          (const double *const *)current->deformation, i,
-                          lowest)) {
+                          gm_support_slots_3d(domain, current), i, lowest)) {
       points->block_key[i] = gm_block_key_of_node_3d(&domain->grid, lowest[0],
                                                      lowest[1], lowest[2]);
       continue;
@@ -241,7 +240,7 @@ static void permute_buffers(void *context, size_t begin, size_t end,
     if (from->deformation[k])
       permute_doubles(to->deformation[k], from->deformation[k], order, begin,
                       end);
-  for (int k = 0; k < 4; k++)
+  for (int k = 0; k < GM_F_SLOTS; k++) /* CPDI: 4 slots, 9 in 3D */
     if (from->domain_map[k])
       permute_doubles(to->domain_map[k], from->domain_map[k], order, begin,
                       end);

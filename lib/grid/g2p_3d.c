@@ -10,7 +10,9 @@
  * (004 eq 3.23) and the stress update (stress_update.c, the full Jaumann
  * spin) follow. Points are processed in chunks of GM_BATCH_SIZE in index
  * order, each chunk by one worker: nothing is summed across points, so
- * the results do not depend on the worker count. A linear point is keyed
+ * the results do not depend on the worker count. CPDI's domain map D
+ * takes F's increments and is reset once too distorted (cpdi_reset.c).
+ * A linear point is keyed
  * by its cell when it moves; a GIMP point by its support's lowest node
  * once the step's last pass has its final position and F (cpGIMP's box
  * follows F), as in 2D (g2p_wide.c).
@@ -104,9 +106,8 @@ gather_chunk_3d_kind(const gm_domain *domain, gm_worker_scratch *scratch,
     if (cpdi) {
       double x[3] = {current->position[0][p], current->position[1][p],
                      current->position[2][p]}; /* m */
-      double half[3], f[9];                    /* m; F row-major */
-      const double *const *deformation =
-          (const double *const *)current->deformation;
+      double half[3], f[9];                    /* m; D row-major */
+      const double *const *deformation = gm_support_slots_3d(domain, current);
       gm_box_half_edges_3d(GM_SHAPE_CPDI,
                            (const double *const *)points->domain_size,
                            deformation, p, half);
@@ -503,9 +504,34 @@ static void move_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
   *left_block |= left;
 }
 
+/* CPDI: the domain map takes F's increment, D <- (I + L dt) D, with
+ * deform_chunk_3d's arithmetic (so D = F bitwise until a reset,
+ * cpdi_reset.c), read whole before it is written (in place: USF). */
+static void deform_domain_map_chunk_3d(const gm_point_buffers *from,
+                                       gm_point_buffers *to, size_t first,
+                                       size_t count, const chunk_gather_3d *g,
+                                       double dt) {
+  static const int slot[9] = {F_XX, F_XY, F_XZ, F_YX, F_YY,
+                              F_YZ, F_ZX, F_ZY, F_ZZ};
+  for (size_t j = 0; j < count; j++) {
+    size_t p = first + j;
+    double d[9], increment[9];
+    for (int c = 0; c < 9; c++) {
+      d[c] = from->domain_map[slot[c]][p];
+      increment[c] = g->gradient[c][j] * dt + (c % 4 == 0 ? 1.0 : 0.0);
+    }
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        to->domain_map[slot[3 * r + c]][p] = increment[3 * r] * d[c] +
+                                             increment[3 * r + 1] * d[3 + c] +
+                                             increment[3 * r + 2] * d[6 + c];
+  }
+}
+
 /* F <- (I + L dt) F with nine components and V = det F V0 (004 eq 3.23);
  * false (the points named) when some det F is not positive and finite.
- * In place (USF's second half), F is read whole before it is written. */
+ * In place (USF's second half), F is read whole before it is written.
+ * CPDI's domain map D takes the same increment. */
 static bool deform_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
                             size_t first, size_t count,
                             const chunk_gather_3d *g, double dt,
@@ -537,6 +563,8 @@ static bool deform_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
     to->volume[p] = jacobian * points->initial_volume[p];
     positive &= jacobian > 0.0 && jacobian < INFINITY;
   }
+  if (to->domain_map[0])
+    deform_domain_map_chunk_3d(from, to, first, count, g, dt);
   if (positive)
     return true;
   for (size_t p = first; p < first + count; p++) {
@@ -570,12 +598,12 @@ static void keys_chunk_3d(gm_domain *domain, gm_worker_scratch *scratch,
     double half[3];                     /* m */
     gm_box_half_edges_3d(domain->shape_grid.shape,
                          (const double *const *)points->domain_size,
-                         (const double *const *)to->deformation, p, half);
+                         gm_support_slots_3d(domain, to), p, half);
     int64_t lowest[3];
     if (gm_wide_lowest_3d(&domain->shape_grid,
                           (const double *const *)to->position,
                           (const double *const *)points->domain_size,
-                          (const double *const *)to->deformation, p, lowest)) {
+                          gm_support_slots_3d(domain, to), p, lowest)) {
       points->block_key[p] = gm_block_key_of_node_3d(&domain->grid, lowest[0],
                                                      lowest[1], lowest[2]);
       left |= points->block_key[p] != binned[points->point_block[p]];
@@ -663,6 +691,10 @@ static void g2p_chunks_3d(void *context, size_t begin, size_t end, int worker) {
         gm_density_control_chunk(domain, first, count);
         scratch->density_control_seconds += gm_monotonic_seconds() - start;
       }
+      /* CPDI: once D is final but for the reset, before the keys read it
+       * (as in 2D, g2p.c). */
+      if (domain->points.buffer[domain->points.cur ^ 1].domain_map[0])
+        gm_cpdi_reset_chunk(domain, first, count);
     } else if (pass->deform) {
       deformed = false;
     }

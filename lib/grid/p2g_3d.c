@@ -218,8 +218,8 @@ scatter_block_3d_kind(const p2g_3d_context *ctx, gm_worker_scratch *scratch,
   const gm_grid *grid = &domain->grid;
   const gm_point_buffers *current = &points->buffer[points->cur];
   const double *const *position = (const double *const *)current->position;
-  const double *const *deformation =
-      (const double *const *)current->deformation;
+  /* What deforms the domains: CPDI's D, else F (gm_support_slots_3d). */
+  const double *const *deformation = gm_support_slots_3d(domain, current);
   const double *gravity = domain->def.gravity; /* m/s^2 */
   const uint32_t *links = grid->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
   int64_t base[3] = {0, 0, 0}; /* the block's lowest node */

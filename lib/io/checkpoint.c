@@ -209,7 +209,7 @@ void gm_checkpoint_describe_setup(const gm_domain *domain,
 
 /* --------------------------------------------------------- point arrays */
 
-size_t gm_checkpoint_point_arrays(const gm_domain *domain,
+size_t gm_checkpoint_point_arrays(const gm_domain *domain, uint32_t version,
                                   gm_array_slot *slots) {
   const gm_points *points = &domain->points;
   const gm_point_buffers *b = &points->buffer[points->cur];
@@ -235,8 +235,10 @@ size_t gm_checkpoint_point_arrays(const gm_domain *domain,
   for (int k = 0; k < deformation; k++)
     SLOT(b->deformation[k], d,
          k == F_XX ? GM_CHECK_DEFORMATION : GM_CHECK_FINITE);
-  if (b->domain_map[0]) /* CPDI: the domain map (since format version 2) */
-    for (int k = 0; k < 4; k++)
+  /* CPDI: the domain map D in F's slots (since format version 2 below 3D,
+   * version 3 in 3D; a version-2 3D file starts D = F, checkpoint_load.c). */
+  if (b->domain_map[0] && (dim < 3 || version >= GM_CHECKPOINT_3D_MAP))
+    for (int k = 0; k < gm_domain_map_stored(domain); k++)
       SLOT(b->domain_map[k], d,
            k == F_XX ? GM_CHECK_DOMAIN_MAP : GM_CHECK_FINITE);
   SLOT(b->volume, d, GM_CHECK_POSITIVE);
@@ -264,7 +266,8 @@ size_t gm_checkpoint_point_arrays(const gm_domain *domain,
 static void write_points(const gm_domain *domain, gm_byte_writer *out) {
   const gm_points *points = &domain->points;
   gm_array_slot slots[GM_CHECKPOINT_MAX_ARRAYS];
-  size_t slot_count = gm_checkpoint_point_arrays(domain, slots);
+  size_t slot_count =
+      gm_checkpoint_point_arrays(domain, GM_CHECKPOINT_VERSION, slots);
   for (size_t k = 0; k < slot_count; k++) {
     if (slots[k].form == GM_FORM_RAW) {
       gm_writer_array(out, slots[k].data,

@@ -154,7 +154,8 @@ static bool read_whole(const char *path, unsigned char **data, size_t *size) {
 
 /* Checks the header against the file size and the payload's checksum. */
 static gm_status check_header(gm_domain *domain, const char *path,
-                              const unsigned char *data, size_t size) {
+                              const unsigned char *data, size_t size,
+                              uint32_t *file_version) {
   const char *what = "gm_domain_load";
   if (size < GM_CHECKPOINT_HEADER_SIZE ||
       memcmp(data, checkpoint_magic, sizeof checkpoint_magic) != 0)
@@ -173,11 +174,12 @@ static gm_status check_header(gm_domain *domain, const char *path,
                         "%s: '%s' was written on a machine "
                         "of another byte order (or is corrupted)",
                         what, path);
-  if (version != GM_CHECKPOINT_VERSION)
+  if (version < GM_CHECKPOINT_OLDEST || version > GM_CHECKPOINT_VERSION)
     return gm_set_error(domain, GM_ERR_IO,
                         "%s: '%s' has checkpoint format "
-                        "version %u; this library reads version %u%s",
-                        what, path, (unsigned)version, GM_CHECKPOINT_VERSION,
+                        "version %u; this library reads versions %u to %u%s",
+                        what, path, (unsigned)version, GM_CHECKPOINT_OLDEST,
+                        GM_CHECKPOINT_VERSION,
                         version == 1u
                             ? " (version 1 predates the force reports "
                               "and the stored CPDI "
@@ -199,19 +201,20 @@ static gm_status check_header(gm_domain *domain, const char *path,
                         "%s: '%s' is corrupted (checksum "
                         "mismatch)",
                         what, path);
+  *file_version = version;
   return GM_OK;
 }
 
 gm_status gm_checkpoint_read_file(gm_domain *domain, const char *path,
-                                  unsigned char **file,
-                                  gm_byte_reader *payload) {
+                                  unsigned char **file, gm_byte_reader *payload,
+                                  uint32_t *version) {
   unsigned char *data = NULL;
   size_t size = 0;
   if (!read_whole(path, &data, &size))
     return gm_set_error(domain, errno == ENOMEM ? GM_ERR_NO_MEMORY : GM_ERR_IO,
                         "gm_domain_load: cannot read '%s': %s", path,
                         strerror(errno));
-  gm_status status = check_header(domain, path, data, size);
+  gm_status status = check_header(domain, path, data, size, version);
   if (status != GM_OK) {
     gm_free(data);
     return status;

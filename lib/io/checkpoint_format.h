@@ -26,9 +26,14 @@
 #include <stdint.h>
 
 /* Version 2 added the force reports of walls and rigid materials (their
- * impulses) and the CPDI domain map (cpdi_reset.c) to the point arrays;
- * version 1 files are refused with a message that says so. */
-#define GM_CHECKPOINT_VERSION     2u
+ * impulses) and the 2D CPDI domain map (cpdi_reset.c) to the point
+ * arrays; version 3 the 3D CPDI domain map (nine arrays after F), the
+ * only change: a version-2 file loads as before, a 3D CPDI one with
+ * D = F, which is what its domains were then. Version 1 files are refused
+ * with a message that says so. */
+#define GM_CHECKPOINT_VERSION     3u
+#define GM_CHECKPOINT_OLDEST      2u /* the oldest version read */
+#define GM_CHECKPOINT_3D_MAP      3u /* the first with the 3D domain map */
 #define GM_CHECKPOINT_HEADER_SIZE 32u
 
 /* ------------------------------------------------------------- writing */
@@ -108,12 +113,13 @@ void gm_checkpoint_seal(gm_byte_writer *writer);
  * alone. Errors are recorded on domain (GM_ERR_IO, naming the path). */
 gm_status gm_checkpoint_write_file(gm_domain *domain, const char *path,
                                    const gm_byte_writer *writer);
-/* Reads path whole and checks magic, byte order, version, size and
- * checksum; on success *file holds the file (free with gm_free) and
- * *payload reads its payload. */
+/* Reads path whole and checks magic, byte order, version (from
+ * GM_CHECKPOINT_OLDEST to GM_CHECKPOINT_VERSION), size and checksum; on
+ * success *file holds the file (free with gm_free), *payload reads its
+ * payload and *version is the file's format version. */
 gm_status gm_checkpoint_read_file(gm_domain *domain, const char *path,
-                                  unsigned char **file,
-                                  gm_byte_reader *payload);
+                                  unsigned char **file, gm_byte_reader *payload,
+                                  uint32_t *version);
 
 /* ------------------------------------------- shared by save and load */
 /* Appends the setup records of domain (checkpoint.c). */
@@ -126,8 +132,8 @@ typedef enum gm_array_check {
   GM_CHECK_DEFORMATION, /* F_XX: with the next three slots (and F_ZZ in
                            axisymmetry; the next eight in 3D) finite,
                            det F > 0 */
-  GM_CHECK_DOMAIN_MAP,  /* CPDI's D_XX: with the next three slots finite,
-                           det D > 0 */
+  GM_CHECK_DOMAIN_MAP,  /* CPDI's D_XX: with the next three slots (the
+                           next eight in 3D) finite, det D > 0 */
   GM_CHECK_POSITIVE,    /* finite and > 0: volumes, masses, domain sizes */
   GM_CHECK_POSITION,    /* finite and inside the grid box */
   GM_CHECK_INPUT, /* velocities: host-written ones are screened by the step */
@@ -153,14 +159,17 @@ typedef struct gm_array_slot {
 } gm_array_slot;
 
 /* 30 in 3D (positions 3, velocities 3, stress 6, F 9 and 9 others), 39
- * with APIC's 9 affine components (41 should the granular family's two
- * come to 3D); at most 31 in 2D (CPDI, granular, APIC, axisymmetry). */
+ * with CPDI's domain map or APIC's 9 affine components (the two are not
+ * allowed together in 3D; 41 should the granular family's two come to
+ * 3D); at most 31 in 2D (CPDI, granular, APIC, axisymmetry). */
 #define GM_CHECKPOINT_MAX_ARRAYS 48
 
-/* The per-point arrays of the committed state, in file order, into slots
- * (at most GM_CHECKPOINT_MAX_ARRAYS); returns their number. The list
- * depends only on the setup, so the saving and the loading domain agree. */
-size_t gm_checkpoint_point_arrays(const gm_domain *domain,
+/* The per-point arrays of the committed state, in the file order of
+ * format `version` (GM_CHECKPOINT_VERSION to save), into slots (at most
+ * GM_CHECKPOINT_MAX_ARRAYS); returns their number. The list depends only
+ * on the setup and the version, so the saving and the loading domain
+ * agree. */
+size_t gm_checkpoint_point_arrays(const gm_domain *domain, uint32_t version,
                                   gm_array_slot *slots);
 
 #endif

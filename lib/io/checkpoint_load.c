@@ -35,6 +35,7 @@ typedef struct loaded_state {
   gm_force_report wall_report[GM_MAX_WALLS];
   double force_smoothing_time; /* s */
   gm_granular_summary summary;
+  uint32_t version; /* the file's format version */
 } loaded_state;
 
 /* --------------------------------------------------------------- decode */
@@ -61,7 +62,7 @@ static void read_clock(gm_byte_reader *in, loaded_state *state) {
 static void read_points(gm_byte_reader *in, const gm_domain *domain,
                         loaded_state *state) {
   gm_array_slot slots[GM_CHECKPOINT_MAX_ARRAYS];
-  size_t slot_count = gm_checkpoint_point_arrays(domain, slots);
+  size_t slot_count = gm_checkpoint_point_arrays(domain, state->version, slots);
   for (size_t k = 0; k < slot_count; k++)
     state->array[k] =
         gm_reader_array(in, state->count * slots[k].bytes_per_point);
@@ -269,7 +270,7 @@ static bool valid_materials(const gm_domain *domain, const loaded_state *state,
 static const char *first_invalid(const gm_domain *domain,
                                  const loaded_state *state) {
   gm_array_slot slots[GM_CHECKPOINT_MAX_ARRAYS];
-  size_t slot_count = gm_checkpoint_point_arrays(domain, slots);
+  size_t slot_count = gm_checkpoint_point_arrays(domain, state->version, slots);
   for (size_t k = 0; k < slot_count; k++) {
     const unsigned char *bytes = state->array[k];
     size_t values = state->count * slots[k].bytes_per_point / sizeof(double);
@@ -283,9 +284,9 @@ static const char *first_invalid(const gm_domain *domain,
     case GM_CHECK_DOMAIN_MAP:
       if (!valid_reals(bytes, values, GM_CHECK_FINITE))
         return "a non-finite or non-positive point value";
-      /* F_ZZ follows F_YY in axisymmetry, all nine in 3D
+      /* F_ZZ follows F_YY in axisymmetry, all nine of F or D in 3D
        * (gm_checkpoint_point_arrays). */
-      if (!(domain->dim == 3 && slots[k].check == GM_CHECK_DEFORMATION
+      if (!(domain->dim == 3
                 ? valid_jacobians_3d(state, k)
                 : valid_jacobians(state, k,
                                   slots[k].check == GM_CHECK_DEFORMATION &&
@@ -361,7 +362,7 @@ static void copy_bytes(void *to, const unsigned char *from, size_t size) {
 static void apply_points(gm_domain *domain, const loaded_state *state) {
   gm_points *points = &domain->points;
   gm_array_slot slots[GM_CHECKPOINT_MAX_ARRAYS];
-  size_t slot_count = gm_checkpoint_point_arrays(domain, slots);
+  size_t slot_count = gm_checkpoint_point_arrays(domain, state->version, slots);
   for (size_t k = 0; k < slot_count; k++) {
     if (slots[k].form == GM_FORM_RAW) {
       copy_bytes(slots[k].data, state->array[k],
@@ -416,8 +417,23 @@ static void apply_totals(gm_domain *domain, const loaded_state *state) {
   domain->granular_summary = state->summary;
 }
 
+/* A 3D CPDI file of a version without the domain map (format version 2):
+ * its domains followed F, so D starts as F and the run continues as it
+ * would have (to the first reset). */
+static void start_domain_map_at_f(gm_domain *domain,
+                                  const loaded_state *state) {
+  gm_point_buffers *b = &domain->points.buffer[domain->points.cur];
+  if (domain->dim < 3 || !b->domain_map[0] ||
+      state->version >= GM_CHECKPOINT_3D_MAP)
+    return;
+  for (int k = 0; k < GM_F_SLOTS; k++)
+    copy_bytes(b->domain_map[k], (const unsigned char *)b->deformation[k],
+               state->count * sizeof(double));
+}
+
 static void apply(gm_domain *domain, const loaded_state *state) {
   apply_points(domain, state);
+  start_domain_map_at_f(domain, state);
   apply_totals(domain, state);
   domain->time = state->time;
   domain->step_count = state->step_count;
@@ -493,7 +509,9 @@ gm_status gm_domain_load(gm_domain *domain, const char *path) {
                         "gm_domain_load: called during a step");
   unsigned char *file = NULL;
   gm_byte_reader in;
-  gm_status status = gm_checkpoint_read_file(domain, path, &file, &in);
+  uint32_t version = 0;
+  gm_status status =
+      gm_checkpoint_read_file(domain, path, &file, &in, &version);
   if (status != GM_OK)
     return status;
   /* About 14 kB of totals: off the stack, an embedding code's threads
@@ -502,8 +520,10 @@ gm_status gm_domain_load(gm_domain *domain, const char *path) {
   if (!state)
     status = gm_set_error(domain, GM_ERR_NO_MEMORY,
                           "gm_domain_load: out of memory reading '%s'", path);
-  if (status == GM_OK)
+  if (status == GM_OK) {
+    state->version = version;
     status = check_setup(domain, path, &in);
+  }
   if (status == GM_OK)
     status = decode(domain, path, &in, state);
   if (status == GM_OK && reserve_for(domain, state) != GM_OK)

@@ -55,11 +55,98 @@ bool gm_cpdi_domain_reset(double map[4], double max_distortion) {
   return true;
 }
 
+/* Squared singular values s1^2 >= s3^2 (the largest and smallest
+ * eigenvalues) of the symmetric positive definite c = D^T D, row-major,
+ * in closed form (the trigonometric solution of its characteristic
+ * cubic: Smith 1961, CACM 4:168). */
+static void extreme_squares(const double c[9], double *largest,
+                            double *smallest) {
+  double mean = (c[0] + c[4] + c[8]) / 3.0;
+  double off = c[1] * c[1] + c[2] * c[2] + c[5] * c[5];
+  double spread = (c[0] - mean) * (c[0] - mean) +
+                  (c[4] - mean) * (c[4] - mean) +
+                  (c[8] - mean) * (c[8] - mean) + 2.0 * off;
+  double scale = sqrt(spread / 6.0);
+  if (!(scale > 0.0)) { /* c = mean I */
+    *largest = *smallest = mean;
+    return;
+  }
+  double b[9]; /* (c - mean I) / scale, det b / 2 in [-1, 1] */
+  for (int k = 0; k < 9; k++)
+    b[k] = (c[k] - (k % 4 == 0 ? mean : 0.0)) / scale;
+  double half_det = 0.5 * (b[0] * (b[4] * b[8] - b[5] * b[7]) -
+                           b[1] * (b[3] * b[8] - b[5] * b[6]) +
+                           b[2] * (b[3] * b[7] - b[4] * b[6]));
+  half_det = half_det < -1.0 ? -1.0 : half_det > 1.0 ? 1.0 : half_det;
+  double angle = acos(half_det) / 3.0;
+  const double third_turn = 2.0943951023931954923; /* 2 pi / 3 */
+  *largest = mean + 2.0 * scale * cos(angle);
+  *smallest = mean + 2.0 * scale * cos(angle + third_turn);
+}
+
+bool gm_cpdi_domain_reset_3d(double map[9], double max_distortion) {
+  const double *d = map; /* row-major */
+  double determinant = d[0] * (d[4] * d[8] - d[5] * d[7]) -
+                       d[1] * (d[3] * d[8] - d[5] * d[6]) +
+                       d[2] * (d[3] * d[7] - d[4] * d[6]);
+  double norm_squared = 0.0, cofactor_squared = 0.0; /* |D|_F^2, |cof D|_F^2 */
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3,
+          j2 = (j + 2) % 3;
+      double cofactor =
+          d[3 * i1 + j1] * d[3 * i2 + j2] - d[3 * i1 + j2] * d[3 * i2 + j1];
+      norm_squared += d[3 * i + j] * d[3 * i + j];
+      cofactor_squared += cofactor * cofactor;
+    }
+  /* A non-positive or non-finite D is left alone, as in 2D. */
+  if (!(determinant > 0.0 && isfinite(norm_squared * cofactor_squared)))
+    return false;
+  double t = max_distortion;
+  double q = norm_squared * cofactor_squared / (determinant * determinant);
+  double below = (t + 1.0 + 1.0 / t) * (t + 1.0 + 1.0 / t); /* q_min(T) */
+  double above = 5.0 + 2.0 * t * t + 2.0 / (t * t);         /* q_max(T) */
+  bool distorted = q > above;
+  if (q > below && !distorted) { /* the band: the singular values decide */
+    double c[9];                 /* D^T D */
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++)
+        c[3 * i + j] = d[i] * d[j] + d[3 + i] * d[3 + j] + d[6 + i] * d[6 + j];
+    double largest, smallest;
+    extreme_squares(c, &largest, &smallest);
+    distorted = largest > t * t * smallest;
+  }
+  if (!distorted)
+    return false;
+  double stretch = cbrt(determinant); /* keeps det D, hence the volume */
+  for (int k = 0; k < 9; k++)
+    map[k] = k % 4 == 0 ? stretch : 0.0;
+  return true;
+}
+
+/* The 3D resets of the chunk: D read row-major from the nine slots. */
+static void reset_chunk_3d(double *const *map, size_t first, size_t count) {
+  static const int slot[9] = {F_XX, F_XY, F_XZ, F_YX, F_YY,
+                              F_YZ, F_ZX, F_ZY, F_ZZ};
+  for (size_t p = first; p < first + count; p++) {
+    double value[9];
+    for (int k = 0; k < 9; k++)
+      value[k] = map[slot[k]][p];
+    if (gm_cpdi_domain_reset_3d(value, GM_CPDI_MAX_DISTORTION))
+      for (int k = 0; k < 9; k++)
+        map[slot[k]][p] = value[k];
+  }
+}
+
 void gm_cpdi_reset_chunk(const gm_domain *domain, size_t first, size_t count) {
   if (domain->dim < 2) /* a segment cannot be distorted */
     return;
   const gm_points *points = &domain->points;
   double *const *map = points->buffer[points->cur ^ 1].domain_map;
+  if (domain->dim == 3) {
+    reset_chunk_3d(map, first, count);
+    return;
+  }
   for (size_t p = first; p < first + count; p++) {
     double value[4] = {map[F_XX][p], map[F_XY][p], map[F_YX][p], map[F_YY][p]};
     if (gm_cpdi_domain_reset(value, GM_CPDI_MAX_DISTORTION))

@@ -92,8 +92,10 @@ static double *stored_component(const gm_domain *domain, gm_field field,
  * volume is det F times the initial box's, the point's volume V = det F V0
  * (g2p_3d.c) when V0 is the initial box (fill_box). Linear MPM has no
  * domain of its own: this is the material box the point started as,
- * carried by F (the CPDI domain of 000 Fig. 12 in 3D; with GM_SHAPE_CPDI
- * exactly the domain its weights average over, support_cpdi_3d.h). uGIMP
+ * carried by F (the CPDI domain of 000 Fig. 12 in 3D). With GM_SHAPE_CPDI
+ * the domain map D takes F's place: exactly the domain its weights
+ * average over (support_cpdi_3d.h), F's until it is reset
+ * (cpdi_reset.c), of the same volume det D = det F always. uGIMP
  * and cpGIMP
  * give their own box instead (axis-aligned; cpGIMP's edges stretched by
  * |F_kk|), whose volume is not V. Corner c has signs
@@ -120,8 +122,9 @@ static double corner_value_3d(const gm_domain *domain, size_t k, size_t i) {
                          (const double *const *)buffer->deformation, i, half);
     return value + sign[corner][axis] * half[axis];
   }
+  const double *const *map = gm_support_slots_3d(domain, buffer); /* D, F */
   for (int a = 0; a < 3; a++)
-    value += buffer->deformation[row[axis][a]][i] * sign[corner][a] * 0.5 *
+    value += map[row[axis][a]][i] * sign[corner][a] * 0.5 *
              points->domain_size[a][i];
   return value;
 }

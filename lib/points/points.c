@@ -26,6 +26,10 @@ static int stored_deformation(const gm_domain *domain) {
   return domain->axisymmetric ? GM_F_STORED : F_ZZ;
 }
 
+int gm_domain_map_stored(const gm_domain *domain) {
+  return domain->dim == 3 ? GM_F_SLOTS : F_ZZ;
+}
+
 int gm_stress_stored(const gm_domain *domain) {
   return domain->dim == 3 ? GM_STRESS_SLOTS : GM_STRESS_STORED;
 }
@@ -40,9 +44,10 @@ gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
     GROW(buffer->stress[k], sizeof(double));
   for (int k = 0; k < stored_deformation(domain); k++)
     GROW(buffer->deformation[k], sizeof(double));
-  /* CPDI's domain map D (2D; 3D domains follow F, support_cpdi_3d.h) */
-  if (domain->def.shape == GM_SHAPE_CPDI && domain->dim < 3)
-    for (int k = 0; k < 4; k++)
+  /* CPDI's domain map D (cpdi_reset.c): F's slots xx xy yx yy below 3D,
+   * all nine in 3D. */
+  if (domain->def.shape == GM_SHAPE_CPDI)
+    for (int k = 0; k < gm_domain_map_stored(domain); k++)
       GROW(buffer->domain_map[k], sizeof(double));
   GROW(buffer->volume, sizeof(double));
   if (domain->points.state_stride)
@@ -136,7 +141,7 @@ void gm_buffers_free(gm_point_buffers *buffer) {
     gm_free(buffer->stress[k]);
   for (int k = 0; k < GM_F_SLOTS; k++)
     gm_free(buffer->deformation[k]);
-  for (int k = 0; k < 4; k++)
+  for (int k = 0; k < GM_F_SLOTS; k++)
     gm_free(buffer->domain_map[k]);
   gm_free(buffer->volume);
   gm_free(buffer->state);
@@ -162,7 +167,7 @@ void gm_buffers_copy(gm_point_buffers *to, const gm_point_buffers *from,
     copy_array(to->stress[k], from->stress[k], count);
   for (int k = 0; k < GM_F_SLOTS; k++)
     copy_array(to->deformation[k], from->deformation[k], count);
-  for (int k = 0; k < 4; k++)
+  for (int k = 0; k < GM_F_SLOTS; k++)
     copy_array(to->domain_map[k], from->domain_map[k], count);
   copy_array(to->volume, from->volume, count);
   copy_array(to->state, from->state, count * state_stride);
@@ -443,9 +448,10 @@ static void store_point(gm_domain *domain, const gm_points_def *def, size_t i,
   for (int k = F_XZ; k <= F_ZY; k++) /* 3D: off-plane shears */
     if (buffer->deformation[k])
       buffer->deformation[k][p] = 0.0;
-  if (buffer->domain_map[0]) /* CPDI: the initial domain, D = I */
-    for (int k = 0; k < 4; k++)
-      buffer->domain_map[k][p] = k == F_XX || k == F_YY ? 1.0 : 0.0;
+  for (int k = 0; k < GM_F_SLOTS; k++) /* CPDI: the initial domain, D = I */
+    if (buffer->domain_map[k])
+      buffer->domain_map[k][p] =
+          k == F_XX || k == F_YY || k == F_ZZ ? 1.0 : 0.0;
   for (size_t k = 0; k < points->state_stride; k++)
     buffer->state[p * points->state_stride + k] =
         k < material->state_count ? material->initial_state[k] : 0.0;

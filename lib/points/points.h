@@ -41,6 +41,9 @@ static inline int gm_affine_stored(const gm_domain *domain) {
 /* Stress components stored per point: 4 (xx yy zz xy) below 3D, 6 in 3D
  * (points.c). */
 int gm_stress_stored(const gm_domain *domain);
+/* Slots of CPDI's domain map D stored per point: F_XX..F_YY (4) below
+ * 3D, all nine in 3D (points.c). */
+int gm_domain_map_stored(const gm_domain *domain);
 /* Sizes one buffer set for capacity points (keeps contents). */
 gm_status gm_buffers_reserve(const gm_domain *domain, gm_point_buffers *buffer,
                              size_t old_capacity, size_t capacity);
@@ -60,6 +63,15 @@ static inline void gm_support_tensor(const gm_domain *domain,
   for (int k = 0; k < 4; k++)
     out[k] = cpdi ? buffer->domain_map[k] : buffer->deformation[k];
 }
+/* The nine slots (core.h's F_XX..F_ZY) that deform the 3D point domains
+ * of a buffer set: the CPDI domain map D, or F (cpGIMP reads its
+ * diagonal; uGIMP, the B-splines and linear MPM ignore it). */
+static inline const double *const *
+gm_support_slots_3d(const gm_domain *domain, const gm_point_buffers *buffer) {
+  bool cpdi = domain->shape_grid.shape == GM_SHAPE_CPDI;
+  return (const double *const *)(cpdi ? buffer->domain_map
+                                      : buffer->deformation);
+}
 /* Point p's domain (support.h) in one buffer set (points.c). */
 void gm_point_domain_at(const gm_domain *domain, const gm_point_buffers *buffer,
                         size_t p, gm_point_domain *out);
@@ -73,6 +85,10 @@ void gm_point_domain_at(const gm_domain *domain, const gm_point_buffers *buffer,
  * its singular values exceeds max_distortion and det D > 0; true if it
  * did. */
 bool gm_cpdi_domain_reset(double map[4], double max_distortion);
+/* The same in 3D: map is D row-major (D_xx, D_xy, D_xz, D_yx, ..., D_zz),
+ * reset to cbrt(det D) I when sigma_max / sigma_min exceeds
+ * max_distortion and det D > 0; true if it did. */
+bool gm_cpdi_domain_reset_3d(double map[9], double max_distortion);
 /* The resets of the next buffer's points [first, first + count): after
  * their deformation and density control (g2p.c); nothing in 1D. */
 void gm_cpdi_reset_chunk(const gm_domain *domain, size_t first, size_t count);

@@ -28,7 +28,7 @@ static void move_point(gm_domain *domain, size_t to, size_t from) {
     move_element(buffer->stress[k], sizeof(double), to, from);
   for (int k = 0; k < GM_F_SLOTS; k++)
     move_element(buffer->deformation[k], sizeof(double), to, from);
-  for (int k = 0; k < 4; k++)
+  for (int k = 0; k < GM_F_SLOTS; k++) /* CPDI: 4 slots, 9 in 3D */
     move_element(buffer->domain_map[k], sizeof(double), to, from);
   move_element(buffer->volume, sizeof(double), to, from);
   move_element(buffer->granular_state, sizeof(uint8_t), to, from);

@@ -824,8 +824,10 @@ static void set_rotation(gm_domain *domain, size_t p, char axis) {
     r[0] = c, r[2] = c, r[6] = -c, r[8] = c;
   }
   gm_point_buffers *buffer = &domain->points.buffer[domain->points.cur];
-  for (int k = 0; k < 9; k++)
+  for (int k = 0; k < 9; k++) { /* F and the domain map D that CPDI reads */
     buffer->deformation[ROTATION_SLOT[k]][p] = r[k];
+    buffer->domain_map[ROTATION_SLOT[k]][p] = r[k];
+  }
 }
 
 START_TEST(test_granular_rotated_domains_meet) {
