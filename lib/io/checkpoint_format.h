@@ -158,11 +158,12 @@ typedef struct gm_array_slot {
   gm_array_form form;
 } gm_array_slot;
 
-/* 30 in 3D (positions 3, velocities 3, stress 6, F 9 and 9 others), 39
- * with CPDI's domain map or APIC's 9 affine components (the two are not
- * allowed together in 3D; 41 should the granular family's two come to
- * 3D); at most 31 in 2D (CPDI, granular, APIC, axisymmetry). */
-#define GM_CHECKPOINT_MAX_ARRAYS 48
+/* 30 in 3D (positions 3, velocities 3, stress 6, F 9, volume, state,
+ * mass, initial volume, domain sizes 3, id, material), plus the granular
+ * family's 2, APIC's 9 affine components and CPDI's 9 of the domain map:
+ * 50 with all three; at most 31 in 2D (CPDI, granular, APIC,
+ * axisymmetry). */
+#define GM_CHECKPOINT_MAX_ARRAYS 52
 
 /* The per-point arrays of the committed state, in the file order of
  * format `version` (GM_CHECKPOINT_VERSION to save), into slots (at most

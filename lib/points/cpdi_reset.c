@@ -31,6 +31,28 @@
  * (Frobenius norm), the singular values s1 >= s2 satisfy s1 s2 = |det D|
  * and s1^2 + s2^2 = |D|_F^2, so q = (rho + 1/rho) / 2 for rho = s1 / s2,
  * and rho > T exactly when q > (T + 1/T) / 2.
+ *
+ * 3D (since 2026-11-29; before, a 3D domain followed F and a long shear
+ * failed the step once its parallelepiped spanned more than the 5 node
+ * planes a support may, GM_ERR_OUT_OF_GRID): the same with the nine
+ * components of D (g2p_3d.c, density_control.c) and the reset
+ *   D <- cbrt(det D) I      when  sigma_max(D) / sigma_min(D) > T,
+ * which keeps det D, hence the volume. Two invariants no longer fix the
+ * ratio rho = s1 / s3 of three singular values, so the test is exact in
+ * two steps. First, root-free bounds: q = |D|_F^2 |cof D|_F^2 / det^2 D
+ * = (s1^2 + s2^2 + s3^2)(1/s1^2 + 1/s2^2 + 1/s3^2) (|cof D|_F^2 = the sum
+ * of the products s_i^2 s_j^2), which for a given rho lies between
+ * q_min(rho) = (rho + 1 + 1/rho)^2 (at s2^2 = s1 s3) and q_max(rho) = 5 +
+ * 2 rho^2 + 2 / rho^2 (at s2 = s1 or s3), both increasing in rho > 1. So
+ * q <= q_min(T) (18.8 for T = 3) proves rho <= T: no reset, the common
+ * case, with no root taken; q > q_max(T) (23.2) proves rho > T: a reset.
+ * Between them, the largest and smallest eigenvalues of D^T D in closed
+ * form (the trigonometric solution of the characteristic cubic, Smith
+ * 1961, one acos and two cos) decide s1^2 > T^2 s3^2. A closed form
+ * rather than a bound alone, so that 3D resets at the same ratio as 2D
+ * (a test on q alone would let rho reach 3.54 before a reset, or reset
+ * domains with rho down to 2.6). The arithmetic is per point and fixed, so the
+ * results stay bitwise the same with any worker count.
  */
 #include "points/points.h"
 

@@ -20,7 +20,9 @@
  *  - below the bound D = F bitwise (so a 3D CPDI run that never resets
  *    is the one it was before D existed), in every scheme;
  *  - the sheared run bitwise the same with 1 and 2 workers, D included;
- *  - a checkpoint written after resets restarts bitwise, D included;
+ *  - a checkpoint written after resets restarts bitwise, D included,
+ *    also with APIC and the granular family (the longest array list), and
+ *    a format-version-2 file (no 3D map) loads with D = F;
  *  - no allocation in a step after warm-up, across resets.
  *
  * SPDX-License-Identifier: BSD-2-Clause
@@ -471,6 +473,150 @@ START_TEST(test_restart_bitwise_with_resets) {
 }
 END_TEST
 
+/* FNV-1a 64 (gm_checkpoint(3)), to re-seal a file altered on purpose. */
+static uint64_t fnv1a64(const unsigned char *bytes, size_t size,
+                        uint64_t hash) {
+  for (size_t k = 0; k < size; k++) {
+    hash ^= bytes[k];
+    hash *= 0x100000001b3ull;
+  }
+  return hash;
+}
+
+static unsigned char *read_whole(const char *path, size_t *size) {
+  FILE *file = fopen(path, "rb");
+  ck_assert_ptr_nonnull(file);
+  fseek(file, 0, SEEK_END);
+  *size = (size_t)ftell(file);
+  fseek(file, 0, SEEK_SET);
+  unsigned char *data = malloc(*size + 1);
+  ck_assert_ptr_nonnull(data);
+  ck_assert_uint_eq(fread(data, 1, *size, file), *size);
+  fclose(file);
+  return data;
+}
+
+/* A format-version-2 file of a 3D CPDI domain (written before the 3D
+ * domain map existed) has no D arrays. Made here from a version-3 file
+ * saved before any reset, where D = F bitwise: the nine D arrays (each a
+ * u64 byte count and the bytes) repeat the nine F arrays right before
+ * them, and are cut out; the header then says version 2 and is re-sealed.
+ * The load must start D = F, and the run continue bitwise as the saved
+ * one, through its first resets. */
+START_TEST(test_version_2_file_starts_map_at_f) {
+  char path[64], old_path[64];
+  snprintf(path, sizeof path, "/tmp/gm_cpdi_reset3d_v3_%ld.ckpt",
+           (long)getpid());
+  snprintf(old_path, sizeof old_path, "/tmp/gm_cpdi_reset3d_v2_%ld.ckpt",
+           (long)getpid());
+  gm_domain *a = sheared_block(GM_SCHEME_MUSL, 1);
+  run(a, 20);
+  ck_assert_uint_eq(reset_points(a), 0);
+  TEST_ASSERT_OK(a, gm_domain_save(a, path));
+  state at_save = observe(a);
+  size_t size = 0, count = gm_domain_point_count(a);
+  unsigned char *data = read_whole(path, &size);
+  size_t block = 9 * (8 + 8 * count); /* bytes of nine point arrays */
+  uint64_t array_bytes = 8 * count;
+  size_t at = 0; /* offset of the F arrays */
+  for (size_t i = 32; at == 0 && i + 2 * block <= size; i++)
+    if (memcmp(data + i, &array_bytes, 8) == 0 &&
+        memcmp(data + i, data + i + block, block) == 0)
+      at = i;
+  ck_assert_uint_gt(at, 0);
+  memmove(data + at + block, data + at + 2 * block, size - at - 2 * block);
+  size -= block;
+  uint32_t version = 2;
+  uint64_t payload = size - 32;
+  memcpy(data + 8, &version, 4);
+  memcpy(data + 16, &payload, 8);
+  uint64_t hash = fnv1a64(data, 24, 0xcbf29ce484222325ull);
+  hash = fnv1a64(data + 32, size - 32, hash);
+  memcpy(data + 24, &hash, 8);
+  FILE *file = fopen(old_path, "wb");
+  ck_assert_ptr_nonnull(file);
+  ck_assert_uint_eq(fwrite(data, 1, size, file), size);
+  ck_assert_int_eq(fclose(file), 0);
+  free(data);
+  gm_domain *b = sheared_block(GM_SCHEME_MUSL, 1);
+  run(b, 3); /* D no longer F: the load must set it */
+  TEST_ASSERT_OK(b, gm_domain_load(b, old_path));
+  state loaded = observe(b);
+  assert_same(&at_save, &loaded, "a version-2 file, right after the load");
+  run(a, 100);
+  run(b, 100);
+  ck_assert_uint_gt(reset_points(a), 0);
+  state end_a = observe(a), end_b = observe(b);
+  assert_same(&end_a, &end_b, "a version-2 file, after the restarted steps");
+  remove(path);
+  remove(old_path);
+  forget(&at_save);
+  forget(&loaded);
+  forget(&end_a);
+  forget(&end_b);
+  gm_domain_destroy(a);
+  gm_domain_destroy(b);
+}
+END_TEST
+
+/* The longest list of point arrays a checkpoint holds (checkpoint.c):
+ * CPDI's domain map with APIC's affine matrix and the granular family's
+ * state and label in 3D, 50 arrays. The sheared block of a granular
+ * material (rho_cr below the density: connected, stressed) with APIC,
+ * saved after resets at step 100 and restarted bitwise. */
+static gm_domain *granular_apic_block(void) {
+  gm_domain_def def = gm_domain_def_default();
+  def.geometry = GM_GEOMETRY_3D;
+  def.shape = GM_SHAPE_CPDI;
+  def.family = GM_FAMILY_GRANULAR;
+  def.transfer = GM_TRANSFER_APIC;
+  def.cell_size = SHEAR_CELL;
+  def.extent[0] = 3.2; /* m */
+  def.extent[1] = def.extent[2] = 0.8;
+  for (int k = 0; k < 3; k++)
+    def.gravity[k] = 0.0;
+  gm_domain *domain = test_create_domain(&def);
+  int material = test_add_elastic(domain, 10.0, 0.3, 1000.0);
+  gm_granular_def granular = gm_granular_def_default();
+  granular.critical_density = 900.0; /* kg/m^3 */
+  TEST_ASSERT_OK(domain, gm_domain_set_granular(domain, material, &granular));
+  const double lower[3] = {1.4, 0.3, 0.2}, upper[3] = {1.8, 0.5, 0.6};
+  test_fill_box(domain, material, lower, upper, 2, NULL);
+  size_t count = gm_domain_point_count(domain);
+  const double *y = NULL;
+  double *vx = NULL;
+  TEST_ASSERT_OK(domain,
+                 gm_domain_view_field(domain, GM_FIELD_POSITION, 1, &y));
+  TEST_ASSERT_OK(domain,
+                 gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 0, &vx));
+  for (size_t i = 0; i < count; i++)
+    vx[i] = 0.05 + SHEAR_RATE * (y[i] - SHEAR_Y_MID); /* m/s */
+  return domain;
+}
+
+START_TEST(test_restart_granular_apic_with_resets) {
+  char path[64];
+  snprintf(path, sizeof path, "/tmp/gm_cpdi_reset3d_ga_%ld.ckpt",
+           (long)getpid());
+  gm_domain *a = granular_apic_block();
+  run(a, 100);
+  ck_assert_uint_gt(reset_points(a), 0);
+  TEST_ASSERT_OK(a, gm_domain_save(a, path));
+  run(a, 50);
+  state end_a = observe(a);
+  gm_domain *b = granular_apic_block();
+  TEST_ASSERT_OK(b, gm_domain_load(b, path));
+  run(b, 50);
+  state end_b = observe(b);
+  assert_same(&end_a, &end_b, "granular APIC, after the restarted steps");
+  remove(path);
+  forget(&end_a);
+  forget(&end_b);
+  gm_domain_destroy(a);
+  gm_domain_destroy(b);
+}
+END_TEST
+
 /* _i: workers - 1. Steps 80 to 120 reset domains (the first at about
  * step 60, printed by the sheared case) and allocate nothing once warm:
  * a reset writes the next buffer in place. The block spreads over more
@@ -503,6 +649,8 @@ static Suite *cpdi_reset_3d_suite(void) {
   tcase_add_loop_test(tcase, test_below_the_bound_map_is_f, 0, 3);
   tcase_add_loop_test(tcase, test_workers_bitwise_with_resets, 0, 3);
   tcase_add_loop_test(tcase, test_restart_bitwise_with_resets, 0, 6);
+  tcase_add_test(tcase, test_restart_granular_apic_with_resets);
+  tcase_add_test(tcase, test_version_2_file_starts_map_at_f);
   tcase_add_loop_test(tcase, test_no_allocation_with_resets, 0, 2);
   suite_add_tcase(suite, tcase);
   return suite;
