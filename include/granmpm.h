@@ -115,7 +115,9 @@ typedef enum gm_shape {
   GM_SHAPE_LINEAR = 0,   /* original MPM: tents of the point's cell, 4 nodes */
   GM_SHAPE_UGIMP = 1,    /* GIMP, the initial rectangular domain: 9 nodes */
   GM_SHAPE_CPGIMP = 2,   /* GIMP, rectangle stretched by |F_xx|, |F_yy| */
-  GM_SHAPE_CPDI = 3,     /* CPDI1: parallelogram spanned by F r1, F r2 */
+  GM_SHAPE_CPDI = 3,     /* CPDI1: parallelogram spanned by F r1, F r2
+                            (parallelepiped in 3D), reset to the initial
+                            shape once too distorted (gm_domain_create(3)) */
   GM_SHAPE_BSPLINE2 = 4, /* quadratic B-splines on the nodes (Steffen et al.
                             2008): 3 nodes per axis, 9 in 2D */
   GM_SHAPE_BSPLINE3 = 5  /* cubic B-splines: 4 nodes per axis, 16 in 2D */

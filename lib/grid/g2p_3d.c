@@ -12,10 +12,10 @@
  * order, each chunk by one worker: nothing is summed across points, so
  * the results do not depend on the worker count. CPDI's domain map D
  * takes F's increments and is reset once too distorted (cpdi_reset.c).
- * A linear point is keyed
- * by its cell when it moves; a GIMP point by its support's lowest node
- * once the step's last pass has its final position and F (cpGIMP's box
- * follows F), as in 2D (g2p_wide.c).
+ * A linear point is keyed by its cell when it moves; a GIMP or CPDI point
+ * by its support's lowest node once the step's last pass has its final
+ * position and F or D (cpGIMP's box follows F, CPDI's D), as in 2D
+ * (g2p_wide.c).
  *
  * GM_TRANSFER_APIC (Jiang et al. 2015): the velocity pass sets v_p to the
  * PIC velocity sum N_ip v_i and the affine matrix to B_p = sum N_ip v_i

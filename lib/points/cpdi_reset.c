@@ -51,8 +51,8 @@
  * 1961, one acos and two cos) decide s1^2 > T^2 s3^2. A closed form
  * rather than a bound alone, so that 3D resets at the same ratio as 2D
  * (a test on q alone would let rho reach 3.54 before a reset, or reset
- * domains with rho down to 2.6). The arithmetic is per point and fixed, so the
- * results stay bitwise the same with any worker count.
+ * domains with rho down to 2.6). The arithmetic is per point and fixed,
+ * so the results stay bitwise the same with any worker count.
  */
 #include "points/points.h"
 
