@@ -24,10 +24,9 @@
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
-#include <unistd.h>
 
 #include "test_counting_allocator.h"
+#include "test_restart.h"
 #include "test_util.h"
 
 static const double PI = 3.14159265358979323846;
@@ -296,43 +295,6 @@ START_TEST(test_ball_keeps_angular_momentum_apic) {
 END_TEST
 
 /* ------------------------------------------------------- bitwise runs */
-typedef struct state {
-  size_t count;
-  double *field[6];
-} state;
-
-static const gm_field STATE_FIELDS[6] = {
-    GM_FIELD_POSITION, GM_FIELD_VELOCITY,
-    GM_FIELD_STRESS,   GM_FIELD_DEFORMATION_GRADIENT,
-    GM_FIELD_VOLUME,   GM_FIELD_AFFINE};
-static const size_t STATE_COMPONENTS[6] = {3, 3, 6, 9, 1, 9};
-
-static state observe(const gm_domain *domain) {
-  state s;
-  s.count = gm_domain_point_count(domain);
-  for (int f = 0; f < 6; f++) {
-    size_t n = STATE_COMPONENTS[f] * s.count;
-    s.field[f] = malloc(n * sizeof(double));
-    ck_assert_ptr_nonnull(s.field[f]);
-    TEST_ASSERT_OK(domain,
-                   gm_domain_get_field(domain, STATE_FIELDS[f], s.field[f], n));
-  }
-  return s;
-}
-
-static void assert_same(const state *a, const state *b, const char *what) {
-  ck_assert_uint_eq(a->count, b->count);
-  for (int f = 0; f < 6; f++)
-    ck_assert_msg(memcmp(a->field[f], b->field[f],
-                         STATE_COMPONENTS[f] * a->count * sizeof(double)) == 0,
-                  "%s: field %d differs", what, (int)STATE_FIELDS[f]);
-}
-
-static void forget(state *s) {
-  for (int f = 0; f < 6; f++)
-    free(s->field[f]);
-}
-
 static void run(gm_domain *domain, int steps) {
   for (int k = 0; k < steps; k++)
     TEST_ASSERT_OK(domain, gm_domain_step(domain, 0.0));
@@ -342,64 +304,56 @@ static void run(gm_domain *domain, int steps) {
  * and their mirrors act in every component. */
 static const double JITTER = 0.03; /* m/s */
 
-/* _i: shape (_i % 2), scheme (_i / 2 % 3), transfer (_i / 6). */
+/* _i: shape (_i % 2), scheme (_i / 2 % 3), transfer (_i / 6). Every field
+ * the API shows, bitwise (test_restart.h). */
 START_TEST(test_workers_bitwise_bspline_3d) {
   gm_shape shape = shape_of(_i);
   gm_update_scheme scheme = (gm_update_scheme)(_i / 2 % 3);
   gm_transfer transfer = _i / 6 ? GM_TRANSFER_APIC : GM_TRANSFER_FLIP;
-  state result[2];
+  test_snapshot result[2];
   for (int workers = 1; workers <= 2; workers++) {
     gm_domain *domain = bar_3d(shape, scheme, transfer, workers, JITTER);
     run(domain, 100);
-    result[workers - 1] = observe(domain);
+    result[workers - 1] = test_snapshot_take(domain, NULL, NULL);
     gm_domain_destroy(domain);
   }
-  assert_same(&result[0], &result[1], "1 against 2 workers");
-  forget(&result[0]);
-  forget(&result[1]);
+  test_snapshot_assert_same(&result[0], &result[1], "1 against 2 workers");
+  test_snapshot_free(&result[0]);
+  test_snapshot_free(&result[1]);
 }
 END_TEST
 
+typedef struct bar_setup {
+  gm_shape shape;
+  gm_update_scheme scheme;
+  gm_transfer transfer;
+} bar_setup;
+
+static gm_domain *build_bar(int workers, void *context) {
+  const bar_setup *setup = context;
+  return bar_3d(setup->shape, setup->scheme, setup->transfer, workers, JITTER);
+}
+
 /* _i: shape (_i % 2), then 0..1: USF with APIC, 2..3: MUSL with FLIP, the
  * restart on 1 worker; 4..5: USL with APIC, saved on 1 worker and
- * continued on 2. */
+ * continued on 2. Saved at step 60, 60 steps on; the restarted domain has
+ * run 3 steps on its own first (stale caches). */
 START_TEST(test_restart_bitwise_bspline_3d) {
-  gm_shape shape = shape_of(_i);
-  gm_update_scheme scheme = _i < 2   ? GM_SCHEME_USF
-                            : _i < 4 ? GM_SCHEME_MUSL
-                                     : GM_SCHEME_USL;
-  gm_transfer transfer = _i / 2 == 1 ? GM_TRANSFER_FLIP : GM_TRANSFER_APIC;
-  int workers_after = _i < 4 ? 1 : 2;
-  char path[64];
-  snprintf(path, sizeof path, "/tmp/gm_bspline3d_%ld_%d.ckpt", (long)getpid(),
-           _i);
-  gm_domain *a = bar_3d(shape, scheme, transfer, 1, JITTER);
-  run(a, 60);
-  TEST_ASSERT_OK(a, gm_domain_save(a, path));
-  state at_save = observe(a);
-  run(a, 60);
-  state end_a = observe(a);
-  /* The restarted domain has run on its own first (stale caches). */
-  gm_domain *b = bar_3d(shape, scheme, transfer, workers_after, JITTER);
-  run(b, 3);
-  TEST_ASSERT_OK(b, gm_domain_load(b, path));
-  state loaded = observe(b);
-  assert_same(&at_save, &loaded, "right after the load");
-  run(b, 60);
-  state end_b = observe(b);
-  assert_same(&end_a, &end_b, "after the restarted steps");
-  double time[2];
-  uint64_t step_count[2];
-  TEST_ASSERT_OK(a, gm_domain_get_time(a, &time[0], &step_count[0]));
-  TEST_ASSERT_OK(b, gm_domain_get_time(b, &time[1], &step_count[1]));
-  ck_assert(time[0] == time[1] && step_count[0] == step_count[1]);
-  remove(path);
-  forget(&at_save);
-  forget(&end_a);
-  forget(&loaded);
-  forget(&end_b);
-  gm_domain_destroy(a);
-  gm_domain_destroy(b);
+  bar_setup setup = {shape_of(_i),
+                     _i < 2   ? GM_SCHEME_USF
+                     : _i < 4 ? GM_SCHEME_MUSL
+                              : GM_SCHEME_USL,
+                     _i / 2 == 1 ? GM_TRANSFER_FLIP : GM_TRANSFER_APIC};
+  test_restart_run restart = {.what = "B-spline bar",
+                              .build = build_bar,
+                              .context = &setup,
+                              .workers_before = 1,
+                              .workers_after = _i < 4 ? 1 : 2,
+                              .steps_before = 60,
+                              .steps_after = 60,
+                              .stale_steps = 3,
+                              .dt = 0.0};
+  test_restart_check(&restart);
 }
 END_TEST
 
