@@ -33,6 +33,7 @@
 
 #include "test_counting_allocator.h"
 #include "test_random.h"
+#include "test_restart.h"
 #include "test_util.h"
 
 #include <math.h>
@@ -41,7 +42,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 static const double PI = 3.14159265358979323846;
 
@@ -453,85 +453,40 @@ START_TEST(test_block_momentum_cpdi_3d) {
 }
 END_TEST
 
-typedef struct state {
-  size_t count;
-  double *field[5];
-} state;
-
-static const gm_field STATE_FIELDS[5] = {
-    GM_FIELD_POSITION, GM_FIELD_VELOCITY, GM_FIELD_STRESS,
-    GM_FIELD_DEFORMATION_GRADIENT, GM_FIELD_VOLUME};
-static const size_t STATE_COMPONENTS[5] = {3, 3, 6, 9, 1};
-
-static state observe(const gm_domain *domain) {
-  state s;
-  s.count = gm_domain_point_count(domain);
-  for (int f = 0; f < 5; f++) {
-    size_t n = STATE_COMPONENTS[f] * s.count;
-    s.field[f] = malloc(n * sizeof(double));
-    ck_assert_ptr_nonnull(s.field[f]);
-    TEST_ASSERT_OK(domain,
-                   gm_domain_get_field(domain, STATE_FIELDS[f], s.field[f], n));
-  }
-  return s;
-}
-
-static void assert_same(const state *a, const state *b, const char *what) {
-  ck_assert_uint_eq(a->count, b->count);
-  for (int f = 0; f < 5; f++)
-    ck_assert_msg(memcmp(a->field[f], b->field[f],
-                         STATE_COMPONENTS[f] * a->count * sizeof(double)) == 0,
-                  "%s: field %d differs", what, (int)STATE_FIELDS[f]);
-}
-
-static void forget(state *s) {
-  for (int f = 0; f < 5; f++)
-    free(s->field[f]);
-}
-
-/* _i: scheme. */
+/* _i: scheme. Every field the API shows, bitwise (test_restart.h). */
 START_TEST(test_workers_bitwise_cpdi_3d) {
   gm_update_scheme scheme = (gm_update_scheme)_i;
-  state result[2];
+  test_snapshot result[2];
   for (int workers = 1; workers <= 2; workers++) {
     gm_domain *domain = block(scheme, workers);
     run(domain, 80);
-    result[workers - 1] = observe(domain);
+    result[workers - 1] = test_snapshot_take(domain, NULL, NULL);
     gm_domain_destroy(domain);
   }
-  assert_same(&result[0], &result[1], "1 against 2 workers");
-  forget(&result[0]);
-  forget(&result[1]);
+  test_snapshot_assert_same(&result[0], &result[1], "1 against 2 workers");
+  test_snapshot_free(&result[0]);
+  test_snapshot_free(&result[1]);
 }
 END_TEST
 
-/* _i: scheme; saved on 1 worker, continued on 1 (_i < 3) or 2. */
+static gm_domain *build_block(int workers, void *context) {
+  return block(*(const gm_update_scheme *)context, workers);
+}
+
+/* _i: scheme; saved on 1 worker at step 40, continued on 1 (_i < 3) or 2
+ * for 40 steps; the restarted domain runs 3 steps first (stale caches). */
 START_TEST(test_restart_bitwise_cpdi_3d) {
   gm_update_scheme scheme = (gm_update_scheme)(_i % 3);
-  int workers_after = _i < 3 ? 1 : 2;
-  char path[64];
-  snprintf(path, sizeof path, "/tmp/gm_cpdi3d_%ld_%d.ckpt", (long)getpid(), _i);
-  gm_domain *a = block(scheme, 1);
-  run(a, 40);
-  TEST_ASSERT_OK(a, gm_domain_save(a, path));
-  state at_save = observe(a);
-  run(a, 40);
-  state end_a = observe(a);
-  gm_domain *b = block(scheme, workers_after);
-  run(b, 3); /* stale caches */
-  TEST_ASSERT_OK(b, gm_domain_load(b, path));
-  state loaded = observe(b);
-  assert_same(&at_save, &loaded, "right after the load");
-  run(b, 40);
-  state end_b = observe(b);
-  assert_same(&end_a, &end_b, "after the restarted steps");
-  remove(path);
-  forget(&at_save);
-  forget(&end_a);
-  forget(&loaded);
-  forget(&end_b);
-  gm_domain_destroy(a);
-  gm_domain_destroy(b);
+  test_restart_run restart = {.what = "CPDI block",
+                              .build = build_block,
+                              .context = &scheme,
+                              .workers_before = 1,
+                              .workers_after = _i < 3 ? 1 : 2,
+                              .steps_before = 40,
+                              .steps_after = 40,
+                              .stale_steps = 3,
+                              .dt = 0.0};
+  test_restart_check(&restart);
 }
 END_TEST
 
@@ -641,7 +596,7 @@ END_TEST
 /* The periodic block under a sheared, wavy velocity, 100 steps: the same
  * bits with 1 and 2 workers. */
 START_TEST(test_periodic_workers_cpdi_3d) {
-  state result[2];
+  test_snapshot result[2];
   for (int workers = 1; workers <= 2; workers++) {
     gm_domain *domain = periodic_block(GM_SCHEME_MUSL, workers);
     size_t count = gm_domain_point_count(domain);
@@ -659,12 +614,13 @@ START_TEST(test_periodic_workers_cpdi_3d) {
       v[2][p] = 0.2 * (x[1][p] - 0.3);
     }
     run(domain, 100);
-    result[workers - 1] = observe(domain);
+    result[workers - 1] = test_snapshot_take(domain, NULL, NULL);
     gm_domain_destroy(domain);
   }
-  assert_same(&result[0], &result[1], "periodic, 1 against 2 workers");
-  forget(&result[0]);
-  forget(&result[1]);
+  test_snapshot_assert_same(&result[0], &result[1],
+                            "periodic, 1 against 2 workers");
+  test_snapshot_free(&result[0]);
+  test_snapshot_free(&result[1]);
 }
 END_TEST
 
