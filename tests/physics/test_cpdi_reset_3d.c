@@ -31,6 +31,7 @@
 #include "points/points.h"
 
 #include "test_counting_allocator.h"
+#include "test_restart.h"
 #include "test_util.h"
 
 #include <check.h>
@@ -372,43 +373,22 @@ START_TEST(test_below_the_bound_map_is_f) {
 END_TEST
 
 /* ------------------------------------ workers, restart, allocation */
-typedef struct state {
-  size_t count;
-  double *field[5];
-  double *map; /* D, 9 per point, row-major */
-} state;
-
-static const gm_field STATE_FIELDS[5] = {
-    GM_FIELD_POSITION, GM_FIELD_VELOCITY, GM_FIELD_STRESS,
-    GM_FIELD_DEFORMATION_GRADIENT, GM_FIELD_DOMAIN_CORNERS};
-static const size_t STATE_COMPONENTS[5] = {3, 3, 6, 9, 24};
-
-static state observe(const gm_domain *domain) {
-  state s;
-  s.count = gm_domain_point_count(domain);
-  for (int f = 0; f < 5; f++)
-    s.field[f] = get_field(domain, STATE_FIELDS[f], STATE_COMPONENTS[f]);
-  s.map = malloc(9 * s.count * sizeof(double));
-  ck_assert_ptr_nonnull(s.map);
-  for (size_t p = 0; p < s.count; p++)
-    read_tensor(domain, true, p, s.map + 9 * p);
-  return s;
+/* Every point's D, 9 per point, row-major (white box: the snapshots of
+ * test_restart.h carry it next to every field the API shows). */
+static double *domain_maps(const gm_domain *domain, size_t *length,
+                           void *context) {
+  (void)context;
+  size_t count = gm_domain_point_count(domain);
+  *length = 9 * count;
+  double *map = malloc((*length + 1) * sizeof *map);
+  ck_assert_ptr_nonnull(map);
+  for (size_t p = 0; p < count; p++)
+    read_tensor(domain, true, p, map + 9 * p);
+  return map;
 }
 
-static void assert_same(const state *a, const state *b, const char *what) {
-  ck_assert_uint_eq(a->count, b->count);
-  for (int f = 0; f < 5; f++)
-    ck_assert_msg(memcmp(a->field[f], b->field[f],
-                         STATE_COMPONENTS[f] * a->count * sizeof(double)) == 0,
-                  "%s: field %d differs", what, (int)STATE_FIELDS[f]);
-  ck_assert_msg(memcmp(a->map, b->map, 9 * a->count * sizeof(double)) == 0,
-                "%s: the domain maps differ", what);
-}
-
-static void forget(state *s) {
-  for (int f = 0; f < 5; f++)
-    free(s->field[f]);
-  free(s->map);
+static test_snapshot observe(const gm_domain *domain) {
+  return test_snapshot_take(domain, domain_maps, NULL);
 }
 
 /* Points whose D is no longer F: reset at least once. */
@@ -426,7 +406,7 @@ static size_t reset_points(const gm_domain *domain) {
 /* _i: scheme. 150 steps: gamma t = 6, past the first resets. */
 START_TEST(test_workers_bitwise_with_resets) {
   gm_update_scheme scheme = (gm_update_scheme)_i;
-  state result[2];
+  test_snapshot result[2];
   for (int workers = 1; workers <= 2; workers++) {
     gm_domain *domain = sheared_block(scheme, workers);
     run(domain, 150);
@@ -434,42 +414,45 @@ START_TEST(test_workers_bitwise_with_resets) {
     result[workers - 1] = observe(domain);
     gm_domain_destroy(domain);
   }
-  assert_same(&result[0], &result[1], "1 against 2 workers");
-  forget(&result[0]);
-  forget(&result[1]);
+  test_snapshot_assert_same(&result[0], &result[1], "1 against 2 workers");
+  test_snapshot_free(&result[0]);
+  test_snapshot_free(&result[1]);
 }
 END_TEST
 
+static void step_sheared(gm_domain *domain, test_restart_phase phase, int steps,
+                         void *context) {
+  (void)phase;
+  (void)context;
+  run(domain, steps);
+}
+
+static void assert_reset(gm_domain *domain, void *context) {
+  (void)context;
+  ck_assert_uint_gt(reset_points(domain), 0);
+}
+
+static gm_domain *build_sheared(int workers, void *context) {
+  return sheared_block(*(const gm_update_scheme *)context, workers);
+}
+
 /* _i: scheme; saved on 1 worker after resets (step 100, gamma t = 4),
- * continued on 1 (_i < 3) or 2 workers for 100 more steps. */
+ * continued on 1 (_i < 3) or 2 workers for 100 more steps; the restarted
+ * domain runs 3 steps first (stale caches). D compared too. */
 START_TEST(test_restart_bitwise_with_resets) {
   gm_update_scheme scheme = (gm_update_scheme)(_i % 3);
-  int workers_after = _i < 3 ? 1 : 2;
-  char path[64];
-  snprintf(path, sizeof path, "/tmp/gm_cpdi_reset3d_%ld_%d.ckpt",
-           (long)getpid(), _i);
-  gm_domain *a = sheared_block(scheme, 1);
-  run(a, 100);
-  ck_assert_uint_gt(reset_points(a), 0);
-  TEST_ASSERT_OK(a, gm_domain_save(a, path));
-  state at_save = observe(a);
-  run(a, 100);
-  state end_a = observe(a);
-  gm_domain *b = sheared_block(scheme, workers_after);
-  run(b, 3); /* stale caches */
-  TEST_ASSERT_OK(b, gm_domain_load(b, path));
-  state loaded = observe(b);
-  assert_same(&at_save, &loaded, "right after the load");
-  run(b, 100);
-  state end_b = observe(b);
-  assert_same(&end_a, &end_b, "after the restarted steps");
-  remove(path);
-  forget(&at_save);
-  forget(&end_a);
-  forget(&loaded);
-  forget(&end_b);
-  gm_domain_destroy(a);
-  gm_domain_destroy(b);
+  test_restart_run restart = {.what = "sheared CPDI block",
+                              .build = build_sheared,
+                              .context = &scheme,
+                              .workers_before = 1,
+                              .workers_after = _i < 3 ? 1 : 2,
+                              .steps_before = 100,
+                              .steps_after = 100,
+                              .stale_steps = 3,
+                              .step = step_sheared,
+                              .before_save = assert_reset,
+                              .extra = domain_maps};
+  test_restart_check(&restart);
 }
 END_TEST
 
@@ -513,7 +496,7 @@ START_TEST(test_version_2_file_starts_map_at_f) {
   run(a, 20);
   ck_assert_uint_eq(reset_points(a), 0);
   TEST_ASSERT_OK(a, gm_domain_save(a, path));
-  state at_save = observe(a);
+  test_snapshot at_save = observe(a);
   size_t size = 0, count = gm_domain_point_count(a);
   unsigned char *data = read_whole(path, &size);
   size_t block = 9 * (8 + 8 * count); /* bytes of nine point arrays */
@@ -541,19 +524,21 @@ START_TEST(test_version_2_file_starts_map_at_f) {
   gm_domain *b = sheared_block(GM_SCHEME_MUSL, 1);
   run(b, 3); /* D no longer F: the load must set it */
   TEST_ASSERT_OK(b, gm_domain_load(b, old_path));
-  state loaded = observe(b);
-  assert_same(&at_save, &loaded, "a version-2 file, right after the load");
+  test_snapshot loaded = observe(b);
+  test_snapshot_assert_same(&at_save, &loaded,
+                            "a version-2 file, right after the load");
   run(a, 100);
   run(b, 100);
   ck_assert_uint_gt(reset_points(a), 0);
-  state end_a = observe(a), end_b = observe(b);
-  assert_same(&end_a, &end_b, "a version-2 file, after the restarted steps");
+  test_snapshot end_a = observe(a), end_b = observe(b);
+  test_snapshot_assert_same(&end_a, &end_b,
+                            "a version-2 file, after the restarted steps");
   remove(path);
   remove(old_path);
-  forget(&at_save);
-  forget(&loaded);
-  forget(&end_a);
-  forget(&end_b);
+  test_snapshot_free(&at_save);
+  test_snapshot_free(&loaded);
+  test_snapshot_free(&end_a);
+  test_snapshot_free(&end_b);
   gm_domain_destroy(a);
   gm_domain_destroy(b);
 }
@@ -594,26 +579,24 @@ static gm_domain *granular_apic_block(void) {
   return domain;
 }
 
+static gm_domain *build_granular_apic(int workers, void *context) {
+  (void)workers; /* 1: granular_apic_block's default */
+  (void)context;
+  return granular_apic_block();
+}
+
 START_TEST(test_restart_granular_apic_with_resets) {
-  char path[64];
-  snprintf(path, sizeof path, "/tmp/gm_cpdi_reset3d_ga_%ld.ckpt",
-           (long)getpid());
-  gm_domain *a = granular_apic_block();
-  run(a, 100);
-  ck_assert_uint_gt(reset_points(a), 0);
-  TEST_ASSERT_OK(a, gm_domain_save(a, path));
-  run(a, 50);
-  state end_a = observe(a);
-  gm_domain *b = granular_apic_block();
-  TEST_ASSERT_OK(b, gm_domain_load(b, path));
-  run(b, 50);
-  state end_b = observe(b);
-  assert_same(&end_a, &end_b, "granular APIC, after the restarted steps");
-  remove(path);
-  forget(&end_a);
-  forget(&end_b);
-  gm_domain_destroy(a);
-  gm_domain_destroy(b);
+  test_restart_run restart = {.what = "granular APIC",
+                              .build = build_granular_apic,
+                              .workers_before = 1,
+                              .workers_after = 1,
+                              .steps_before = 100,
+                              .steps_after = 50,
+                              .stale_steps = 0,
+                              .step = step_sheared,
+                              .before_save = assert_reset,
+                              .extra = domain_maps};
+  test_restart_check(&restart);
 }
 END_TEST
 
