@@ -34,6 +34,7 @@
 #define _POSIX_C_SOURCE 200809L /* mkstemp */
 
 #include "test_counting_allocator.h"
+#include "test_restart.h"
 #include "test_util.h"
 
 #include <check.h>
@@ -373,42 +374,40 @@ START_TEST(test_bitwise_across_workers) {
 }
 END_TEST
 
+/* A domain without the setting refuses the file at path by naming it;
+ * destroys the domain and removes the file. */
+static void refused_without_setting(gm_domain *without, const char *path) {
+  ck_assert_int_eq(gm_domain_load(without, path), GM_ERR_INVALID_ARGUMENT);
+  ck_assert_ptr_nonnull(
+      strstr(gm_domain_last_error(without), "gm_domain_set_volumetric"));
+  gm_domain_destroy(without);
+  remove(path);
+}
+
+static gm_domain *build_column(int workers, void *context) {
+  (void)context;
+  return column(VARIANT_PLANE_LINEAR, workers, true);
+}
+
 /* A checkpoint records the setting: it continues bitwise in a domain with
- * the setting, and a domain without it refuses the file by naming it. */
+ * the setting (saved at step 20, 20 steps of 2e-4 s on; every field,
+ * test_restart.h), and a domain without it refuses the file by naming it. */
 START_TEST(test_checkpoint_records_it) {
   char path[] = "/tmp/test_volumetric_mean_XXXXXX";
   int fd = mkstemp(path);
   ck_assert_int_ge(fd, 0);
   close(fd);
-  gm_domain *first = column(VARIANT_PLANE_LINEAR, 1, true);
-  for (int s = 0; s < 20; s++)
-    TEST_ASSERT_OK(first, gm_domain_step(first, 2e-4));
-  TEST_ASSERT_OK(first, gm_domain_save(first, path));
-  for (int s = 0; s < 20; s++)
-    TEST_ASSERT_OK(first, gm_domain_step(first, 2e-4));
-  gm_domain *second = column(VARIANT_PLANE_LINEAR, 1, true);
-  TEST_ASSERT_OK(second, gm_domain_load(second, path));
-  for (int s = 0; s < 20; s++)
-    TEST_ASSERT_OK(second, gm_domain_step(second, 2e-4));
-  size_t n = gm_domain_point_count(first);
-  ck_assert_uint_eq(n, gm_domain_point_count(second));
-  double *a = malloc(6 * n * sizeof(double));
-  double *b = malloc(6 * n * sizeof(double));
-  ck_assert(a && b);
-  TEST_ASSERT_OK(first, gm_domain_get_field(first, GM_FIELD_STRESS, a, 6 * n));
-  TEST_ASSERT_OK(second,
-                 gm_domain_get_field(second, GM_FIELD_STRESS, b, 6 * n));
-  ck_assert(memcmp(a, b, 6 * n * sizeof(double)) == 0);
-  gm_domain *without = column(VARIANT_PLANE_LINEAR, 1, false);
-  ck_assert_int_eq(gm_domain_load(without, path), GM_ERR_INVALID_ARGUMENT);
-  ck_assert_ptr_nonnull(
-      strstr(gm_domain_last_error(without), "gm_domain_set_volumetric"));
-  free(a);
-  free(b);
-  gm_domain_destroy(first);
-  gm_domain_destroy(second);
-  gm_domain_destroy(without);
-  remove(path);
+  test_restart_run restart = {.what = "cell mean, plane",
+                              .build = build_column,
+                              .workers_before = 1,
+                              .workers_after = 1,
+                              .steps_before = 20,
+                              .steps_after = 20,
+                              .stale_steps = 0,
+                              .dt = 2e-4,
+                              .path = path};
+  test_restart_check(&restart);
+  refused_without_setting(column(VARIANT_PLANE_LINEAR, 1, false), path);
 }
 END_TEST
 
@@ -688,32 +687,40 @@ START_TEST(test_bitwise_across_workers_3d) {
 }
 END_TEST
 
-/* A 3D checkpoint records the setting and continues bitwise; a domain
+static gm_domain *build_column_3d(int workers, void *context) {
+  (void)context;
+  return column_3d(COLUMN_3D_LINEAR, workers, GM_VOLUMETRIC_CELL_MEAN);
+}
+
+/* 2e-4 s steps up to the save, then the column's COLUMN_3D_STEPS of the
+ * stable dt. */
+static void step_column_3d(gm_domain *domain, test_restart_phase phase,
+                           int steps, void *context) {
+  (void)context;
+  double dt = phase == TEST_RESTART_BEFORE_SAVE ? 2e-4 : -1.0; /* s */
+  for (int s = 0; s < steps; s++)
+    TEST_REQUIRE_OK(domain, gm_domain_step(domain, dt));
+}
+
+/* A 3D checkpoint records the setting and continues bitwise (saved on 1
+ * worker at step 20, loaded on 2; every field, test_restart.h); a domain
  * without the setting refuses it. */
 START_TEST(test_checkpoint_records_it_3d) {
   char path[] = "/tmp/test_volumetric_mean_3d_XXXXXX";
   int fd = mkstemp(path);
   ck_assert_int_ge(fd, 0);
   close(fd);
-  gm_domain *first = column_3d(COLUMN_3D_LINEAR, 1, GM_VOLUMETRIC_CELL_MEAN);
-  for (int s = 0; s < 20; s++)
-    TEST_ASSERT_OK(first, gm_domain_step(first, 2e-4));
-  TEST_ASSERT_OK(first, gm_domain_save(first, path));
-  gm_domain *second = column_3d(COLUMN_3D_LINEAR, 2, GM_VOLUMETRIC_CELL_MEAN);
-  TEST_ASSERT_OK(second, gm_domain_load(second, path));
-  size_t length = 0, other = 0;
-  double *a = column_3d_state(first, &length);
-  double *b = column_3d_state(second, &other);
-  ck_assert_uint_eq(length, other);
-  ck_assert(memcmp(a, b, length * sizeof(double)) == 0);
-  gm_domain *without = column_3d(COLUMN_3D_LINEAR, 1, -1);
-  ck_assert_int_eq(gm_domain_load(without, path), GM_ERR_INVALID_ARGUMENT);
-  ck_assert_ptr_nonnull(
-      strstr(gm_domain_last_error(without), "gm_domain_set_volumetric"));
-  free(a);
-  free(b);
-  gm_domain_destroy(without);
-  remove(path);
+  test_restart_run restart = {.what = "cell mean, 3D",
+                              .build = build_column_3d,
+                              .workers_before = 1,
+                              .workers_after = 2,
+                              .steps_before = 20,
+                              .steps_after = COLUMN_3D_STEPS,
+                              .stale_steps = 0,
+                              .step = step_column_3d,
+                              .path = path};
+  test_restart_check(&restart);
+  refused_without_setting(column_3d(COLUMN_3D_LINEAR, 1, -1), path);
 }
 END_TEST
 
