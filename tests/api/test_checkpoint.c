@@ -32,6 +32,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "granmpm/mu_i.h"
+#include "test_restart.h"
 #include "test_util.h"
 
 #include <check.h>
@@ -45,18 +46,6 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-#define FIELD_COUNT (GM_FIELD_AFFINE + 1)
-
-/* TEST_ASSERT_OK for loops: Check reports every ck_assert to its parent
- * process (a write per call), so hot paths assert only on failure. */
-#define REQUIRE_OK(domain, call)                                               \
-  do {                                                                         \
-    gm_status require_status_ = (call);                                        \
-    if (require_status_ != GM_OK)                                              \
-      ck_abort_msg("%s failed: %s (%s)", #call, gm_strerror(require_status_),  \
-                   gm_domain_last_error(domain));                              \
-  } while (0)
 
 /* ----------------------------------------------------------- the scenes */
 
@@ -197,10 +186,10 @@ static scene build_periodic(gm_domain_def def) {
   test_fill_box(s.domain, layer, lower, upper, 2, NULL);
   const double *y = NULL;
   double *vx = NULL;
-  REQUIRE_OK(s.domain,
-             gm_domain_view_field(s.domain, GM_FIELD_POSITION, 1, &y));
-  REQUIRE_OK(s.domain,
-             gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
+  TEST_REQUIRE_OK(s.domain,
+                  gm_domain_view_field(s.domain, GM_FIELD_POSITION, 1, &y));
+  TEST_REQUIRE_OK(s.domain,
+                  gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
   for (size_t p = 0; p < gm_domain_point_count(s.domain); p++)
     vx[p] = 2.0 + 3.0 * y[p]; /* m/s */
   return s;
@@ -288,14 +277,14 @@ static scene build_3d(gm_domain_def def, int points_per_cell_axis) {
   }
   const double *x = NULL, *z = NULL;
   double *vx = NULL, *vy = NULL;
-  REQUIRE_OK(s.domain,
-             gm_domain_view_field(s.domain, GM_FIELD_POSITION, 0, &x));
-  REQUIRE_OK(s.domain,
-             gm_domain_view_field(s.domain, GM_FIELD_POSITION, 2, &z));
-  REQUIRE_OK(s.domain,
-             gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
-  REQUIRE_OK(s.domain,
-             gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 1, &vy));
+  TEST_REQUIRE_OK(s.domain,
+                  gm_domain_view_field(s.domain, GM_FIELD_POSITION, 0, &x));
+  TEST_REQUIRE_OK(s.domain,
+                  gm_domain_view_field(s.domain, GM_FIELD_POSITION, 2, &z));
+  TEST_REQUIRE_OK(s.domain,
+                  gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
+  TEST_REQUIRE_OK(s.domain,
+                  gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 1, &vy));
   for (size_t p = 0; p < gm_domain_point_count(s.domain); p++) {
     vx[p] = 2.0 * z[p];  /* m/s */
     vy[p] = -1.5 * x[p]; /* m/s */
@@ -326,14 +315,14 @@ static scene build_periodic_3d(gm_domain_def def) {
   test_fill_box(s.domain, layer, lower, upper, 2, NULL);
   const double *x = NULL, *z = NULL;
   double *vx = NULL, *vy = NULL;
-  REQUIRE_OK(s.domain,
-             gm_domain_view_field(s.domain, GM_FIELD_POSITION, 0, &x));
-  REQUIRE_OK(s.domain,
-             gm_domain_view_field(s.domain, GM_FIELD_POSITION, 2, &z));
-  REQUIRE_OK(s.domain,
-             gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
-  REQUIRE_OK(s.domain,
-             gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 1, &vy));
+  TEST_REQUIRE_OK(s.domain,
+                  gm_domain_view_field(s.domain, GM_FIELD_POSITION, 0, &x));
+  TEST_REQUIRE_OK(s.domain,
+                  gm_domain_view_field(s.domain, GM_FIELD_POSITION, 2, &z));
+  TEST_REQUIRE_OK(s.domain,
+                  gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
+  TEST_REQUIRE_OK(s.domain,
+                  gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 1, &vy));
   for (size_t p = 0; p < gm_domain_point_count(s.domain); p++) {
     vx[p] = 2.0 + 3.0 * z[p];                         /* m/s */
     vy[p] = 0.5 * sin(2.0 * 3.14159265358979 * x[p]); /* m/s */
@@ -383,9 +372,10 @@ static scene build(scene_kind kind, int workers) {
 static size_t run_steps(const scene *s, int steps) {
   size_t fewest = SIZE_MAX;
   for (int k = 0; k < steps; k++) {
-    REQUIRE_OK(s->domain, gm_domain_step(s->domain, 0.0));
+    TEST_REQUIRE_OK(s->domain, gm_domain_step(s->domain, 0.0));
     gm_granular_summary summary = gm_granular_summary_default();
-    REQUIRE_OK(s->domain, gm_domain_get_granular_summary(s->domain, &summary));
+    TEST_REQUIRE_OK(s->domain,
+                    gm_domain_get_granular_summary(s->domain, &summary));
     if (summary.component_count < fewest)
       fewest = summary.component_count;
   }
@@ -399,135 +389,78 @@ static void edit_before_save(const scene *s) {
   /* z: the 3D plate's (test_restart_3d). */
   const double plate_velocity[3] = {-0.05, 0.0, s->three_d ? 0.1 : 0.0};
   if (s->rigid >= 0)
-    REQUIRE_OK(s->domain, gm_domain_set_rigid_velocity(s->domain, s->rigid,
-                                                       plate_velocity));
+    TEST_REQUIRE_OK(s->domain, gm_domain_set_rigid_velocity(s->domain, s->rigid,
+                                                            plate_velocity));
   /* The last component: y in 2D, z in 3D. */
   int last = s->three_d ? 2 : 1;
   double *force = NULL, *velocity = NULL; /* N, m/s */
-  REQUIRE_OK(s->domain, gm_domain_edit_field(s->domain, GM_FIELD_EXTERNAL_FORCE,
-                                             last, &force));
+  TEST_REQUIRE_OK(
+      s->domain,
+      gm_domain_edit_field(s->domain, GM_FIELD_EXTERNAL_FORCE, last, &force));
   force[3] = -2.0;
-  REQUIRE_OK(s->domain, gm_domain_edit_field(s->domain, GM_FIELD_VELOCITY, last,
-                                             &velocity));
+  TEST_REQUIRE_OK(s->domain, gm_domain_edit_field(s->domain, GM_FIELD_VELOCITY,
+                                                  last, &velocity));
   velocity[5] += 0.25;
 }
 
 /* ------------------------------------------------- observable state */
 
-/* Everything the public API shows of a domain. */
-typedef struct observed {
-  size_t count;
-  double time; /* s */
-  uint64_t step_count;
-  int64_t *ids;
-  double *field[FIELD_COUNT];
-  size_t length[FIELD_COUNT];
-  double totals[22]; /* source kg, points; sink kg, points; wall N x2, rigid
-                        N x2; wall and rigid impulse totals (N s x2) and
-                        smoothed forces (N x2); the wall's z: N, N s, N;
-                        the rigid material's z: N, N s, N */
-  gm_granular_summary granular;
-} observed;
+/* The totals a scene reports (test_restart.h's extra values of its
+ * snapshots; context: the scene, whose ids they read): source kg, points;
+ * sink kg, points; wall N x2, rigid N x2; wall and rigid impulse totals
+ * (N s x2) and smoothed forces (N x2); the wall's z: N, N s, N; the rigid
+ * material's z: N, N s, N. */
+enum { TOTAL_COUNT = 22 };
 
-static observed observe(const scene *s) {
-  observed o;
-  memset(&o, 0, sizeof o);
-  gm_domain *d = s->domain;
-  o.count = gm_domain_point_count(d);
-  REQUIRE_OK(d, gm_domain_get_time(d, &o.time, &o.step_count));
-  o.ids = calloc(o.count + 1, sizeof *o.ids);
-  REQUIRE_OK(d, gm_domain_get_ids(d, o.ids, o.count));
-  for (int f = 0; f < FIELD_COUNT; f++) {
-    size_t components = 0;
-    REQUIRE_OK(d, gm_domain_field_components(d, (gm_field)f, &components));
-    o.length[f] = components * o.count;
-    o.field[f] = calloc(o.length[f] + 1, sizeof(double));
-    REQUIRE_OK(d, gm_domain_get_field(d, (gm_field)f, o.field[f], o.length[f]));
-  }
+static double *scene_totals(const gm_domain *d, size_t *length, void *context) {
+  const scene *s = context;
   gm_flow_totals in = gm_flow_totals_default(), out = gm_flow_totals_default();
   if (s->source >= 0)
-    REQUIRE_OK(d, gm_domain_get_source_totals(d, s->source, &in));
+    TEST_REQUIRE_OK(d, gm_domain_get_source_totals(d, s->source, &in));
   if (s->sink >= 0)
-    REQUIRE_OK(d, gm_domain_get_sink_totals(d, s->sink, &out));
+    TEST_REQUIRE_OK(d, gm_domain_get_sink_totals(d, s->sink, &out));
   gm_wall_force wall = gm_wall_force_default();
   if (s->wall >= 0)
-    REQUIRE_OK(d, gm_domain_get_wall_force(d, s->wall, &wall));
+    TEST_REQUIRE_OK(d, gm_domain_get_wall_force(d, s->wall, &wall));
   double rigid[3] = {0.0, 0.0, 0.0};
   gm_rigid_load load = gm_rigid_load_default();
   if (s->rigid >= 0) {
-    REQUIRE_OK(d, gm_domain_get_rigid_force(d, s->rigid, rigid));
-    REQUIRE_OK(d, gm_domain_get_rigid_load(d, s->rigid, &load));
+    TEST_REQUIRE_OK(d, gm_domain_get_rigid_force(d, s->rigid, rigid));
+    TEST_REQUIRE_OK(d, gm_domain_get_rigid_load(d, s->rigid, &load));
   }
-  const double totals[22] = {in.mass,
-                             (double)in.points,
-                             out.mass,
-                             (double)out.points,
-                             wall.force[0],
-                             wall.force[1],
-                             rigid[0],
-                             rigid[1],
-                             wall.total_impulse[0],
-                             wall.total_impulse[1],
-                             wall.smoothed_force[0],
-                             wall.smoothed_force[1],
-                             load.total_impulse[0],
-                             load.total_impulse[1],
-                             load.smoothed_force[0],
-                             load.smoothed_force[1],
-                             wall.force[2],
-                             wall.total_impulse[2],
-                             wall.smoothed_force[2],
-                             rigid[2],
-                             load.total_impulse[2],
-                             load.smoothed_force[2]};
-  memcpy(o.totals, totals, sizeof totals);
-  o.granular = gm_granular_summary_default();
-  REQUIRE_OK(d, gm_domain_get_granular_summary(d, &o.granular));
-  return o;
+  const double totals[TOTAL_COUNT] = {in.mass,
+                                      (double)in.points,
+                                      out.mass,
+                                      (double)out.points,
+                                      wall.force[0],
+                                      wall.force[1],
+                                      rigid[0],
+                                      rigid[1],
+                                      wall.total_impulse[0],
+                                      wall.total_impulse[1],
+                                      wall.smoothed_force[0],
+                                      wall.smoothed_force[1],
+                                      load.total_impulse[0],
+                                      load.total_impulse[1],
+                                      load.smoothed_force[0],
+                                      load.smoothed_force[1],
+                                      wall.force[2],
+                                      wall.total_impulse[2],
+                                      wall.smoothed_force[2],
+                                      rigid[2],
+                                      load.total_impulse[2],
+                                      load.smoothed_force[2]};
+  double *copy = malloc(sizeof totals);
+  ck_assert_ptr_nonnull(copy);
+  memcpy(copy, totals, sizeof totals);
+  *length = TOTAL_COUNT;
+  return copy;
 }
 
-static void forget(observed *o) {
-  free(o->ids);
-  for (int f = 0; f < FIELD_COUNT; f++)
-    free(o->field[f]);
-}
-
-/* Index of the first value where two arrays differ bitwise (memcmp: -0.0
- * and 0.0 differ, NaN payloads count), or count if none. Check sends every
- * ck_assert to its parent process, so arrays are compared first and only
- * a difference is asserted. */
-static size_t first_difference(const double *a, const double *b, size_t count) {
-  for (size_t i = 0; i < count; i++)
-    if (memcmp(&a[i], &b[i], sizeof(double)) != 0)
-      return i;
-  return count;
-}
-
-static void assert_same(const observed *a, const observed *b,
-                        const char *what) {
-  ck_assert_msg(a->count == b->count, "%s: %zu points vs %zu", what, a->count,
-                b->count);
-  ck_assert_msg(a->step_count == b->step_count, "%s: step count differs", what);
-  ck_assert_msg(memcmp(&a->time, &b->time, sizeof a->time) == 0,
-                "%s: time %.17g vs %.17g", what, a->time, b->time);
-  ck_assert_msg(memcmp(a->ids, b->ids, a->count * sizeof *a->ids) == 0,
-                "%s: ids differ", what);
-  for (int f = 0; f < FIELD_COUNT; f++) {
-    size_t i = first_difference(a->field[f], b->field[f], a->length[f]);
-    if (i < a->length[f])
-      ck_abort_msg("%s: field %d value %zu: %.17g vs %.17g", what, f, i,
-                   a->field[f][i], b->field[f][i]);
-  }
-  size_t k = first_difference(a->totals, b->totals, 22);
-  if (k < 22)
-    ck_abort_msg("%s: total %zu: %.17g vs %.17g", what, k, a->totals[k],
-                 b->totals[k]);
-  const gm_granular_summary *x = &a->granular, *y = &b->granular;
-  ck_assert_msg(
-      x->component_count == y->component_count &&
-          x->layer_count == y->layer_count &&
-          memcmp(x->state_count, y->state_count, sizeof x->state_count) == 0,
-      "%s: granular summary differs", what);
+/* Everything the public API shows of a scene (test_restart.h: every
+ * field, ids, time, granular counts), its totals as the extra values. */
+static test_snapshot observe(const scene *s) {
+  return test_snapshot_take(s->domain, scene_totals, (void *)s);
 }
 
 /* ---------------------------------------------------------- file helpers */
@@ -613,32 +546,32 @@ static gm_granular_summary granular_summary(const scene *s) {
 }
 
 /* The scene really exercised what the restart is claimed to preserve. */
-static void check_scene_coverage(scene_kind kind, const observed *at_save,
-                                 const observed *at_end,
+static void check_scene_coverage(scene_kind kind, const test_snapshot *at_save,
+                                 const test_snapshot *at_end,
                                  size_t fewest_components) {
   if (kind == ELASTIC) /* the plate touches the block: a force to report */
-    ck_assert_msg(at_save->totals[6] != 0.0, "no rigid force at the save");
+    ck_assert_msg(at_save->extra[6] != 0.0, "no rigid force at the save");
   if (kind == SOLID_3D) /* the sink took points before and after the save */
-    ck_assert_msg(at_save->totals[3] > 0.0 &&
-                      at_end->totals[3] > at_save->totals[3] &&
-                      at_end->totals[1] > at_end->totals[3],
+    ck_assert_msg(at_save->extra[3] > 0.0 &&
+                      at_end->extra[3] > at_save->extra[3] &&
+                      at_end->extra[1] > at_end->extra[3],
                   "3D source and sink: %g points injected, %g removed by the "
                   "save, %g by the end",
-                  at_end->totals[1], at_save->totals[3], at_end->totals[3]);
+                  at_end->extra[1], at_save->extra[3], at_end->extra[3]);
   bool plate = !(scene_transfer == GM_TRANSFER_APIC &&
                  scene_shape_3d == GM_SHAPE_LINEAR); /* build_3d */
   if (kind == SOLID_3D && plate) /* it pushed back in every component */
-    ck_assert_msg(at_save->totals[12] != 0.0 && at_save->totals[13] != 0.0 &&
-                      at_save->totals[20] != 0.0 && at_save->totals[19] != 0.0,
+    ck_assert_msg(at_save->extra[12] != 0.0 && at_save->extra[13] != 0.0 &&
+                      at_save->extra[20] != 0.0 && at_save->extra[19] != 0.0,
                   "the 3D rigid plate: total impulse (%g, %g, %g) N s, "
                   "force z %g N by the save",
-                  at_save->totals[12], at_save->totals[13], at_save->totals[20],
-                  at_save->totals[19]);
+                  at_save->extra[12], at_save->extra[13], at_save->extra[20],
+                  at_save->extra[19]);
   if (kind == SOLID_3D) { /* every stress and F component moved by the save */
     if (scene_shape_3d == GM_SHAPE_LINEAR) /* the GIMP scenes: no wall */
-      ck_assert_msg(at_save->totals[8] != 0.0 && at_save->totals[17] != 0.0,
+      ck_assert_msg(at_save->extra[8] != 0.0 && at_save->extra[17] != 0.0,
                     "the 3D wall had no impulse (x %g, z %g N s) by the save",
-                    at_save->totals[8], at_save->totals[17]);
+                    at_save->extra[8], at_save->extra[17]);
     const gm_field tensor[2] = {GM_FIELD_STRESS, GM_FIELD_DEFORMATION_GRADIENT};
     const size_t components[2] = {6, 9};
     for (int t = 0; t < 2; t++)
@@ -671,54 +604,97 @@ static void check_scene_coverage(scene_kind kind, const observed *at_save,
    * contact ends exactly at the save step (0 N; 12.9 N before, 50 N the
    * step before that). */
   if (kind == FLOW)
-    ck_assert_msg(at_save->totals[1] > 0.0 && at_save->totals[3] > 0.0 &&
-                      at_end->totals[1] > at_save->totals[1] &&
-                      at_end->totals[3] > at_save->totals[3] &&
-                      at_save->totals[10] != 0.0,
+    ck_assert_msg(at_save->extra[1] > 0.0 && at_save->extra[3] > 0.0 &&
+                      at_end->extra[1] > at_save->extra[1] &&
+                      at_end->extra[3] > at_save->extra[3] &&
+                      at_save->extra[10] != 0.0,
                   "flow: injected %g then %g, removed %g then %g, wall "
                   "smoothed force %g",
-                  at_save->totals[1], at_end->totals[1], at_save->totals[3],
-                  at_end->totals[3], at_save->totals[10]);
+                  at_save->extra[1], at_end->extra[1], at_save->extra[3],
+                  at_end->extra[3], at_save->extra[10]);
 }
 
+/* What check_restart's callbacks share: the scene built last (its ids
+ * are the same in both runs), and what run A and B saw after the save. */
+typedef struct restart_context {
+  scene_kind kind;
+  scene last;
+  size_t fewest;       /* run A: fewest parallel grids after a step */
+  int first_reused[2]; /* forest_reused after the first step of A, B */
+} restart_context;
+
+static gm_domain *build_for_restart(int workers, void *context) {
+  restart_context *c = context;
+  c->last = build(c->kind, workers);
+  return c->last.domain;
+}
+
+/* The first step after the save (A) or the load (B) is taken alone, to
+ * read whether it reused the previous step's spanning forest. */
+static void step_for_restart(gm_domain *domain, test_restart_phase phase,
+                             int steps, void *context) {
+  restart_context *c = context;
+  scene s = c->last;
+  s.domain = domain;
+  if (phase != TEST_RESTART_AFTER_SAVE && phase != TEST_RESTART_AFTER_LOAD) {
+    run_steps(&s, steps);
+    return;
+  }
+  run_steps(&s, 1);
+  c->first_reused[phase == TEST_RESTART_AFTER_LOAD] =
+      granular_summary(&s).forest_reused;
+  size_t fewest = run_steps(&s, steps - 1);
+  if (phase == TEST_RESTART_AFTER_SAVE)
+    c->fewest = fewest;
+}
+
+static void edit_for_restart(gm_domain *domain, void *context) {
+  restart_context *c = context;
+  ck_assert_ptr_eq(domain, c->last.domain); /* run A, built last */
+  edit_before_save(&c->last);
+}
+
+static double *totals_for_restart(const gm_domain *domain, size_t *length,
+                                  void *context) {
+  return scene_totals(domain, length, &((restart_context *)context)->last);
+}
+
+static void coverage_for_restart(const test_snapshot *at_save,
+                                 const test_snapshot *at_end, void *context) {
+  const restart_context *c = context;
+  check_scene_coverage(c->kind, at_save, at_end, c->fewest);
+}
+
+/* test_restart.h's check of the scene `kind`: the scene's N steps, the
+ * host edits, the save; M steps on; the same scene afresh, 3 steps of its
+ * own (stale caches), the load, M steps: bitwise the same, totals
+ * included. */
 static void check_restart(scene_kind kind, int workers_before,
                           int workers_after) {
   make_temporary_directory();
   char *path = path_in_directory("run.ckpt");
-  scene a = build(kind, workers_before);
-  run_steps(&a, a.steps_before);
-  edit_before_save(&a);
-  TEST_ASSERT_OK(a.domain, gm_domain_save(a.domain, path));
-  observed at_save = observe(&a);
-  run_steps(&a, 1);
-  gm_granular_summary first_a = granular_summary(&a);
-  size_t fewest = run_steps(&a, a.steps_after - 1);
-  observed state_a = observe(&a);
-
-  /* The restarted domain has run a little on its own first, so every
-   * cache it keeps between steps is stale when the file arrives. */
-  scene b = build(kind, workers_after);
-  run_steps(&b, 3);
-  TEST_ASSERT_OK(b.domain, gm_domain_load(b.domain, path));
-  observed loaded = observe(&b);
-  assert_same(&at_save, &loaded, "right after the load");
-  run_steps(&b, 1);
-  gm_granular_summary first_b = granular_summary(&b);
-  run_steps(&b, b.steps_after - 1);
-  observed state_b = observe(&b);
-  assert_same(&state_a, &state_b, "after the restarted steps");
-  check_scene_coverage(kind, &at_save, &state_a, fewest);
+  restart_context context = {.kind = kind};
+  scene probe = build(kind, 1); /* N and M are the scene's */
+  gm_domain_destroy(probe.domain);
+  test_restart_run restart = {.what = "restart",
+                              .build = build_for_restart,
+                              .context = &context,
+                              .workers_before = workers_before,
+                              .workers_after = workers_after,
+                              .steps_before = probe.steps_before,
+                              .steps_after = probe.steps_after,
+                              .stale_steps = 3,
+                              .step = step_for_restart,
+                              .before_save = edit_for_restart,
+                              .extra = totals_for_restart,
+                              .check = coverage_for_restart,
+                              .path = path};
+  test_restart_check(&restart);
   if (kind == GRANULAR || kind == GRANULAR_GIMP) { /* the forest differed,
                                                      the results did not */
-    ck_assert_int_eq(first_a.forest_reused, 1);
-    ck_assert_int_eq(first_b.forest_reused, 0);
+    ck_assert_int_eq(context.first_reused[0], 1);
+    ck_assert_int_eq(context.first_reused[1], 0);
   }
-  forget(&at_save);
-  forget(&state_a);
-  forget(&loaded);
-  forget(&state_b);
-  gm_domain_destroy(a.domain);
-  gm_domain_destroy(b.domain);
   free(path);
   remove_temporary_directory();
 }
@@ -807,7 +783,7 @@ END_TEST
 /* ------------------------------------------------------------ refusals */
 
 /* Loads path into target, expects status, and the target unchanged. */
-static void expect_refused(const scene *target, const observed *before,
+static void expect_refused(const scene *target, const test_snapshot *before,
                            const char *path, gm_status expected,
                            const char *case_name) {
   gm_status status = gm_domain_load(target->domain, path);
@@ -815,9 +791,9 @@ static void expect_refused(const scene *target, const observed *before,
     ck_abort_msg("%s: status %s (%s), expected %s", case_name,
                  gm_strerror(status), gm_domain_last_error(target->domain),
                  gm_strerror(expected));
-  observed after = observe(target);
-  assert_same(before, &after, case_name);
-  forget(&after);
+  test_snapshot after = observe(target);
+  test_snapshot_assert_same(before, &after, case_name);
+  test_snapshot_free(&after);
 }
 
 /* 2D, then 3D: linear MPM with FLIP, uGIMP with APIC. */
@@ -846,7 +822,7 @@ static void check_damaged_files(scene_kind kind) {
   scene target = build(kind, 1), twin = build(kind, 1);
   run_steps(&target, 3);
   run_steps(&twin, 3);
-  observed before = observe(&target);
+  test_snapshot before = observe(&target);
   size_t size = 0;
   unsigned char *data = read_file(good, &size);
   for (size_t length = 0; length < size; length++) {
@@ -872,11 +848,11 @@ static void check_damaged_files(scene_kind kind) {
   /* The untouched target continues exactly like its twin. */
   run_steps(&target, 30);
   run_steps(&twin, 30);
-  observed target_end = observe(&target), twin_end = observe(&twin);
-  assert_same(&twin_end, &target_end, "continued after refusals");
-  forget(&before);
-  forget(&target_end);
-  forget(&twin_end);
+  test_snapshot target_end = observe(&target), twin_end = observe(&twin);
+  test_snapshot_assert_same(&twin_end, &target_end, "continued after refusals");
+  test_snapshot_free(&before);
+  test_snapshot_free(&target_end);
+  test_snapshot_free(&twin_end);
   free(data);
   free(other_version);
   free(good);
@@ -916,7 +892,7 @@ typedef struct {
   char *damaged;
   scene saved;
   scene target;
-  observed before;
+  test_snapshot before;
   unsigned char *data;
   size_t size;
 } damage_fixture;
@@ -959,7 +935,7 @@ static void expect_damage_refused(const damage_fixture *fixture, size_t at,
 static void damage_fixture_close(damage_fixture *fixture) {
   TEST_ASSERT_OK(fixture->target.domain,
                  gm_domain_load(fixture->target.domain, fixture->good));
-  forget(&fixture->before);
+  test_snapshot_free(&fixture->before);
   free(fixture->data);
   free(fixture->good);
   free(fixture->damaged);
@@ -1100,14 +1076,14 @@ END_TEST
  * unless NULL), the scene unchanged; then destroys the scene. */
 static void expect_setup_refused(const char *path, scene other,
                                  const char *difference, const char *detail) {
-  observed before = observe(&other);
+  test_snapshot before = observe(&other);
   expect_refused(&other, &before, path, GM_ERR_INVALID_ARGUMENT, difference);
   ck_assert_msg(last_error_mentions(other.domain, difference) &&
                     (!detail || last_error_mentions(other.domain, detail)),
                 "message \"%s\" does not name %s %s",
                 gm_domain_last_error(other.domain), difference,
                 detail ? detail : "");
-  forget(&before);
+  test_snapshot_free(&before);
   gm_domain_destroy(other.domain);
 }
 
