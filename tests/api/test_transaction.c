@@ -6,6 +6,7 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "test_restart.h"
 #include "test_util.h"
 
 #include <check.h>
@@ -18,71 +19,15 @@
 
 /* ---------------------------------------------------------- snapshots */
 
-enum { FIELD_COUNT = 12 }; /* GM_FIELD_POSITION .. GM_FIELD_DOMAIN_SIZE */
-
-/* Everything observable about a domain through the public API. */
-typedef struct snapshot {
-  size_t point_count;
-  size_t length[FIELD_COUNT]; /* doubles in field[f] */
-  double *field[FIELD_COUNT];
-  int64_t *ids;
-  double time; /* s */
-  uint64_t step_count;
-} snapshot;
-
-static void snapshot_take(const gm_domain *domain, snapshot *shot) {
-  shot->point_count = gm_domain_point_count(domain);
-  for (int f = 0; f < FIELD_COUNT; f++) {
-    size_t components = 0;
-    TEST_ASSERT_OK(
-        domain, gm_domain_field_components(domain, (gm_field)f, &components));
-    shot->length[f] = shot->point_count * components;
-    shot->field[f] = malloc((shot->length[f] + 1) * sizeof(double));
-    ck_assert_ptr_nonnull(shot->field[f]);
-    TEST_ASSERT_OK(domain,
-                   gm_domain_get_field(domain, (gm_field)f, shot->field[f],
-                                       shot->length[f]));
-  }
-  shot->ids = malloc((shot->point_count + 1) * sizeof(int64_t));
-  ck_assert_ptr_nonnull(shot->ids);
-  TEST_ASSERT_OK(domain,
-                 gm_domain_get_ids(domain, shot->ids, shot->point_count));
-  TEST_ASSERT_OK(domain,
-                 gm_domain_get_time(domain, &shot->time, &shot->step_count));
-}
-
-static void snapshot_free(snapshot *shot) {
-  for (int f = 0; f < FIELD_COUNT; f++) {
-    free(shot->field[f]);
-  }
-  free(shot->ids);
-}
-
-/* Asserts the domain is bitwise identical to the snapshot. memcmp, not ==,
- * so NaNs compare and -0.0 differs from +0.0: "exactly as before". */
-static void check_unchanged(const gm_domain *domain, const snapshot *before,
-                            const char *label) {
-  snapshot after;
-  snapshot_take(domain, &after);
-  ck_assert_msg(after.point_count == before->point_count,
-                "%s: point count %zu, was %zu", label, after.point_count,
-                before->point_count);
-  ck_assert_msg(memcmp(after.ids, before->ids,
-                       before->point_count * sizeof(int64_t)) == 0,
-                "%s: ids changed", label);
-  for (int f = 0; f < FIELD_COUNT; f++) {
-    for (size_t i = 0; i < before->length[f]; i++) {
-      ck_assert_msg(
-          memcmp(&after.field[f][i], &before->field[f][i], sizeof(double)) == 0,
-          "%s: field %d value %zu is %.17g, was %.17g", label, f, i,
-          after.field[f][i], before->field[f][i]);
-    }
-  }
-  ck_assert_msg(memcmp(&after.time, &before->time, sizeof(double)) == 0,
-                "%s: time %.17g, was %.17g", label, after.time, before->time);
-  ck_assert_msg(after.step_count == before->step_count,
-                "%s: step count changed", label);
-  snapshot_free(&after);
+/* Asserts the domain is bitwise identical to the snapshot before
+ * (test_restart.h: every field, the ids, the time and step count, the
+ * granular counts; memcmp, not ==, so NaNs compare and -0.0 differs from
+ * +0.0): "exactly as before". */
+static void check_unchanged(const gm_domain *domain,
+                            const test_snapshot *before, const char *label) {
+  test_snapshot after = test_snapshot_take(domain, NULL, NULL);
+  test_snapshot_assert_same(before, &after, label);
+  test_snapshot_free(&after);
 }
 
 /* Does text mention the integer as a whole token (not inside 17 or 0.7)? */
@@ -274,15 +219,14 @@ START_TEST(test_point_leaving_grid) {
   const double dt = 1e-4; /* s */
   scene_steps(&s, 5, dt);
 
-  snapshot before;
-  snapshot_take(s.domain, &before);
+  test_snapshot before = test_snapshot_take(s.domain, NULL, NULL);
   gm_status status = gm_domain_step(s.domain, dt);
   ck_assert_msg(status == GM_ERR_OUT_OF_GRID, "step returned %d (%s): %s",
                 (int)status, gm_strerror(status),
                 gm_domain_last_error(s.domain));
   check_message_names_id(s.domain, s.projectile_id, "out of grid");
   check_unchanged(s.domain, &before, "out of grid");
-  snapshot_free(&before);
+  test_snapshot_free(&before);
 
   /* Stopping the projectile makes the next step valid again. */
   set_velocity(s.domain, s.projectile_id, 0, 0.0);
@@ -299,8 +243,7 @@ START_TEST(test_fatal_material_failure) {
   const double dt = 1e-4; /* s */
   scene_steps(&s, 4, dt);
 
-  snapshot before;
-  snapshot_take(s.domain, &before);
+  test_snapshot before = test_snapshot_take(s.domain, NULL, NULL);
   tracked_reset(&s.material_data, MATERIAL_FATAL);
   gm_status status = gm_domain_step(s.domain, dt);
   ck_assert_msg(status == GM_ERR_CALLBACK, "step returned %d (%s)", (int)status,
@@ -311,7 +254,7 @@ START_TEST(test_fatal_material_failure) {
   ck_assert_msg(strstr(message, REFUSAL_TEXT) != NULL,
                 "message \"%s\" lacks the material's text", message);
   check_unchanged(s.domain, &before, "fatal material failure");
-  snapshot_free(&before);
+  test_snapshot_free(&before);
 
   tracked_reset(&s.material_data, MATERIAL_OK);
   scene_steps(&s, 2, dt);
@@ -338,14 +281,13 @@ START_TEST(test_nan_velocity_edit) {
   set_velocity(s.domain, victim, 0, NAN);
 
   /* The snapshot includes the NaN: the host's write stays. */
-  snapshot before;
-  snapshot_take(s.domain, &before);
+  test_snapshot before = test_snapshot_take(s.domain, NULL, NULL);
   gm_status status = gm_domain_step(s.domain, dt);
   ck_assert_msg(status == GM_ERR_NOT_FINITE, "step returned %d (%s)",
                 (int)status, gm_strerror(status));
   check_message_names_id(s.domain, victim, "NaN velocity");
   check_unchanged(s.domain, &before, "NaN velocity");
-  snapshot_free(&before);
+  test_snapshot_free(&before);
 
   set_velocity(s.domain, victim, 0, finite_value);
   scene_steps(&s, 2, dt);
@@ -363,15 +305,14 @@ START_TEST(test_unstable_dt_refused) {
   TEST_ASSERT_OK(s.domain, gm_domain_stable_dt(s.domain, &stable_dt));
   ck_assert_double_gt(stable_dt, 0.0);
 
-  snapshot before;
-  snapshot_take(s.domain, &before);
+  test_snapshot before = test_snapshot_take(s.domain, NULL, NULL);
   gm_status status = gm_domain_step(s.domain, 2.0 * stable_dt);
   ck_assert_msg(status == GM_ERR_UNSTABLE_DT, "step returned %d (%s)",
                 (int)status, gm_strerror(status));
   const char *message = gm_domain_last_error(s.domain);
   ck_assert_msg(message[0] != '\0', "empty message");
   check_unchanged(s.domain, &before, "unstable dt");
-  snapshot_free(&before);
+  test_snapshot_free(&before);
 
   /* The bound itself is not "above the bound". */
   double time_before = get_time(s.domain);
@@ -442,8 +383,7 @@ START_TEST(test_recoverable_failure_always) {
   scene_create(&s, 0, max_retries);
   scene_steps(&s, 3, dyadic_dt);
 
-  snapshot before;
-  snapshot_take(s.domain, &before);
+  test_snapshot before = test_snapshot_take(s.domain, NULL, NULL);
   tracked_reset(&s.material_data, MATERIAL_RECOVERABLE_ALWAYS);
   gm_status status = gm_domain_step(s.domain, dyadic_dt);
   ck_assert_msg(status == GM_ERR_CALLBACK, "step returned %d (%s)", (int)status,
@@ -451,7 +391,7 @@ START_TEST(test_recoverable_failure_always) {
   /* max_retries halvings: the smallest dt tried is dt / 2^3, no smaller. */
   ck_assert_double_eq(s.material_data.min_dt, dyadic_dt / 8.0);
   check_unchanged(s.domain, &before, "recoverable failure always");
-  snapshot_free(&before);
+  test_snapshot_free(&before);
 
   tracked_reset(&s.material_data, MATERIAL_OK);
   scene_steps(&s, 2, dyadic_dt);
@@ -496,13 +436,12 @@ START_TEST(test_nested_retry_failure_restores) {
   fill.velocity[0] = 1.0; /* m/s: a committed half step visibly moves */
   TEST_ASSERT_OK(domain, gm_domain_fill_box(domain, &fill, NULL, NULL));
   TEST_ASSERT_OK(domain, gm_domain_stable_dt(domain, &nested_full_dt));
-  snapshot before;
-  snapshot_take(domain, &before);
+  test_snapshot before = test_snapshot_take(domain, NULL, NULL);
   gm_status status = gm_domain_step(domain, nested_full_dt);
   ck_assert_msg(status == GM_ERR_CALLBACK, "step returned %d (%s)", (int)status,
                 gm_strerror(status));
   check_unchanged(domain, &before, "nested retry failure");
-  snapshot_free(&before);
+  test_snapshot_free(&before);
   gm_domain_destroy(domain);
 }
 END_TEST
@@ -592,27 +531,27 @@ START_TEST(test_hook_cancels_step) {
   TEST_ASSERT_OK(s.domain,
                  gm_domain_set_step_hook(s.domain, scripted_hook, &script));
 
-  snapshot before;
-  snapshot_take(s.domain, &before);
+  test_snapshot before = test_snapshot_take(s.domain, NULL, NULL);
   gm_status status = gm_domain_step(s.domain, dt);
   ck_assert_msg(status == GM_ERR_CALLBACK, "step returned %d (%s)", (int)status,
                 gm_strerror(status));
   ck_assert_int_eq(script.before_calls, 1);
   ck_assert_int_eq(script.after_calls, 0);
   check_unchanged(s.domain, &before, "hook cancel");
-  snapshot_free(&before);
+  test_snapshot_free(&before);
 
   /* A cancelling hook's own edit stays; nothing else changes. */
   const int64_t edited = 11;
   script.edit_id = edited;
   script.edit_value = 0.25; /* m/s */
   set_velocity(s.domain, edited, 0, script.edit_value);
-  snapshot_take(s.domain, &before);        /* expected state: edit applied */
+  before = test_snapshot_take(s.domain, NULL,
+                              NULL);       /* expected state: edit applied */
   set_velocity(s.domain, edited, 0, -1.0); /* the hook must overwrite this */
   status = gm_domain_step(s.domain, dt);
   ck_assert_int_eq(status, GM_ERR_CALLBACK);
   check_unchanged(s.domain, &before, "hook edit then cancel");
-  snapshot_free(&before);
+  test_snapshot_free(&before);
 
   script.before_result = 0;
   script.edit_id = -1;
