@@ -11,6 +11,7 @@
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
+#include "test_restart.h"
 #include "test_util.h"
 
 #include <check.h>
@@ -186,52 +187,14 @@ END_TEST
 
 /* ------------------------------------------------ a domain leaving the grid */
 
-enum { FIELD_COUNT = GM_FIELD_DOMAIN_CORNERS + 1 };
-
-/* Every field of every point, the ids, the time and the step count. */
-typedef struct state_copy {
-  size_t count;
-  size_t length[FIELD_COUNT];
-  double *field[FIELD_COUNT];
-  int64_t *ids;
-  double time; /* s */
-  uint64_t steps;
-} state_copy;
-
-static void state_take(const gm_domain *domain, state_copy *copy) {
-  copy->count = gm_domain_point_count(domain);
-  for (int f = 0; f < FIELD_COUNT; f++) {
-    size_t components = 0;
-    copy->field[f] = get_field(domain, (gm_field)f, &components);
-    copy->length[f] = copy->count * components;
-  }
-  copy->ids = malloc((copy->count + 1) * sizeof *copy->ids);
-  ck_assert_ptr_nonnull(copy->ids);
-  TEST_ASSERT_OK(domain, gm_domain_get_ids(domain, copy->ids, copy->count));
-  TEST_ASSERT_OK(domain, gm_domain_get_time(domain, &copy->time, &copy->steps));
-}
-
-static void state_free(state_copy *copy) {
-  for (int f = 0; f < FIELD_COUNT; f++)
-    free(copy->field[f]);
-  free(copy->ids);
-}
-
-/* Bitwise comparison (memcmp: -0.0 differs from 0.0, NaN equals itself). */
+/* The domain as `before` (test_restart.h: every field, the ids, the time
+ * and step count, the granular counts; memcmp: -0.0 differs from 0.0, NaN
+ * equals itself). */
 static void check_state_unchanged(const gm_domain *domain,
-                                  const state_copy *before) {
-  state_copy after;
-  state_take(domain, &after);
-  ck_assert_uint_eq(after.count, before->count);
-  ck_assert(memcmp(after.ids, before->ids, after.count * sizeof *after.ids) ==
-            0);
-  for (int f = 0; f < FIELD_COUNT; f++)
-    ck_assert_msg(memcmp(after.field[f], before->field[f],
-                         after.length[f] * sizeof(double)) == 0,
-                  "field %d changed by the failed step", f);
-  ck_assert(memcmp(&after.time, &before->time, sizeof after.time) == 0);
-  ck_assert_uint_eq(after.steps, before->steps);
-  state_free(&after);
+                                  const test_snapshot *before) {
+  test_snapshot after = test_snapshot_take(domain, NULL, NULL);
+  test_snapshot_assert_same(before, &after, "changed by the failed step");
+  test_snapshot_free(&after);
 }
 
 /* Does text contain the integer as a whole number (not inside 13 or 0.3)? */
@@ -303,11 +266,10 @@ static void check_domain_leaves(gm_shape shape, int axis, int side) {
   for (int step = 0; step < 100; step++) {
     double reach = reach_past_face(domain, axis, side);
     deepest = fmax(deepest, reach);
-    state_copy before;
-    state_take(domain, &before);
+    test_snapshot before = test_snapshot_take(domain, NULL, NULL);
     gm_status status = gm_domain_step(domain, dt);
     if (status == GM_OK) {
-      state_free(&before);
+      test_snapshot_free(&before);
       continue;
     }
     const char *message = gm_domain_last_error(domain);
@@ -323,7 +285,7 @@ static void check_domain_leaves(gm_shape shape, int axis, int side) {
     ck_assert_double_ge(reach + dt * 1.0, cell - 1e-9);
     ck_assert_double_gt(deepest, 0.5 * cell);
     check_state_unchanged(domain, &before);
-    state_free(&before);
+    test_snapshot_free(&before);
     gm_domain_destroy(domain);
     return;
   }
