@@ -66,6 +66,7 @@ validate: all
 	sh validate/collapse_size.sh
 	sh validate/collapse_3d.sh
 	sh validate/silo_refinement.sh
+	sh validate/silo_edge.sh
 
 # Fuzzing: a private static build with clang, libFuzzer, ASan and UBSan.
 FUZZ_BUILD ?= build-fuzz

@@ -14,6 +14,10 @@ EXTRA_DIST += tests/scripts/silo_3d_axisym.sh
 # 0.15 with the cell as grain size over D = 6 to 16 cells (docs/3d.md).
 TESTS += tests/scripts/silo_beverloo_axisym.sh
 EXTRA_DIST += tests/scripts/silo_beverloo_axisym.sh
+# The orifice's two floor edges (--edge-node held / open) bracket one
+# rate and the bracket closes as the cell (docs/convergence.md section 38).
+TESTS += tests/scripts/silo_edge_bracket.sh
+EXTRA_DIST += tests/scripts/silo_edge_bracket.sh
 # The B-spline rigid floor under USL, MUSL and USF: each runs, and the
 # rates agree within 5 % (docs/convergence.md section 35).
 TESTS += tests/scripts/silo_bspline_rigid_floor.sh

@@ -87,6 +87,16 @@
  * replaces the fill by von Mises with yield stress S (Pa), a nearly inviscid
  * fluid whose discharge Torricelli and Kirchhoff's contraction predict.
  *
+ * --edge-node held|open (flat floor): the floor layer begins at the
+ * orifice's edge and holds the node on it (held, the default), or begins
+ * a cell further out so that node is open (open; in 3D the open nodes are
+ * those within D/2 + h/2 of the axis). The held node's zero velocity
+ * reaches into the opening and the rate converges from below; the open
+ * rule's opening is a cell wider in the floor's points and its rate
+ * converges from above, with a much smaller error: the two bracket one
+ * limit and their gap halves with the cell (docs/convergence.md sec. 38,
+ * tests/scripts/silo_edge_bracket.sh).
+ *
  * --geometry 3d (issue 16 items 3-4): a square silo of side 2B with a
  * circular orifice of diameter D in its flat floor, y up. Only the quarter
  * x, z >= 0 is modelled: the grid faces x = 0 and z = 0 are slip symmetry
@@ -157,6 +167,9 @@ typedef struct silo {
   const char *transfer;   /* --transfer flip|apic */
   const char *profile;    /* path of the steady profiles' CSV; "" = none */
   double cfl;             /* -, Courant number of the stable dt */
+  int edge_cells;         /* 0: the floor holds the node on the orifice's
+                             edge (--edge-node held); 1: it starts a cell
+                             further out and that node is open */
   double drop;            /* m, free fall below the orifice before the sink
                              (whole cells); 0 = the sink at the orifice */
   double t_max;           /* s, > 0: the discharge stops here, window or not */
@@ -196,6 +209,18 @@ static double point_volume(const silo *s, double r, double spacing) {
   if (s->dim == 3)
     return area * spacing; /* m^3 */
   return s->geometry == GM_GEOMETRY_AXISYMMETRIC ? 2.0 * PI * r * area : area;
+}
+
+/* Where the floor layer begins (m): the orifice's edge D/2, or a cell
+ * beyond it with --edge-node open. */
+static double floor_edge(const silo *s) {
+  return 0.5 * s->orifice + s->edge_cells * s->options.cell;
+}
+
+/* The floor's hole in whole cells from the axis (silo_discharge_3d.h's
+ * `holes`): D/2h, one more with --edge-node open. */
+static long floor_holes(const silo *s) {
+  return lround(0.5 * s->orifice / s->options.cell) + s->edge_cells;
 }
 
 static gm_status create_domain(const silo *s, double damping,
@@ -643,14 +668,14 @@ static gm_status copy_points(const gm_domain *from, int material, gm_domain *to,
 static gm_status add_sinks(gm_domain *domain, const silo *s,
                            int sinks[MAX_SINKS], int *count) {
   double cell = s->options.cell; /* m */
-  long holes = lround(0.5 * s->orifice / cell);
+  long holes = floor_holes(s);
   gm_status status = GM_OK;
   *count = 0;
   long strips = s->dim == 3 ? holes : 1;
   for (long i = 0; status == GM_OK && i < strips; i++) {
     gm_sink_def orifice = gm_sink_def_default();
     orifice.lower[0] = s->dim == 3 ? i * cell : 0.0;
-    orifice.upper[0] = s->dim == 3 ? (i + 1) * cell : 0.5 * s->orifice;
+    orifice.upper[0] = s->dim == 3 ? (i + 1) * cell : floor_edge(s);
     orifice.lower[1] = -3.0 * cell - s->drop;
     orifice.upper[1] = -s->drop;
     long k = 0;
@@ -1154,7 +1179,7 @@ static int discharge(gm_domain *domain, const silo *s, wall_loads *loads,
 /* Parses --geometry, --hopper, --orifice and sizes the silo. */
 static int configure(silo *s, int argc, char **argv) {
   const char *geometry = "plane", *hopper = "flat", *profile = "";
-  const char *dilation = "none";
+  const char *dilation = "none", *edge_node = "held";
   s->volumetric = "point";
   s->scheme = "musl";
   s->transfer = "flip";
@@ -1231,6 +1256,10 @@ static int configure(silo *s, int argc, char **argv) {
        "point | cell (tr L averaged over each cell's points against "
        "volumetric locking, gm_domain_set_volumetric)",
        NULL, &s->volumetric},
+      {"edge-node",
+       "held | open: the floor holds the node on the orifice's edge, or "
+       "starts a cell beyond it (docs/convergence.md sec. 38)",
+       NULL, &edge_node},
       {"window-end",
        "fraction of the fill discharged that ends the rate's window (from "
        "0.1; the run stops 0.05 later; docs/3d.md's Beverloo sweep uses 0.25)",
@@ -1371,6 +1400,16 @@ static int configure(silo *s, int argc, char **argv) {
     return 2;
   }
   s->window_end = window_end;
+  if (strcmp(edge_node, "held") != 0 && strcmp(edge_node, "open") != 0) {
+    fprintf(stderr, "--edge-node: '%s' is not held or open\n", edge_node);
+    return 2;
+  }
+  s->edge_cells = strcmp(edge_node, "open") == 0;
+  if (s->edge_cells && s->hopper_angle > 0.0) {
+    fprintf(stderr, "--edge-node open: a flat floor only (the hopper's walls "
+                    "pass through the orifice's edges)\n");
+    return 2;
+  }
   return 0;
 }
 
@@ -1396,7 +1435,7 @@ static int simulate(silo *s, double *rate, double *mid_pressure,
   EXAMPLE_CHECK(flow, add_material(flow, s, &flow_material));
   EXAMPLE_CHECK(flow, add_walls(flow, s, &loads));
   if (s->hopper_angle <= 0.0)
-    EXAMPLE_CHECK(flow, add_floor(flow, s, 0.5 * s->orifice,
+    EXAMPLE_CHECK(flow, add_floor(flow, s, floor_edge(s),
                                   s->half_width + 2 * s->options.cell));
   EXAMPLE_CHECK(
       flow, copy_points(rest, material, flow, flow_material, (size_t)s->dim));
@@ -1410,7 +1449,7 @@ static int simulate(silo *s, double *rate, double *mid_pressure,
  * pi D^2 / 4 (silo_discharge_3d.h). */
 static void print_orifice(const silo *s) {
   double h = s->options.cell; /* m */
-  long holes = lround(0.5 * s->orifice / h), nodes = 0;
+  long holes = floor_holes(s), nodes = 0;
   double area = silo3d_open_area(s->dim == 3, holes, &nodes) * h * h; /* m^2 */
   printf("orifice: %ld open floor nodes (%s), open area %.4g m^2 = %.3f of "
          "pi D^2/4\n",
@@ -1462,10 +1501,12 @@ int main(int argc, char **argv) {
       return failed;
   }
   double k = 1.0 - sin(s.friction);
+  /* --edge-node open widens the floor's hole by a cell on each side */
+  double mesh_grain = MESH_GRAIN - 2.0 * s.edge_cells; /* k d / h */
   printf("Beverloo with d = 0: %g; with the mesh as grain (k d = %g h, see "
          "tests/physics/test_beverloo.c): %g\n",
-         beverloo(&s, 0.0), MESH_GRAIN,
-         beverloo(&s, MESH_GRAIN * s.options.cell));
+         beverloo(&s, 0.0), mesh_grain,
+         beverloo(&s, mesh_grain * s.options.cell));
   if (s.hopper_angle <= 0.0 && s.dim == 2)
     example_result("wall_pressure_mid_Pa", mid_pressure,
                    janssen_pressure(&s, k, mid_depth));
