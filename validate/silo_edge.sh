@@ -10,7 +10,8 @@
 # --fluidity 30 --reference-stress 1795). Writes
 # validate/results/silo_edge.csv and prints each rate's change per
 # halving, per added point per axis, and the gap open - held on each cell.
-# Environment: BUILD (default build), PLAN
+# Environment: APPEND=1 adds the runs to the CSV instead of starting it
+# afresh (PLAN="" then only prints the summary), BUILD (default build), PLAN
 # (geometry:cell_m:ppc:edge:material runs, default below). Cost
 # (2026-11-29, one core at load 2-3): the D/48 runs 8-10 min each, the
 # rest about 8 min; the default plan about 45 min.
@@ -27,7 +28,8 @@ axisym:0.025:2:open:perzyna axisym:0.0125:2:open:perzyna \
 axisym:0.00625:2:open:perzyna plane:0.025:2:open:dp plane:0.0125:2:open:dp \
 plane:0.00625:2:open:dp"}
 csv=$results/silo_edge.csv
-echo "geometry,cell_m,ppc,edge,material,rate,rate_10_25,rate_25_40,unit,cpu_s" >"$csv"
+[ "${APPEND:-0}" = 1 ] ||
+  echo "geometry,cell_m,ppc,edge,material,rate,rate_10_25,rate_25_40,unit,cpu_s" >"$csv"
 example=$build/examples/papers/wieckowski1999_silo_discharge
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
