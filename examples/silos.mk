@@ -9,7 +9,7 @@ examples_papers_wieckowski1999_silo_discharge_CPPFLAGS = -I$(top_srcdir)/include
 # axisymmetric silo of the same D, B, H and cell, within 5 % at D/6
 # (issue 16 item 3; docs/3d.md).
 TESTS += tests/scripts/silo_3d_axisym.sh
-EXTRA_DIST += tests/scripts/silo_3d_axisym.sh
+EXTRA_DIST += tests/scripts/silo_3d_axisym.sh tests/scripts/slow_case.sh
 # Beverloo's exponent for the circular orifice, axisymmetric silo: 2.5 +-
 # 0.15 with the cell as grain size over D = 6 to 16 cells (docs/3d.md).
 TESTS += tests/scripts/silo_beverloo_axisym.sh

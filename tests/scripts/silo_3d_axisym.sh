@@ -30,14 +30,7 @@ set -eu
 # distcheck stages do (the 3D sinks, rigid points and walls it uses run
 # under the sanitizers in test_sources, test_cpdi_3d and test_walls_3d); the
 # check stage runs it.
-case " ${CK_EXCLUDE_TAGS:-} " in
-*" slow "*)
-  echo "SKIP: a slow case and CK_EXCLUDE_TAGS='$CK_EXCLUDE_TAGS'"
-  exit 77
-  ;;
-esac
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
+. "$(dirname "$0")/slow_case.sh" # skip if slow is excluded; $scratch
 ./examples/papers/wieckowski1999_silo_discharge --geometry 3d --cell 0.05 \
   --orifice 0.3 --fill 1 --t-end 0.01 --out '' --quiet >"$scratch/out" 2>&1 ||
   true

@@ -20,14 +20,7 @@
 set -eu
 # A sweep (tests/README.md, "Slow cases": test_beverloo keeps the silo's
 # paths under the sanitizers): skipped when CK_EXCLUDE_TAGS names slow.
-case " ${CK_EXCLUDE_TAGS:-} " in
-*" slow "*)
-  echo "SKIP: a slow case and CK_EXCLUDE_TAGS='$CK_EXCLUDE_TAGS'"
-  exit 77
-  ;;
-esac
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
+. "$(dirname "$0")/slow_case.sh" # skip if slow is excluded; $scratch
 for n in 6 8 10 12 16; do
   d=$(awk -v n="$n" 'BEGIN { printf "%.6g", 0.1 * n }')
   ./examples/papers/wieckowski1999_silo_discharge --geometry axisym \

@@ -18,14 +18,7 @@
 # more than the grid's O(h), would keep the gap. About 20 s of one core.
 # SPDX-License-Identifier: BSD-2-Clause
 set -eu
-case " ${CK_EXCLUDE_TAGS:-} " in
-*" slow "*)
-  echo "SKIP: a slow case and CK_EXCLUDE_TAGS='$CK_EXCLUDE_TAGS'"
-  exit 77
-  ;;
-esac
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
+. "$(dirname "$0")/slow_case.sh" # skip if slow is excluded; $scratch
 for cell in 0.05 0.025; do
   for edge in held open; do
     ./examples/papers/wieckowski1999_silo_discharge --geometry axisym \
