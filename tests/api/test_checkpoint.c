@@ -195,6 +195,39 @@ static scene build_periodic(gm_domain_def def) {
   return s;
 }
 
+/* The 3D scenes' initial velocities: each law gives (v_x, v_y) in m/s at
+ * a point's x and z in m (v_z stays 0). */
+typedef void velocity_law_3d(double x, double z, double *vx, double *vy);
+
+/* build_3d's shear: v_x = 2 z, v_y = -1.5 x (1/s times m). */
+static void shear_velocity_3d(double x, double z, double *vx, double *vy) {
+  *vx = 2.0 * z;
+  *vy = -1.5 * x;
+}
+
+/* build_periodic_3d's flow: v_x = 2 + 3 z, v_y = 0.5 sin(2 pi x). */
+static void periodic_velocity_3d(double x, double z, double *vx, double *vy) {
+  *vx = 2.0 + 3.0 * z;
+  *vy = 0.5 * sin(2.0 * 3.14159265358979 * x);
+}
+
+/* Sets every point's v_x and v_y from law, through the public field views
+ * and edits. */
+static void set_velocity_3d(gm_domain *domain, velocity_law_3d *law) {
+  const double *x = NULL, *z = NULL;
+  double *vx = NULL, *vy = NULL;
+  TEST_REQUIRE_OK(domain,
+                  gm_domain_view_field(domain, GM_FIELD_POSITION, 0, &x));
+  TEST_REQUIRE_OK(domain,
+                  gm_domain_view_field(domain, GM_FIELD_POSITION, 2, &z));
+  TEST_REQUIRE_OK(domain,
+                  gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 0, &vx));
+  TEST_REQUIRE_OK(domain,
+                  gm_domain_edit_field(domain, GM_FIELD_VELOCITY, 1, &vy));
+  for (size_t p = 0; p < gm_domain_point_count(domain); p++)
+    law(x[p], z[p], &vx[p], &vy[p]);
+}
+
 /* An elastic block in 3D (linear MPM, the scheme of build()) on a fixed
  * floor between slip sides, gravity along -z, sheared at the start (v_x =
  * 2 z, v_y = -1.5 x, in 1/s times m) so that all nine components of F and
@@ -275,25 +308,10 @@ static scene build_3d(gm_domain_def def, int points_per_cell_axis) {
     }
     TEST_ASSERT_OK(s.domain, gm_domain_add_sink(s.domain, &sink, &s.sink));
   }
-  const double *x = NULL, *z = NULL;
-  double *vx = NULL, *vy = NULL;
-  TEST_REQUIRE_OK(s.domain,
-                  gm_domain_view_field(s.domain, GM_FIELD_POSITION, 0, &x));
-  TEST_REQUIRE_OK(s.domain,
-                  gm_domain_view_field(s.domain, GM_FIELD_POSITION, 2, &z));
-  TEST_REQUIRE_OK(s.domain,
-                  gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
-  TEST_REQUIRE_OK(s.domain,
-                  gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 1, &vy));
-  for (size_t p = 0; p < gm_domain_point_count(s.domain); p++) {
-    vx[p] = 2.0 * z[p];  /* m/s */
-    vy[p] = -1.5 * x[p]; /* m/s */
-  }
+  set_velocity_3d(s.domain, shear_velocity_3d);
   return s;
 }
 
-/* The scene on top of def (the caller's changes to def stay unless the
- * scene sets that field itself). */
 /* PERIODIC in 3D (the shape of the 3D scenes): a layer filling the
  * periodic width, 0.3 m deep on a fixed zmin floor between slip y faces,
  * moving at v_x = 2 + 3 z m/s with v_y = 0.5 sin(2 pi x), so that its
@@ -313,23 +331,12 @@ static scene build_periodic_3d(gm_domain_def def) {
   int layer = test_add_elastic(s.domain, 1e6, 0.3, 1000.0);
   const double lower[3] = {0.0, 0.0, 0.0}, upper[3] = {1.0, 0.4, 0.3};
   test_fill_box(s.domain, layer, lower, upper, 2, NULL);
-  const double *x = NULL, *z = NULL;
-  double *vx = NULL, *vy = NULL;
-  TEST_REQUIRE_OK(s.domain,
-                  gm_domain_view_field(s.domain, GM_FIELD_POSITION, 0, &x));
-  TEST_REQUIRE_OK(s.domain,
-                  gm_domain_view_field(s.domain, GM_FIELD_POSITION, 2, &z));
-  TEST_REQUIRE_OK(s.domain,
-                  gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 0, &vx));
-  TEST_REQUIRE_OK(s.domain,
-                  gm_domain_edit_field(s.domain, GM_FIELD_VELOCITY, 1, &vy));
-  for (size_t p = 0; p < gm_domain_point_count(s.domain); p++) {
-    vx[p] = 2.0 + 3.0 * z[p];                         /* m/s */
-    vy[p] = 0.5 * sin(2.0 * 3.14159265358979 * x[p]); /* m/s */
-  }
+  set_velocity_3d(s.domain, periodic_velocity_3d);
   return s;
 }
 
+/* The scene on top of def (the caller's changes to def stay unless the
+ * scene sets that field itself). */
 static scene build_from(scene_kind kind, gm_domain_def def) {
   switch (kind) {
   case ELASTIC:
