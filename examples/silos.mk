@@ -13,7 +13,12 @@ EXTRA_DIST += tests/scripts/silo_3d_axisym.sh tests/scripts/slow_case.sh
 # Beverloo's exponent for the circular orifice, axisymmetric silo: 2.5 +-
 # 0.15 with the cell as grain size over D = 6 to 16 cells (docs/3d.md).
 TESTS += tests/scripts/silo_beverloo_axisym.sh
-EXTRA_DIST += tests/scripts/silo_beverloo_axisym.sh
+EXTRA_DIST += tests/scripts/silo_beverloo_axisym.sh tests/scripts/beverloo_fit.awk
+# The README's recommended silo setting (B-splines, Perzyna, the orifice's
+# edge node open): the circular orifice's rate within 5 % from D/12 to
+# D/24, Beverloo's exponent 2.5 +- 0.15 with k d fitted (section 38).
+TESTS += tests/scripts/silo_recommended.sh
+EXTRA_DIST += tests/scripts/silo_recommended.sh
 # The orifice's two floor edges (--edge-node held / open) bracket one
 # rate and the bracket closes as the cell (docs/convergence.md section 38).
 TESTS += tests/scripts/silo_edge_bracket.sh

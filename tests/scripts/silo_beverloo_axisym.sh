@@ -34,29 +34,10 @@ for n in 6 8 10 12 16; do
   sed -n "s/^RESULT flow_rate_kg_s=\([^ ]*\) .*/$d \1/p" "$scratch/out" \
     >>"$scratch/rates"
 done
-awk '
-  { d[++m] = $1; w[m] = $2 }
-  function fit(k,   i, x, y, sx, sy, sxx, sxy, s) {
-    sx = sy = sxx = sxy = 0
-    for (i = 1; i <= m; i++) {
-      x = log(d[i] - k * 0.1); y = log(w[i])
-      sx += x; sy += y; sxx += x * x; sxy += x * y
-    }
-    s = (m * sxy - sx * sy) / (m * sxx - sx * sx)
-    residual = 0
-    for (i = 1; i <= m; i++)
-      residual += (log(w[i]) - (sy - s * sx) / m - s * log(d[i] - k * 0.1)) ^ 2
-    return s
-  }
-  END {
-    if (m != 5) { print "FAIL: " m " rates of 5"; exit 1 }
-    plain = fit(0)
-    best = -1
-    for (k = 0; k <= 5; k += 0.001) {
-      n = fit(k)
-      if (best < 0 || residual < best) { best = residual; bk = k; bn = n }
-    }
-    printf "Beverloo fit: n = %.3f, k = %.3f cells (rms %.3f in ln W); with k = 0 n = %.3f; tolerance 2.5 +- 0.15\n",
-      bn, bk, sqrt(best / m), plain
-    exit (bn < 2.35 || bn > 2.65)
-  }' "$scratch/rates"
+if [ "$(wc -l <"$scratch/rates")" -ne 5 ]; then
+  echo "FAIL: $(wc -l <"$scratch/rates") rates of 5"
+  exit 1
+fi
+# k d scanned over 0-5 cells of 0.1 m in steps of 0.001 cell
+awk -v kmax=0.5 -v kstep=0.0001 -v cell=0.1 -v target=2.5 -v tolerance=0.15 \
+  -f "$(dirname "$0")/beverloo_fit.awk" "$scratch/rates"
