@@ -112,7 +112,15 @@
  * cylinder of radius B: the same hydraulic radius B/2 as the square, and
  * Beverloo's rate does not depend on the silo's width beyond 2.5 D). No
  * wall-traction profile in 3D (gm_domain_get_wall_tractions), so no
- * Janssen line; no --hopper or --profile. Measured in docs/3d.md.
+ * Janssen line; no --profile. Measured in docs/3d.md.
+ * --geometry 3d --hopper DEG: a pyramidal hopper with a square outlet of
+ * side D (issue 16 item 4): in the quarter, two more planar Coulomb walls
+ * at DEG from the vertical through the outlet's edges x = D/2 and z = D/2
+ * at y = 0, no floor layer in the discharge (the gate closes the outlet
+ * while the fill settles), one sink under the quarter outlet D/2 x D/2.
+ * RESULT against Beverloo's eq 19 for a square outlet (C = 0.75, D'_h = D)
+ * with d = 0, no axisymmetric run. In 3D (and in 2D) the CSV's wall
+ * columns sum the side walls, its hopper columns the hopper walls.
  *
  * SPDX-License-Identifier: BSD-2-Clause
  */
@@ -189,12 +197,27 @@ static double symmetry_factor(const silo *s) {
 /* Time-averaged loads of one sampling interval (step hook). */
 typedef struct wall_loads {
   int wall_count;
-  int walls[2];         /* silo wall, hopper wall */
+  int side_count;       /* the first side_count walls are the silo's
+                           sides (1, in 3D 2), the rest its hopper walls */
+  int walls[4];         /* silo walls, then hopper walls */
   double last_time;     /* s */
   double span;          /* s, time accumulated */
-  double normal[2];     /* N s, integral of each wall's normal force */
-  double tangential[2]; /* N s, its friction force */
+  double normal[4];     /* N s, integral of each wall's normal force */
+  double tangential[4]; /* N s, its friction force */
 } wall_loads;
+
+/* The time-averaged force (N) of the side walls (hopper = 0) or of the
+ * hopper walls (hopper = 1) over `span` s: normal (tangential = 0) or
+ * friction (tangential = 1). */
+static double wall_load(const wall_loads *loads, int hopper, int tangential,
+                        double span) {
+  double sum = 0.0; /* N s */
+  int first = hopper ? loads->side_count : 0;
+  int last = hopper ? loads->wall_count : loads->side_count;
+  for (int k = first; k < last; k++)
+    sum += tangential ? loads->tangential[k] : loads->normal[k];
+  return sum / span;
+}
 
 /* x of the silo's wall at height y (m): the hopper wall, then the side. */
 static double wall_x(const silo *s, double y) {
@@ -347,7 +370,8 @@ static gm_status add_wall(gm_domain *domain, const silo *s,
 
 /* The vertical silo wall and, for a hopper, the inclined wall through the
  * orifice edge (normal pointing up and towards the axis); in 3D the second
- * side wall z = B instead (its loads in the CSV's hopper columns). */
+ * side wall z = B and, for a hopper, the second inclined wall through the
+ * square outlet's edge z = D/2 (a pyramidal hopper). */
 static gm_status add_walls(gm_domain *domain, const silo *s,
                            wall_loads *loads) {
   /* The wall is meant to lie on the node line x = B. The library decides
@@ -359,21 +383,28 @@ static gm_status add_walls(gm_domain *domain, const silo *s,
   const double inset = s->half_width - 1e-9 * s->options.cell; /* m */
   const double side_point[3] = {inset, 0.0, 0.0};
   const double side_normal[3] = {-1, 0, 0};
-  loads->wall_count = 1;
+  loads->wall_count = loads->side_count = 1;
   gm_status status =
       add_wall(domain, s, side_point, side_normal, &loads->walls[0]);
   if (status == GM_OK && s->dim == 3) {
     const double back_point[3] = {0.0, 0.0, inset};
     const double back_normal[3] = {0, 0, -1};
-    loads->wall_count = 2;
-    return add_wall(domain, s, back_point, back_normal, &loads->walls[1]);
+    loads->wall_count = loads->side_count = 2;
+    status = add_wall(domain, s, back_point, back_normal, &loads->walls[1]);
   }
   if (status != GM_OK || s->hopper_angle <= 0.0)
     return status;
+  double c = cos(s->hopper_angle), t = sin(s->hopper_angle);
   const double edge[3] = {0.5 * s->orifice, 0.0, 0.0};
-  const double normal[3] = {-cos(s->hopper_angle), sin(s->hopper_angle), 0};
-  loads->wall_count = 2;
-  return add_wall(domain, s, edge, normal, &loads->walls[1]);
+  const double normal[3] = {-c, t, 0};
+  status =
+      add_wall(domain, s, edge, normal, &loads->walls[loads->wall_count++]);
+  if (status != GM_OK || s->dim != 3)
+    return status;
+  const double back_edge[3] = {0.0, 0.0, 0.5 * s->orifice};
+  const double back_normal[3] = {0, t, -c};
+  return add_wall(domain, s, back_edge, back_normal,
+                  &loads->walls[loads->wall_count++]);
 }
 
 /* The 3D floor layer, on the lattice of fill_box, out to x, z < `edge`
@@ -460,7 +491,7 @@ static gm_status fill_silo(gm_domain *domain, silo *s, int material) {
     size_t column = cell % columns, row = cell / columns % rows;
     double x = (column + 0.5) * spacing, y = (row + 0.5) * spacing; /* m */
     double z = (cell / columns / rows + 0.5) * spacing; /* m, 3D only */
-    if (x >= wall_x(s, y) || (dim == 3 && z >= s->half_width))
+    if (x >= wall_x(s, y) || (dim == 3 && z >= wall_x(s, y)))
       continue;
     double vertical = -DENSITY * GRAVITY * (s->fill_height - y); /* Pa */
     position[dim * count] = x;
@@ -671,18 +702,21 @@ static gm_status add_sinks(gm_domain *domain, const silo *s,
   long holes = floor_holes(s);
   gm_status status = GM_OK;
   *count = 0;
-  long strips = s->dim == 3 ? holes : 1;
+  int square = s->dim == 3 && s->hopper_angle > 0.0; /* pyramidal hopper */
+  long strips = s->dim == 3 && !square ? holes : 1;
   for (long i = 0; status == GM_OK && i < strips; i++) {
     gm_sink_def orifice = gm_sink_def_default();
-    orifice.lower[0] = s->dim == 3 ? i * cell : 0.0;
-    orifice.upper[0] = s->dim == 3 ? (i + 1) * cell : floor_edge(s);
+    orifice.lower[0] = s->dim == 3 && !square ? i * cell : 0.0;
+    orifice.upper[0] = s->dim == 3 && !square ? (i + 1) * cell : floor_edge(s);
     orifice.lower[1] = -3.0 * cell - s->drop;
     orifice.upper[1] = -s->drop;
     long k = 0;
-    while (s->dim == 3 && !silo3d_rigid_cell(i, k, holes))
+    while (s->dim == 3 && !square && !silo3d_rigid_cell(i, k, holes))
       k++;
     orifice.upper[2] = k * cell; /* m, 0 in 2D (z is not read) */
-    if (s->dim == 3 && k == 0)
+    if (square) /* the hopper's square outlet, its quarter D/2 x D/2 */
+      orifice.upper[2] = 0.5 * s->orifice;
+    else if (s->dim == 3 && k == 0)
       continue;
     status = gm_domain_add_sink(domain, &orifice, &sinks[(*count)++]);
   }
@@ -746,9 +780,13 @@ static int past_window(const silo *s, const double *time, const double *mass,
 }
 
 /* Beverloo's rate (kg/(m s) for a slot, kg/s for an orifice) with the
- * orifice shortened by `offset` = k d (m). */
+ * orifice shortened by `offset` = k d (m). The 3D hopper's square outlet
+ * of side D: eq 19 with A' = (D - k d)^2 and D'_h = D - k d, so C = 0.75
+ * against the circle's 0.75 pi / 4. */
 static double beverloo(const silo *s, double offset) {
   double width = s->orifice - offset; /* m */
+  if (s->dim == 3 && s->hopper_angle > 0.0)
+    return BEVERLOO_SI * DENSITY * sqrt(GRAVITY) * pow(width, 2.5);
   if (s->geometry == GM_GEOMETRY_AXISYMMETRIC || s->dim == 3)
     return BEVERLOO_SI * PI / 4.0 * DENSITY * sqrt(GRAVITY) * pow(width, 2.5);
   return BEVERLOO_SI * sqrt(2.0) * DENSITY * sqrt(GRAVITY) * pow(width, 1.5);
@@ -1043,8 +1081,8 @@ static gm_status sample_discharge(const gm_domain *domain,
   if (record->csv) {
     fprintf(record->csv, "%g,%g,%g,%g,%zu,%g,%g,%g,%g", target, mass[taken],
             flow, summary.kinetic_energy, gm_domain_point_count(domain),
-            loads->normal[0] / span, loads->tangential[0] / span,
-            loads->normal[1] / span, loads->tangential[1] / span);
+            wall_load(loads, 0, 0, span), wall_load(loads, 0, 1, span),
+            wall_load(loads, 1, 0, span), wall_load(loads, 1, 1, span));
     example_write_states(record->csv, domain);
     fputc('\n', record->csv);
   }
@@ -1200,8 +1238,10 @@ static int configure(silo *s, int argc, char **argv) {
       {"orifice", "orifice width (slot) or diameter D, m", &orifice, NULL},
       {"geometry", "plane|axisym|3d (3d: a quarter square silo)", NULL,
        &geometry},
-      {"hopper", "flat or the hopper wall angle from the vertical, deg", NULL,
-       &hopper},
+      {"hopper",
+       "flat or the hopper wall angle from the vertical, deg (3d: a "
+       "pyramidal hopper with a square outlet of side D)",
+       NULL, &hopper},
       {"sample", "sampling interval of the discharged mass, s", &sample, NULL},
       {"fluidity",
        "> 0: Perzyna rate term, gamma in 1/s (0: rate-free Drucker-Prager)",
@@ -1281,8 +1321,8 @@ static int configure(silo *s, int argc, char **argv) {
     fprintf(stderr, "--geometry: '%s' is not plane, axisym or 3d\n", geometry);
     return 2;
   }
-  if (s->dim == 3 && (strcmp(hopper, "flat") != 0 || profile[0])) {
-    fprintf(stderr, "--geometry 3d: no --hopper or --profile (flat floor)\n");
+  if (s->dim == 3 && profile[0]) {
+    fprintf(stderr, "--geometry 3d: no --profile\n");
     return 2;
   }
   s->hopper_angle = 0.0;
@@ -1448,6 +1488,11 @@ static int simulate(silo *s, double *rate, double *mid_pressure,
 /* The open floor nodes of the orifice and the area they open against
  * pi D^2 / 4 (silo_discharge_3d.h). */
 static void print_orifice(const silo *s) {
+  if (s->hopper_angle > 0.0) { /* the walls cut the opening, not the nodes */
+    printf("orifice: %s %g m wide at the hopper's foot\n",
+           s->dim == 3 ? "square outlet" : "circular outlet", s->orifice);
+    return;
+  }
   double h = s->options.cell; /* m */
   long holes = floor_holes(s), nodes = 0;
   double area = silo3d_open_area(s->dim == 3, holes, &nodes) * h * h; /* m^2 */
@@ -1487,7 +1532,7 @@ int main(int argc, char **argv) {
   if (failed)
     return failed;
   double axisym = 0.0; /* kg/s, the axisymmetric silo's rate (3D only) */
-  if (s.dim == 3) {
+  if (s.dim == 3 && s.hopper_angle <= 0.0) {
     silo ring = s; /* the same D, B, H, cell and points, no output */
     ring.geometry = GM_GEOMETRY_AXISYMMETRIC;
     ring.dim = 2;
@@ -1513,7 +1558,7 @@ int main(int argc, char **argv) {
   example_result(s.geometry == GM_GEOMETRY_PLANE_STRAIN ? "flow_rate_kg_m_s"
                                                         : "flow_rate_kg_s",
                  rate, beverloo(&s, 0.0));
-  if (s.dim == 3)
+  if (s.dim == 3 && s.hopper_angle <= 0.0)
     example_result("flow_rate_3d_vs_axisym_kg_s", rate, axisym);
   return 0;
 }
