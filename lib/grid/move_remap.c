@@ -41,6 +41,7 @@
  */
 #include "grid/grid.h"
 
+#include "grid/own_nodes.h"
 #include "grid/transfer.h"
 
 #define TILE       (GM_BLOCK_EDGE_2D + 1)
@@ -72,36 +73,39 @@ bool gm_move_remap_fits(const gm_domain *domain) {
 }
 
 /* Adds the rows [y0, y1) x columns [x0, x1) of the tile to the block
- * `block`, whose node (0, 0) is tile node (base_x, base_y) (p2g.c
- * flush_region). */
-static void flush_region(double *const sum[2], uint32_t block,
-                         const momentum_tile *tile, int x0, int x1, int y0,
-                         int y1, int base_x, int base_y) {
+ * `block`, whose node (0, 0) is tile node (base_x, base_y); with `store`,
+ * a region only this tile reaches, stores them (p2g.c flush_region). */
+static GM_ALWAYS_INLINE void flush_region(double *const sum[2], uint32_t block,
+                                          const momentum_tile *tile, int x0,
+                                          int x1, int y0, int y1, int base_x,
+                                          int base_y, const bool store) {
   double *restrict sum_x = sum[0], *restrict sum_y = sum[1];
   size_t block_first = (size_t)block * GM_BLOCK_NODES;
   for (int ty = y0; ty < y1; ty++) {
     size_t row = block_first + GM_BLOCK_EDGE_2D * (size_t)(ty - base_y);
     for (int tx = x0; tx < x1; tx++) {
       size_t node = row + (size_t)(tx - base_x);
-      sum_x[node] += tile->node[tx + TILE * ty][0];
-      sum_y[node] += tile->node[tx + TILE * ty][1];
+      sum_x[node] = (store ? 0.0 : sum_x[node]) + tile->node[tx + TILE * ty][0];
+      sum_y[node] = (store ? 0.0 : sum_y[node]) + tile->node[tx + TILE * ty][1];
     }
   }
 }
 
-/* The block's own nodes, then the halo column (+x), row (+y) and corner
- * (+x+y) through the links (p2g.c flush_tile). */
+/* The block's own nodes (row 0 and column 0 added, the others stored:
+ * own_nodes.h), then the halo column (+x), row (+y) and corner (+x+y)
+ * through the links (p2g.c flush_tile). */
 static void flush_tile(double *const sum[2], const uint32_t *links,
                        const momentum_tile *tile) {
   const int E = GM_BLOCK_EDGE_2D;
-  if (links[0] != GM_NO_BLOCK)
-    flush_region(sum, links[0], tile, 0, E, 0, E, 0, 0);
+  flush_region(sum, links[0], tile, 0, E, 0, 1, 0, 0, false);
+  flush_region(sum, links[0], tile, 0, 1, 1, E, 0, 0, false);
+  flush_region(sum, links[0], tile, 1, E, 1, E, 0, 0, true);
   if (links[1] != GM_NO_BLOCK)
-    flush_region(sum, links[1], tile, E, TILE, 0, E, E, 0);
+    flush_region(sum, links[1], tile, E, TILE, 0, E, E, 0, false);
   if (links[2] != GM_NO_BLOCK)
-    flush_region(sum, links[2], tile, 0, E, E, TILE, 0, E);
+    flush_region(sum, links[2], tile, 0, E, E, TILE, 0, E, false);
   if (links[3] != GM_NO_BLOCK)
-    flush_region(sum, links[3], tile, E, TILE, E, TILE, E, E);
+    flush_region(sum, links[3], tile, E, TILE, E, TILE, E, E, false);
 }
 
 /* Moves the points of one block and sums their re-mapped momenta into
@@ -197,11 +201,13 @@ static void move_remap_blocks(void *context, size_t begin, size_t end,
   }
 }
 
-/* Clears the spare sums of a range of blocks (before the sweep). */
+/* Clears the spare sums of a range of blocks (before the sweep) where
+ * other blocks' halos reach them (own_nodes.h). */
 static void clear_sums(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   move_remap_context *ctx = context;
-  gm_remap_sums_clear(ctx->sum, begin, end);
+  gm_clear_shared_nodes_2d(ctx->sum[0], begin, end);
+  gm_clear_shared_nodes_2d(ctx->sum[1], begin, end);
 }
 
 /* Copies the new momenta of a range of blocks to the grid (after it). */

@@ -10,6 +10,7 @@
  */
 #include "grid/grid.h"
 
+#include "grid/own_nodes.h"
 #include "grid/transfer.h"
 
 #include <math.h>
@@ -90,11 +91,13 @@ typedef struct scatter_tile {
 
 /* Adds the rows [y0, y1) x columns [x0, x1) of the tile (tile
  * coordinates) to the block `block` of the grid, whose node (0, 0) is tile
- * node (base_x, base_y). */
+ * node (base_x, base_y); with `store`, a region only this tile reaches,
+ * stores them (own_nodes.h). */
 static GM_ALWAYS_INLINE void
 flush_region(const scatter_view *v, uint32_t block, const scatter_tile *tile,
              int x0, int x1, int y0, int y1, int base_x, int base_y,
-             const bool do_mass, const bool do_momentum, const bool do_forces) {
+             const bool do_mass, const bool do_momentum, const bool do_forces,
+             const bool store) {
   double *restrict mass = v->grid_mass;
   double *restrict momentum_x = v->grid_momentum[0];
   double *restrict momentum_y = v->grid_momentum[1];
@@ -107,41 +110,47 @@ flush_region(const scatter_view *v, uint32_t block, const scatter_tile *tile,
       size_t node = row + (size_t)(tx - base_x);
       const double *sums = tile->node[tx + TILE * ty];
       if (do_mass)
-        mass[node] += sums[TILE_MASS];
+        mass[node] = (store ? 0.0 : mass[node]) + sums[TILE_MASS];
       if (do_momentum) {
-        momentum_x[node] += sums[TILE_MOMENTUM_X];
-        momentum_y[node] += sums[TILE_MOMENTUM_Y];
+        momentum_x[node] =
+            (store ? 0.0 : momentum_x[node]) + sums[TILE_MOMENTUM_X];
+        momentum_y[node] =
+            (store ? 0.0 : momentum_y[node]) + sums[TILE_MOMENTUM_Y];
       }
       if (do_forces) {
-        force_x[node] += sums[TILE_FORCE_X];
-        force_y[node] += sums[TILE_FORCE_Y];
+        force_x[node] = (store ? 0.0 : force_x[node]) + sums[TILE_FORCE_X];
+        force_y[node] = (store ? 0.0 : force_y[node]) + sums[TILE_FORCE_Y];
       }
     }
   }
 }
 
 /* Adds the tile to the grid through the links: the block's own 8 x 8
- * nodes, then the halo column (+x neighbour), row (+y) and corner (+x+y),
- * each a rectangle of one block (every node receives one sum per field,
- * as before: the order of the additions to a node does not change). A
- * neighbour past the grid's last node (GM_NO_BLOCK) is never reached by
- * points and is skipped. */
+ * nodes (row 0 and column 0 added to their cleared values, the others
+ * stored: own_nodes.h), then the halo column (+x neighbour), row (+y) and
+ * corner (+x+y), each a rectangle of one block (every node receives one
+ * sum per field, as before: the order of the additions to a node does not
+ * change). A neighbour past the grid's last node (GM_NO_BLOCK) is never
+ * reached by points and is skipped. */
 static void flush_tile(const scatter_view *v, const uint32_t *links,
                        const scatter_tile *tile, const bool do_mass,
                        const bool do_momentum, const bool do_forces) {
   const int E = GM_BLOCK_EDGE_2D;
-  if (links[0] != GM_NO_BLOCK)
-    flush_region(v, links[0], tile, 0, E, 0, E, 0, 0, do_mass, do_momentum,
-                 do_forces);
+  flush_region(v, links[0], tile, 0, E, 0, 1, 0, 0, do_mass, do_momentum,
+               do_forces, false);
+  flush_region(v, links[0], tile, 0, 1, 1, E, 0, 0, do_mass, do_momentum,
+               do_forces, false);
+  flush_region(v, links[0], tile, 1, E, 1, E, 0, 0, do_mass, do_momentum,
+               do_forces, true);
   if (links[1] != GM_NO_BLOCK)
     flush_region(v, links[1], tile, E, TILE, 0, E, E, 0, do_mass, do_momentum,
-                 do_forces);
+                 do_forces, false);
   if (links[2] != GM_NO_BLOCK)
     flush_region(v, links[2], tile, 0, E, E, TILE, 0, E, do_mass, do_momentum,
-                 do_forces);
+                 do_forces, false);
   if (links[3] != GM_NO_BLOCK)
     flush_region(v, links[3], tile, E, TILE, E, TILE, E, E, do_mass,
-                 do_momentum, do_forces);
+                 do_momentum, do_forces, false);
 }
 
 /* do_* and apic are compile-time constants in each specialisation below,
@@ -351,6 +360,18 @@ static void clear_blocks(void *context, size_t begin, size_t end, int worker) {
   int dim = grid->dim;
   size_t first = begin * GM_BLOCK_NODES;
   size_t bytes = (end - begin) * GM_BLOCK_NODES * sizeof(double);
+  if (dim == 2 && ctx->view.shape_grid->shape == GM_SHAPE_LINEAR) {
+    /* scatter_block_2d stores the rest (own_nodes.h). */
+    if (ctx->pass->mass)
+      gm_clear_shared_nodes_2d(grid->mass, begin, end);
+    for (int k = 0; k < dim; k++) {
+      if (ctx->pass->momentum)
+        gm_clear_shared_nodes_2d(grid->momentum[k], begin, end);
+      if (ctx->pass->forces)
+        gm_clear_shared_nodes_2d(grid->force[k], begin, end);
+    }
+    return;
+  }
   /* One field at a time over the worker's whole range of blocks (a
    * memset each, instead of a loop testing the pass per node). */
   if (ctx->pass->mass)
