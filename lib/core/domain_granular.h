@@ -68,7 +68,7 @@ typedef struct gm_granular_work {
   size_t forest_count;
   bool forest_valid;
   uint8_t *visit;    /* points to search from when the forest is reused */
-  bool cells_sorted; /* cell_order/cell_start hold this step's buckets */
+  bool cells_sorted; /* cell_start marks this step's unsorted blocks */
   /* box_half depends only on per-point constants for linear MPM and uGIMP
    * (the initial domain scaled to V_cr): kept while the points keep their
    * indices, and recomputed after any addition, removal or reordering. */

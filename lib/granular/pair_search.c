@@ -4,7 +4,8 @@
  * and which of them interact.
  *
  * Points are bucketed by block (the plain binning) and, inside a block, by
- * the cell of their support's lowest node. A partner q of p shares a node
+ * the cell of their support's lowest node (on a window's first visit of
+ * the block in the step). A partner q of p shares a node
  * only if q's lowest node lies within [low_p - span + 1, high_p] per axis,
  * span being the widest support of the step, so p looks at those few cells
  * only: O(N), never all pairs. Interaction rules are at the top of
@@ -33,34 +34,47 @@ static int64_t local_cell(const gm_granular_work *work, int dim, int shift,
   return cell;
 }
 
-/* Groups each block's points by the local cell of their support's lowest
- * node (a counting sort per block). */
-static void sort_block_cells(void *context, size_t begin, size_t end,
-                             int worker) {
+/* A block whose cells are not grouped yet: its first offset (a point
+ * index, below UINT32_MAX) holds this mark until sort_block_cells runs. */
+#define UNSORTED UINT32_MAX
+
+/* Marks every block unsorted, once per step before the first search: only
+ * the blocks a searching point's window reaches are then sorted (the
+ * searching points are often a few, the disconnected ones). */
+static void mark_blocks_unsorted(void *context, size_t begin, size_t end,
+                                 int worker) {
   (void)worker;
-  gm_domain *domain = context;
+  gm_granular_work *work = context;
+  for (size_t b = begin; b < end; b++)
+    work->cell_start[b * (BLOCK_CELLS + 1)] = UNSORTED;
+}
+
+/* Groups a block's points by the local cell of their support's lowest node
+ * (a counting sort), on the first visit of the step; returns its offsets. */
+static const uint32_t *sorted_block_cells(gm_domain *domain, uint32_t b) {
   gm_grid *grid = &domain->grid;
   gm_points *points = &domain->points;
   gm_granular_work *work = &domain->granular;
   int shift = grid->shift, dim = domain->dim;
-  for (size_t b = begin; b < end; b++) {
-    uint32_t *start = work->cell_start + b * (BLOCK_CELLS + 1);
-    memset(start, 0, (BLOCK_CELLS + 1) * sizeof(uint32_t));
-    uint32_t first = grid->point_start[b], last = grid->point_start[b + 1];
-    for (uint32_t k = first; k < last; k++) {
-      uint32_t p = points->order[k];
-      start[local_cell(work, dim, shift, p) + 1]++;
-    }
-    start[0] = first;
-    for (int c = 0; c < BLOCK_CELLS; c++)
-      start[c + 1] += start[c];
-    uint32_t fill[BLOCK_CELLS];
-    memcpy(fill, start, sizeof fill);
-    for (uint32_t k = first; k < last; k++) {
-      uint32_t p = points->order[k];
-      work->cell_order[fill[local_cell(work, dim, shift, p)]++] = p;
-    }
+  uint32_t *start = work->cell_start + (size_t)b * (BLOCK_CELLS + 1);
+  if (start[0] != UNSORTED)
+    return start;
+  memset(start, 0, (BLOCK_CELLS + 1) * sizeof(uint32_t));
+  uint32_t first = grid->point_start[b], last = grid->point_start[b + 1];
+  for (uint32_t k = first; k < last; k++) {
+    uint32_t p = points->order[k];
+    start[local_cell(work, dim, shift, p) + 1]++;
   }
+  start[0] = first;
+  for (int c = 0; c < BLOCK_CELLS; c++)
+    start[c + 1] += start[c];
+  uint32_t fill[BLOCK_CELLS];
+  memcpy(fill, start, sizeof fill);
+  for (uint32_t k = first; k < last; k++) {
+    uint32_t p = points->order[k];
+    work->cell_order[fill[local_cell(work, dim, shift, p)]++] = p;
+  }
+  return start;
 }
 
 /* Each pair sharing a node lies in both points' candidate windows, so it
@@ -131,7 +145,7 @@ static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
   gm_granular_work *work = &domain->granular;
   int dim = domain->dim, shift = domain->grid.shift;
   int64_t last = ((int64_t)1 << shift) - 1; /* local index of a block edge */
-  const uint32_t *start = work->cell_start + block * (BLOCK_CELLS + 1);
+  const uint32_t *start = sorted_block_cells(domain, block);
   /* With a fixed span (no highest node stored) every support spans
    * support_reach + 1 nodes, the window is [low_p - reach, low_p + reach]
    * per axis (cut at 0 and, with half windows, at low_p along the last
@@ -197,6 +211,53 @@ static gm_status visit_window(gm_domain *domain, gm_pair_pass pass, uint32_t p,
   return GM_OK;
 }
 
+/* visit_window for a plane domain whose supports have a fixed span (no
+ * highest node stored): every point of the window shares a node with p
+ * (visit_block), so only the raster test is left per partner. The same
+ * blocks, rows and points in the same order as visit_window's, without
+ * its third axis and per-block set-up: the cloud's disconnected points
+ * each search every step (bench/results/2026-11-30-cloud22.md). */
+static gm_status visit_window_2d(gm_domain *domain, gm_pair_pass pass,
+                                 uint32_t p, uint32_t *root_p, bool half,
+                                 const int64_t from[3], const int64_t to[3]) {
+  const gm_grid *grid = &domain->grid;
+  const gm_granular_work *work = &domain->granular;
+  const uint32_t *cell_order = work->cell_order;
+  int shift = grid->shift;
+  int64_t mask = ((int64_t)1 << shift) - 1;
+  int64_t blocks_x = grid->blocks_per_axis[0];
+  int64_t last_bx = to[0] >> shift, last_by = to[1] >> shift;
+  last_bx = last_bx < blocks_x ? last_bx : blocks_x - 1;
+  if (last_by >= grid->blocks_per_axis[1])
+    last_by = grid->blocks_per_axis[1] - 1;
+  for (int64_t by = from[1] >> shift; by <= last_by; by++) {
+    int64_t base_y = by << shift;
+    int64_t y0 = from[1] > base_y ? from[1] - base_y : 0;
+    int64_t y1 = to[1] - base_y < mask ? to[1] - base_y : mask;
+    for (int64_t bx = from[0] >> shift; bx <= last_bx; bx++) {
+      uint32_t block = gm_grid_find(grid, by * blocks_x + bx);
+      if (block == GM_NO_BLOCK)
+        continue;
+      int64_t base_x = bx << shift;
+      int64_t x0 = from[0] > base_x ? from[0] - base_x : 0;
+      int64_t x1 = to[0] - base_x < mask ? to[0] - base_x : mask;
+      const uint32_t *start = sorted_block_cells(domain, block);
+      for (int64_t y = y0; y <= y1; y++) {
+        const uint32_t *row = start + (y << shift);
+        for (uint32_t k = row[x0]; k < row[x1 + 1]; k++) {
+          uint32_t q = cell_order[k];
+          if (q == p || (half && !later_in_raster(work, 2, p, q)))
+            continue;
+          gm_status status = handle_pair(domain, pass, p, q, root_p, !half);
+          if (status != GM_OK)
+            return status;
+        }
+      }
+    }
+  }
+  return GM_OK;
+}
+
 gm_status gm_pair_search(gm_domain *domain, const int max_span[3],
                          gm_pair_pass pass, const uint8_t *subset) {
   gm_grid *grid = &domain->grid;
@@ -207,8 +268,8 @@ gm_status gm_pair_search(gm_domain *domain, const int max_span[3],
     if (subset && !subset[p])
       continue;
     if (!work->cells_sorted) { /* only when some point searches */
-      gm_parallel_for(&domain->pool, grid->block_count, sort_block_cells,
-                      domain);
+      gm_parallel_for(&domain->pool, grid->block_count, mark_blocks_unsorted,
+                      work);
       work->cells_sorted = true;
     }
     /* A partner's lowest node lies in [low - span + 1, high] per axis;
@@ -224,7 +285,10 @@ gm_status gm_pair_search(gm_domain *domain, const int max_span[3],
       from[dim - 1] = work->support_low[dim - 1][p];
     uint32_t root_p = gm_union_find_root(work->parent, (uint32_t)p);
     gm_status status =
-        visit_window(domain, pass, (uint32_t)p, &root_p, half, from, to);
+        dim == 2 && !work->support_high[0]
+            ? visit_window_2d(domain, pass, (uint32_t)p, &root_p, half, from,
+                              to)
+            : visit_window(domain, pass, (uint32_t)p, &root_p, half, from, to);
     if (status != GM_OK)
       return status;
   }
