@@ -493,9 +493,10 @@ static gm_status join_interacting(gm_domain *domain, const int max_span[3]) {
 /* Turns the candidates of a subset search (point pairs sharing a node that
  * did not interact) into the pairs of different components, by label.
  * Every pair of components sharing a node is among them: the search met it
- * from at least one end (with full windows from every point outside the
- * largest kept set, and a pair of two components has an end outside that
- * set), and it was not joined. */
+ * from one end (with full windows from every point outside the largest
+ * kept set, a pair of two components has an end outside that set, and a
+ * pair with both ends outside is met from the first in raster order:
+ * pair_search.c), and it was not joined. */
 static void keep_conflicts(gm_domain *domain) {
   gm_granular_work *work = &domain->granular;
   size_t kept = 0;

@@ -94,6 +94,18 @@ static bool later_in_raster(const gm_granular_work *work, int dim, uint32_t p,
   return qx != px ? qx > px : q > p;
 }
 
+/* Whether p's search takes the candidate q. Every pair whose two ends
+ * search is taken once, from its first point in raster order: every pair
+ * of a full search (subset NULL) and, in a subset search, every pair of
+ * two points outside the largest kept set (the union-find gives the same
+ * sets in any order of the joins, and the conflicts are kept as a set:
+ * layers.c). A pair with one searching end is taken from that end. */
+static inline bool takes_partner(const gm_granular_work *work, int dim,
+                                 const uint8_t *subset, uint32_t p,
+                                 uint32_t q) {
+  return q != p && ((subset && !subset[q]) || later_in_raster(work, dim, p, q));
+}
+
 /* Appends a b to work->conflict: two points that share a node but did not
  * interact (JOIN pass of a subset search: components.c keeps those of
  * different components), or two components that share a node (CONFLICTS
@@ -118,7 +130,8 @@ static gm_status add_pair(gm_domain *domain, uint32_t a, uint32_t b) {
  * candidate conflict. CONFLICTS: the pair of their components if those
  * differ. */
 static gm_status handle_pair(gm_domain *domain, gm_pair_pass pass, uint32_t p,
-                             uint32_t q, uint32_t *root_p, bool subset) {
+                             uint32_t q, uint32_t *root_p,
+                             const uint8_t *subset) {
   gm_granular_work *work = &domain->granular;
   if (pass == GM_PASS_CONFLICTS) {
     int32_t a = work->label[p], b = work->label[q];
@@ -139,9 +152,9 @@ static gm_status handle_pair(gm_domain *domain, gm_pair_pass pass, uint32_t p,
 /* The partners of p among the points of one block whose lowest node lies
  * in the window [from, to] (node indices per axis). */
 static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
-                             uint32_t *root_p, bool half, uint32_t block,
-                             const int64_t base[3], const int64_t from[3],
-                             const int64_t to[3]) {
+                             uint32_t *root_p, const uint8_t *subset,
+                             uint32_t block, const int64_t base[3],
+                             const int64_t from[3], const int64_t to[3]) {
   gm_granular_work *work = &domain->granular;
   int dim = domain->dim, shift = domain->grid.shift;
   int64_t last = ((int64_t)1 << shift) - 1; /* local index of a block edge */
@@ -167,10 +180,10 @@ static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
       uint32_t run_end = start[row + high[0] + 1];
       for (uint32_t k = run_first; k < run_end; k++) {
         uint32_t q = work->cell_order[k];
-        if ((half && !later_in_raster(work, dim, p, q)) || q == p ||
+        if (!takes_partner(work, dim, subset, p, q) ||
             (!window_shares && !gm_supports_share_node(work, dim, p, q)))
           continue;
-        gm_status status = handle_pair(domain, pass, p, q, root_p, !half);
+        gm_status status = handle_pair(domain, pass, p, q, root_p, subset);
         if (status != GM_OK)
           return status;
       }
@@ -182,7 +195,7 @@ static gm_status visit_block(gm_domain *domain, gm_pair_pass pass, uint32_t p,
 /* The blocks (of the plain binning) holding p's candidate window
  * [from, to], each searched by visit_block. */
 static gm_status visit_window(gm_domain *domain, gm_pair_pass pass, uint32_t p,
-                              uint32_t *root_p, bool half,
+                              uint32_t *root_p, const uint8_t *subset,
                               const int64_t from[3], const int64_t to[3]) {
   const gm_grid *grid = &domain->grid;
   int dim = domain->dim, shift = grid->shift;
@@ -202,7 +215,7 @@ static gm_status visit_window(gm_domain *domain, gm_pair_pass pass, uint32_t p,
         int64_t base[3] = {bx << shift, dim > 1 ? by << shift : 0,
                            dim == 3 ? bz << shift : 0};
         gm_status status =
-            visit_block(domain, pass, p, root_p, half, block, base, from, to);
+            visit_block(domain, pass, p, root_p, subset, block, base, from, to);
         if (status != GM_OK)
           return status;
       }
@@ -218,8 +231,9 @@ static gm_status visit_window(gm_domain *domain, gm_pair_pass pass, uint32_t p,
  * its third axis and per-block set-up: the cloud's disconnected points
  * each search every step (bench/results/2026-11-30-cloud22.md). */
 static gm_status visit_window_2d(gm_domain *domain, gm_pair_pass pass,
-                                 uint32_t p, uint32_t *root_p, bool half,
-                                 const int64_t from[3], const int64_t to[3]) {
+                                 uint32_t p, uint32_t *root_p,
+                                 const uint8_t *subset, const int64_t from[3],
+                                 const int64_t to[3]) {
   const gm_grid *grid = &domain->grid;
   const gm_granular_work *work = &domain->granular;
   const uint32_t *cell_order = work->cell_order;
@@ -246,9 +260,9 @@ static gm_status visit_window_2d(gm_domain *domain, gm_pair_pass pass,
         const uint32_t *row = start + (y << shift);
         for (uint32_t k = row[x0]; k < row[x1 + 1]; k++) {
           uint32_t q = cell_order[k];
-          if (q == p || (half && !later_in_raster(work, 2, p, q)))
+          if (!takes_partner(work, 2, subset, p, q))
             continue;
-          gm_status status = handle_pair(domain, pass, p, q, root_p, !half);
+          gm_status status = handle_pair(domain, pass, p, q, root_p, subset);
           if (status != GM_OK)
             return status;
         }
@@ -284,11 +298,11 @@ gm_status gm_pair_search(gm_domain *domain, const int max_span[3],
     if (half && dim > 1)
       from[dim - 1] = work->support_low[dim - 1][p];
     uint32_t root_p = gm_union_find_root(work->parent, (uint32_t)p);
-    gm_status status =
-        dim == 2 && !work->support_high[0]
-            ? visit_window_2d(domain, pass, (uint32_t)p, &root_p, half, from,
-                              to)
-            : visit_window(domain, pass, (uint32_t)p, &root_p, half, from, to);
+    gm_status status = dim == 2 && !work->support_high[0]
+                           ? visit_window_2d(domain, pass, (uint32_t)p, &root_p,
+                                             subset, from, to)
+                           : visit_window(domain, pass, (uint32_t)p, &root_p,
+                                          subset, from, to);
     if (status != GM_OK)
       return status;
   }
