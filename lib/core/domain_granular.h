@@ -67,6 +67,17 @@ typedef struct gm_granular_work {
   uint64_t *forest;
   size_t forest_count;
   bool forest_valid;
+  /* The points of the union-find (parent, set_size) the last search left,
+   * whose sets are the kept forest's (0: none, or renamed since by a
+   * reordering): a step whose kept edges all hold starts from them
+   * (components.c). */
+  size_t sets_count;
+  /* Whether the component array of point buffer labels_buffer holds the
+   * labels of the kept forest's sets (labels_components of them): a step
+   * whose sets did not change copies them instead of labelling again. */
+  bool labels_kept;
+  int labels_buffer;
+  size_t labels_components;
   uint8_t *visit;    /* points to search from when the forest is reused */
   bool cells_sorted; /* cell_start marks this step's unsorted blocks */
   /* box_half depends only on per-point constants for linear MPM and uGIMP

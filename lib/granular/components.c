@@ -277,6 +277,7 @@ static void linear_supports(void *context, size_t begin, size_t end,
 
 void gm_granular_remap_forest(gm_domain *domain, uint32_t *scratch) {
   gm_granular_work *work = &domain->granular;
+  work->sets_count = 0; /* renamed points, and parent counts below */
   if (!work->forest_valid)
     return;
   const gm_points *points = &domain->points;
@@ -469,25 +470,43 @@ static size_t mark_outside_largest(gm_domain *domain) {
 }
 
 /* Task 1 and the union-find: the sets of interacting points, and the
- * forest that produced them. */
-static gm_status join_interacting(gm_domain *domain, const int max_span[3]) {
+ * forest that produced them. forest_holds: check_forest found every kept
+ * edge holding. */
+static gm_status join_interacting(gm_domain *domain, const int max_span[3],
+                                  bool forest_holds) {
   gm_granular_work *work = &domain->granular;
   size_t count = domain->points.count;
   work->conflict_count = 0; /* the candidates of this search */
-  gm_union_find_init(work->parent, work->set_size, count);
   work->summary.forest_reused = 0;
+  gm_status status;
   if (work->forest_valid) {
-    rejoin_forest(domain);
+    /* Every join of a search adds its edge to the forest, so the sets the
+     * last search left are the forest's: where every edge holds, rejoining
+     * them would give the same sets (with other roots, which decide only
+     * between sets of equal size below, and the results do not depend on
+     * which set is left out: pair_search.c). */
+    if (!forest_holds || work->sets_count != count) {
+      gm_union_find_init(work->parent, work->set_size, count);
+      rejoin_forest(domain);
+      work->labels_kept = false;
+    }
     /* A point searching for the kept sets takes full windows, twice the
      * half windows of the full search: past half the points, start over. */
     if (mark_outside_largest(domain) <= count / 2) {
       work->summary.forest_reused = 1;
-      return gm_pair_search(domain, max_span, GM_PASS_JOIN, work->visit);
+      size_t edges = work->forest_count; /* a join adds an edge */
+      status = gm_pair_search(domain, max_span, GM_PASS_JOIN, work->visit);
+      work->sets_count = status == GM_OK ? count : 0;
+      work->labels_kept = work->labels_kept && work->forest_count == edges;
+      return status;
     }
   }
+  work->labels_kept = false;
   gm_union_find_init(work->parent, work->set_size, count);
   work->forest_count = 0;
-  return gm_pair_search(domain, max_span, GM_PASS_JOIN, NULL);
+  status = gm_pair_search(domain, max_span, GM_PASS_JOIN, NULL);
+  work->sets_count = status == GM_OK ? count : 0;
+  return status;
 }
 
 /* Turns the candidates of a subset search (point pairs sharing a node that
@@ -562,13 +581,14 @@ gm_status gm_granular_prepare(gm_domain *domain) {
   /* A kept spanning tree of all points whose edges all hold: one
    * component, whatever other pairs interact, and neither union-find nor
    * a search is needed (a connected flow, the common case). */
-  bool one_component = check_forest(domain) && work->forest_count + 1 == count;
+  bool forest_holds = check_forest(domain);
+  bool one_component = forest_holds && work->forest_count + 1 == count;
   if (one_component) {
     work->summary.forest_reused = 1;
   } else {
     if (supports_deferred) /* the search and rejoin_forest read them */
       gm_parallel_for(&domain->pool, count, linear_supports, domain);
-    status = join_interacting(domain, max_span);
+    status = join_interacting(domain, max_span, forest_holds);
     work->forest_valid = status == GM_OK;
     if (status != GM_OK)
       return status;
@@ -581,11 +601,25 @@ gm_status gm_granular_prepare(gm_domain *domain) {
     memset(work->label, 0, count * sizeof(int32_t));
     work->component_size[0] = (uint32_t)count;
   } else {
-    components = label_components(domain);
+    /* Sets unchanged since they were labelled: the same labels (by
+     * smallest id, of the same points). */
+    const int32_t *kept = work->labels_kept
+                              ? points->buffer[work->labels_buffer].component
+                              : NULL;
+    if (kept) {
+      components = work->labels_components;
+      if (kept != work->label)
+        memcpy(work->label, kept, count * sizeof(int32_t));
+    } else {
+      components = label_components(domain);
+    }
     memset(work->component_size, 0, components * sizeof(uint32_t));
     for (size_t p = 0; p < count; p++)
       work->component_size[work->label[p]]++;
   }
+  work->labels_kept = true;
+  work->labels_buffer = points->cur ^ 1;
+  work->labels_components = components;
   labels_done = gm_monotonic_seconds();
   size_t layers = 1;
   memset(work->component_layer, 0, components * sizeof(int32_t));

@@ -565,9 +565,11 @@ static gm_status retry_in_halves(gm_domain *domain, double dt,
   if (status != GM_OK) {
     points->cur = cur;
     points->keys_valid = false;
-    if (outermost)
+    if (outermost) {
       gm_buffers_copy(&points->buffer[cur], &domain->snapshot, points->count,
                       points->state_stride);
+      domain->granular.labels_kept = false; /* labels of the interval start */
+    }
     domain->time = time;
     domain->max_signal_speed = speed;
     domain->step_count = steps;
