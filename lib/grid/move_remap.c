@@ -85,8 +85,10 @@ static GM_ALWAYS_INLINE void flush_region(double *const sum[2], uint32_t block,
     size_t row = block_first + GM_BLOCK_EDGE_2D * (size_t)(ty - base_y);
     for (int tx = x0; tx < x1; tx++) {
       size_t node = row + (size_t)(tx - base_x);
-      sum_x[node] = (store ? 0.0 : sum_x[node]) + tile->node[tx + TILE * ty][0];
-      sum_y[node] = (store ? 0.0 : sum_y[node]) + tile->node[tx + TILE * ty][1];
+      sum_x[node] =
+          gm_own_sum(store, sum_x[node], tile->node[tx + TILE * ty][0]);
+      sum_y[node] =
+          gm_own_sum(store, sum_y[node], tile->node[tx + TILE * ty][1]);
     }
   }
 }

@@ -110,16 +110,16 @@ flush_region(const scatter_view *v, uint32_t block, const scatter_tile *tile,
       size_t node = row + (size_t)(tx - base_x);
       const double *sums = tile->node[tx + TILE * ty];
       if (do_mass)
-        mass[node] = (store ? 0.0 : mass[node]) + sums[TILE_MASS];
+        mass[node] = gm_own_sum(store, mass[node], sums[TILE_MASS]);
       if (do_momentum) {
         momentum_x[node] =
-            (store ? 0.0 : momentum_x[node]) + sums[TILE_MOMENTUM_X];
+            gm_own_sum(store, momentum_x[node], sums[TILE_MOMENTUM_X]);
         momentum_y[node] =
-            (store ? 0.0 : momentum_y[node]) + sums[TILE_MOMENTUM_Y];
+            gm_own_sum(store, momentum_y[node], sums[TILE_MOMENTUM_Y]);
       }
       if (do_forces) {
-        force_x[node] = (store ? 0.0 : force_x[node]) + sums[TILE_FORCE_X];
-        force_y[node] = (store ? 0.0 : force_y[node]) + sums[TILE_FORCE_Y];
+        force_x[node] = gm_own_sum(store, force_x[node], sums[TILE_FORCE_X]);
+        force_y[node] = gm_own_sum(store, force_y[node], sums[TILE_FORCE_Y]);
       }
     }
   }
