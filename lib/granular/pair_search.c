@@ -128,10 +128,12 @@ static gm_status add_pair(gm_domain *domain, uint32_t a, uint32_t b) {
 /* One pair sharing a node. JOIN: nothing if the two are already joined
  * through others; joined if they interact; else, in a subset search, a
  * candidate conflict. CONFLICTS: the pair of their components if those
- * differ. */
-static gm_status handle_pair(gm_domain *domain, gm_pair_pass pass, uint32_t p,
-                             uint32_t q, uint32_t *root_p,
-                             const uint8_t *subset) {
+ * differ. Inline: once per candidate pair, the call cost more than the
+ * tests of a pair that does not interact. */
+static GM_ALWAYS_INLINE gm_status handle_pair(gm_domain *domain,
+                                              gm_pair_pass pass, uint32_t p,
+                                              uint32_t q, uint32_t *root_p,
+                                              const uint8_t *subset) {
   gm_granular_work *work = &domain->granular;
   if (pass == GM_PASS_CONFLICTS) {
     int32_t a = work->label[p], b = work->label[q];
