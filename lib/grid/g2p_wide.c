@@ -188,10 +188,11 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
       /* The fractions and corner gradients from the kept cells, bitwise
        * gm_cpdi_support_2d's. */
       double corners[4][2], corner_gradient[4][2]; /* m, 1/m */
+      gather_cpdi_kept_rows(v, &tile_values, &kept, acceleration, gradient);
       gm_cpdi_kept_fractions(&shape_grid, v->position, deformation,
                              v->domain_size, p, &block_cells, &kept, corners);
       (void)gm_cpdi_corner_gradients_2d(corners, corner_gradient);
-      gather_cpdi_kept_2d(v, &tile_values, &kept, &corner_gradient[0][0], &sum,
+      gather_cpdi_kept_2d(&tile_values, &kept, &corner_gradient[0][0], &sum,
                           acceleration, gradient);
       store_point_gather(v, p, j, &sum, affine, out, 2, acceleration, false);
       continue;

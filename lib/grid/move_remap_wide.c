@@ -248,12 +248,14 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
       found = gm_cpdi_kept_load(&c->cache, p, &kept);
       if (found) {
         double corner_position[4][2]; /* m */
+        gather_cpdi_kept_rows(v, &tile_values, &kept, true, false);
         gm_cpdi_kept_fractions(&shape_grid, v->position, v->support_tensor,
                                v->domain_size, p, &block_cells, &kept,
                                corner_position);
       } else if (cpdi_point_support(domain, v, &shape_grid, p, base, &corners,
                                     reach, scratch)) {
         gm_cpdi_kept_from_support(&corners, base, reach, &kept);
+        gather_cpdi_kept_rows(v, &tile_values, &kept, true, false);
         found = true;
       }
       x0 = found ? kept.lowest[0] : 0;
@@ -269,7 +271,7 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
     if (found && cpdi)
-      gather_cpdi_kept_2d(v, &tile_values, &kept, NULL, &sum, true,
+      gather_cpdi_kept_2d(&tile_values, &kept, NULL, &sum, true,
                           false); /* no g_c read */
     else if (found && is_short)
       gather_short_2d(v, links, x0, y0, axis, &sum, true, false);

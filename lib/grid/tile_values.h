@@ -19,6 +19,20 @@
  * front. A missing neighbour (GM_NO_BLOCK, past the grid's last node) is
  * never reached by a support that fits the tile (p2g_wide.c); its half of
  * a row is left unset and never read.
+ *
+ * The copied rows are a range [low, high) grown both ways, not rows 0 up
+ * to the highest reached: the deformation gather takes its points in
+ * index order, in which a block's points come a cell row at a time
+ * between reorderings (every 16 steps; after the fill, until the first,
+ * a block's first point may lie in its top cell row), and it starts the
+ * tile again at each change of block, so copying from row 0 copied rows
+ * its points never read (79 -> 51 instructions per point-step of copies
+ * at 99 856 points, bench/results/2026-11-30-cpdi21.md).
+ *
+ * Where the pass reads the masses, the tile also tells whether every node
+ * it copied has a positive mass (all_mass): then no corner of a support
+ * in the tile reads a massless node, and the gather's test of the four
+ * masses per corner is left out (gather_wide.h).
  */
 #ifndef GM_TILE_VALUES_H
 #define GM_TILE_VALUES_H
@@ -38,7 +52,8 @@ typedef struct gm_tile_values {
   double acceleration[GM_TILE_NODES_2D][2]; /* m/s^2, where the pass reads it */
   double mass[GM_TILE_NODES_2D];            /* kg, where the pass deforms */
   const uint32_t *links; /* the block's neighbour links (self, +x, +y, +x+y) */
-  int rows;              /* tile rows copied so far, from 0 */
+  int low, high;         /* tile rows copied: [low, high), empty if equal */
+  bool all_mass;         /* every copied node's mass > 0 (where copied) */
 } gm_tile_values;
 
 /* Starts the tile of the block whose neighbour links are links: no row
@@ -46,39 +61,58 @@ typedef struct gm_tile_values {
 static inline void gm_tile_values_start(const uint32_t *links,
                                         gm_tile_values *tile) {
   tile->links = links;
-  tile->rows = 0;
+  tile->low = 0;
+  tile->high = 0;
+  tile->all_mass = true;
 }
 
-/* Copies the tile's rows up to `rows` (exclusive) that are not copied
- * yet: the velocities, and the accelerations and masses where the pass
- * reads them (compile-time constants where inlined). */
+/* Makes tile rows [first, end) copied (a support's rows, first < end):
+ * the velocities, and the accelerations and masses where the pass reads
+ * them (compile-time constants where inlined). The copied rows stay one
+ * range: the rows between it and [first, end) are copied too. One copy
+ * loop, inline: a call here, however rare, cost the gathers' point loops
+ * the vector registers they keep across points. */
 static GM_ALWAYS_INLINE void
-gm_tile_values_reach(const gather_view *v, gm_tile_values *tile, int rows,
-                     const bool acceleration, const bool mass) {
+gm_tile_values_reach(const gather_view *v, gm_tile_values *tile, int first,
+                     int end, const bool acceleration, const bool mass) {
+  if (first >= tile->low && end <= tile->high)
+    return; /* the common case: copied */
   const int edge = GM_BLOCK_EDGE_2D;
-  for (int y = tile->rows; y < rows; y++) {
+  int low = tile->low, high = tile->high; /* copied: [low, high) */
+  if (low == high)
+    low = high = first; /* none */
+  int from = first < low ? first : low, to = end > high ? end : high;
+  bool positive = true;
+  for (int y = from; y < to; y++) {
+    if (y == low) /* skip the copied rows */
+      y = high;
+    if (y >= to)
+      break;
     for (int half = 0; half < 2; half++) { /* the row's two blocks */
       uint32_t block = tile->links[2 * (y / edge) + half];
       if (block == GM_NO_BLOCK)
         continue; /* never read (see above) */
-      size_t first =
+      size_t node0 =
           (size_t)block * GM_BLOCK_NODES + (size_t)(edge * (y % edge));
       int t = GM_TILE_EDGE_2D * y + edge * half;
       for (int x = 0; x < edge; x++) {
-        size_t node = first + (size_t)x;
+        size_t node = node0 + (size_t)x;
         tile->velocity[t + x][0] = v->grid_velocity[0][node];
         tile->velocity[t + x][1] = v->grid_velocity[1][node];
         if (acceleration) {
           tile->acceleration[t + x][0] = v->grid_acceleration[0][node];
           tile->acceleration[t + x][1] = v->grid_acceleration[1][node];
         }
-        if (mass)
+        if (mass) {
           tile->mass[t + x] = v->grid_mass[node];
+          positive &= v->grid_mass[node] > 0.0;
+        }
       }
     }
   }
-  if (rows > tile->rows)
-    tile->rows = rows;
+  tile->low = from;
+  tile->high = to;
+  tile->all_mass = tile->all_mass && positive;
 }
 
 #endif
