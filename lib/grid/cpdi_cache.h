@@ -58,20 +58,6 @@ typedef struct gm_cpdi_kept {
   int64_t reach[2];     /* nodes past lowest per axis */
 } gm_cpdi_kept;
 
-/* The cells of one block as doubles: at[k][n] = (double)(base[k] + n),
- * so a kept cell's (double) is a load, the same value (both are integers
- * far below 2^53). Set once per block. */
-typedef struct gm_cpdi_block_cells {
-  double at[2][16]; /* cells */
-} gm_cpdi_block_cells;
-
-static inline void gm_cpdi_block_cells_init(const int64_t base[2],
-                                            gm_cpdi_block_cells *out) {
-  for (int k = 0; k < 2; k++)
-    for (int n = 0; n < 16; n++)
-      out->at[k][n] = (double)(base[k] + n);
-}
-
 /* Point p's kept cells into kept (cells, lowest node and reach from the
  * base); false if this step's scatter kept none for it. */
 static inline bool gm_cpdi_kept_load(const gm_cpdi_cache *cache, size_t p,
@@ -208,17 +194,39 @@ static inline bool gm_cpdi_kept_support_2d(
 #endif
 }
 
+/* Truncations of a pair of values in [0, 16): their floors, exact (as
+ * doubles). SSE2 converts both lanes at once. */
+#if defined(__GNUC__)
+static inline gm_pair gm_cpdi_truncate_local(gm_pair local) {
+#if defined(__SSE2__)
+  return (gm_pair)_mm_cvtepi32_pd(_mm_cvttpd_epi32((__m128d)local));
+#else
+  return (gm_pair){(double)(int)local[0], (double)(int)local[1]};
+#endif
+}
+#endif
+
 /* The bilinear factors (1 - f, f) of point p's kept support, whose cells
  * are known: each corner's position in cells less its cell, the
  * expressions of gm_cpdi_corners_2d and gm_cpdi_support_2d
- * (support_cpdi.h), so the same bits. map: the domain map D. Its corners
- * (m) into corners, for the corner gradients
- * (gm_cpdi_corner_gradients_2d). */
+ * (support_cpdi.h), so the same bits. map: the domain map D; base: the
+ * block's base node. Its corners (m) into corners, for the corner
+ * gradients (gm_cpdi_corner_gradients_2d).
+ *
+ * The fraction is the corner's position past its cell, f = cell -
+ * floor(cell), an exact difference (Sterbenz) whichever way the floor is
+ * had. Here as gm_cpdi_kept_support_2d takes it: the position past the
+ * lowest node, local = cell - lowest, is exact and in [0, 16) (the
+ * scatter kept the support from the same position and domain map), so
+ * its truncation is floor(cell) - lowest, and f = local - trunc(local)
+ * (SSE2: two conversions for both axes), where a table of the block's
+ * cells as doubles, two lookups per corner and one table per block (in
+ * the deformation gather, per change of block in index order), cost more
+ * (bench/results/2026-11-30-cpdi21.md). */
 static inline void gm_cpdi_kept_fractions(
     const gm_shape_grid *grid, const double *const position[2],
     const double *const map[4], const double *const domain_size[2], size_t p,
-    const gm_cpdi_block_cells *cells, gm_cpdi_kept *kept,
-    double corners[4][2]) {
+    const int64_t base[2], gm_cpdi_kept *kept, double corners[4][2]) {
 #if defined(__GNUC__)
   /* x and y as one pair through gm_cpdi_corner_positions_2d's and the
    * fractions' expressions: the same operation per lane, the same bits,
@@ -231,12 +239,13 @@ static inline void gm_cpdi_kept_fractions(
       centre + -1.0 * r1 + -1.0 * r2, centre + 1.0 * r1 + -1.0 * r2,
       centre + 1.0 * r1 + 1.0 * r2, centre + -1.0 * r1 + 1.0 * r2};
   gm_pair origin = {grid->origin[0], grid->origin[1]};
+  gm_pair lowest = {(double)(base[0] + kept->lowest[0]),
+                    (double)(base[1] + kept->lowest[1])}; /* cells */
   gm_pair one = {1.0, 1.0};
   for (int c = 0; c < 4; c++) {
-    int t = kept->tile[c];                                /* x + 16 y */
     gm_pair cell = (corner[c] - origin) * grid->inv_cell; /* cells */
-    gm_pair fraction =
-        cell - (gm_pair){cells->at[0][t & 15], cells->at[1][t >> 4]};
+    gm_pair local = cell - lowest; /* exact, in [0, 16) (see above) */
+    gm_pair fraction = local - gm_cpdi_truncate_local(local);
     gm_pair low = one - fraction;
     gm_pair x = {low[0], fraction[0]}, y = {low[1], fraction[1]};
     memcpy(kept->axis[c][0], &x, sizeof x);
@@ -252,7 +261,7 @@ static inline void gm_cpdi_kept_fractions(
     for (int c = 0; c < 4; c++) {
       double cell = (corners[c][k] - origin) * inv_cell; /* cells */
       int local = (kept->tile[c] >> (4 * k)) & 15; /* x or y of x + 16 y */
-      double fraction = cell - cells->at[k][local];
+      double fraction = cell - (double)(base[k] + local);
       kept->axis[c][k][0] = 1.0 - fraction;
       kept->axis[c][k][1] = fraction;
     }

@@ -141,10 +141,8 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
    * the grid's origin and spacing at every point. */
   const gm_shape_grid shape_grid = *v->shape_grid;
   wide_support support;
-  /* USL: the cells its scatter kept (cpdi_cache.h), and the block's
-   * cells as doubles for the fractions. */
+  /* USL: the cells its scatter kept (cpdi_cache.h). */
   bool kept_cells = try_cpdi && v->cpdi_cache.packed;
-  gm_cpdi_block_cells block_cells;
   gm_tile_values tile_values; /* CPDI: the block's tile (tile_values.h) */
   uint32_t base_block = GM_NO_BLOCK;
   int64_t base[2] = {0, 0}; /* node of base_block's lower corner */
@@ -157,8 +155,6 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
                                   mostly in one block) */
       gm_block_base(v->grid, v->grid->block_key[block], base);
       base_block = block;
-      if (kept_cells)
-        gm_cpdi_block_cells_init(base, &block_cells);
       if (try_cpdi)
         gm_tile_values_start(links, &tile_values);
     }
@@ -190,7 +186,7 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
       double corners[4][2], corner_gradient[4][2]; /* m, 1/m */
       gather_cpdi_kept_rows(v, &tile_values, &kept, acceleration, gradient);
       gm_cpdi_kept_fractions(&shape_grid, v->position, deformation,
-                             v->domain_size, p, &block_cells, &kept, corners);
+                             v->domain_size, p, base, &kept, corners);
       (void)gm_cpdi_corner_gradients_2d(corners, corner_gradient);
       gather_cpdi_kept_2d(&tile_values, &kept, &corner_gradient[0][0], &sum,
                           acceleration, gradient);

@@ -222,10 +222,8 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
   double dt = m->dt;
   int64_t base[2];
   gm_block_base(&domain->grid, domain->grid.block_key[block], base);
-  gm_cpdi_block_cells block_cells; /* the fractions' cells (cpdi_cache.h) */
   gm_tile_values tile_values; /* the corners' nodal values (tile_values.h) */
   if (cpdi) {
-    gm_cpdi_block_cells_init(base, &block_cells);
     gm_tile_values_start(links, &tile_values);
   }
   memset(tile, 0, sizeof *tile);
@@ -250,8 +248,7 @@ move_remap_block_kind(const gm_domain *domain, const move_remap_wide_context *c,
         double corner_position[4][2]; /* m */
         gather_cpdi_kept_rows(v, &tile_values, &kept, true, false);
         gm_cpdi_kept_fractions(&shape_grid, v->position, v->support_tensor,
-                               v->domain_size, p, &block_cells, &kept,
-                               corner_position);
+                               v->domain_size, p, base, &kept, corner_position);
       } else if (cpdi_point_support(domain, v, &shape_grid, p, base, &corners,
                                     reach, scratch)) {
         gm_cpdi_kept_from_support(&corners, base, reach, &kept);
