@@ -261,14 +261,22 @@ void gm_wide_keys_chunk(gm_domain *domain, const gather_view *v,
   bool try_short =
       dim == 2 && (shape == GM_SHAPE_UGIMP || shape == GM_SHAPE_CPGIMP);
   bool try_cpdi = dim == 2 && shape == GM_SHAPE_CPDI;
+  /* Local copies for CPDI's test: the key stores (int64_t) may alias the
+   * grid's integers and the loop's calls (the failure path) anything, so
+   * the grid's origin, spacing and last nodes and the arrays' addresses
+   * were loaded again at every point. */
+  const gm_shape_grid shape_grid = *v->shape_grid;
+  const double *const map[4] = {deformation[0], deformation[1], deformation[2],
+                                deformation[3]};
+  const double *const size[2] = {v->domain_size[0], v->domain_size[1]};
+  int64_t *const keys = v->block_key;
   for (size_t p = first; p < first + count; p++) {
     int64_t lowest[2], highest[2];
     if (try_cpdi) { /* support_cpdi.h: gm_support_bounds' lowest and tests */
-      if (gm_cpdi_lowest_2d(
-              v->shape_grid, position[0][p], position[1][p], deformation[0][p],
-              deformation[1][p], deformation[2][p], deformation[3][p],
-              0.5 * v->domain_size[0][p], 0.5 * v->domain_size[1][p], lowest)) {
-        v->block_key[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);
+      if (gm_cpdi_lowest_2d(&shape_grid, position[0][p], position[1][p],
+                            map[0][p], map[1][p], map[2][p], map[3][p],
+                            0.5 * size[0][p], 0.5 * size[1][p], lowest)) {
+        keys[p] = gm_block_key_of_node(v->grid, lowest[0], lowest[1]);
         continue;
       }
     }
