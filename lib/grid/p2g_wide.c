@@ -353,9 +353,15 @@ static GM_ALWAYS_INLINE void clear_tile_rows(wide_tile *tile, int64_t *cleared,
  * below, so each pass kind gets its own loop (as p2g.c), and the APIC
  * momentum goes through the entry table. */
 static GM_ALWAYS_INLINE void scatter_block_kind(
-    const scatter_view *v, const gm_p2g_pass *pass, uint32_t block,
+    const scatter_view *shared, const gm_p2g_pass *pass, uint32_t block,
     const gm_domain *domain, gm_worker_scratch *scratch, wide_tile *tile,
     const bool do_mass, const bool do_momentum, const bool do_forces) {
+  /* A local copy: the tile's stores (doubles) may alias the view's
+   * gravity and the loop's calls (the failure path) anything else, so the
+   * arrays' addresses, the gravity and the flags of load_point were loaded
+   * again at every point. Its address stays in this function. */
+  const scatter_view view = *shared;
+  const scatter_view *v = &view;
   int dim = v->grid->dim;
   int64_t tile_edge = dim == 1 ? WIDE_TILE_NODES : 2 << v->shift;
   bool cpdi = v->shape_grid->shape == GM_SHAPE_CPDI;
@@ -460,7 +466,7 @@ static GM_ALWAYS_INLINE void scatter_block_kind(
     }
   }
   const uint32_t *links = v->neighbour + (size_t)block * GM_BLOCK_NEIGHBOURS;
-  flush_wide_tile(v, pass, links, tile, columns, rows, tile_edge);
+  flush_wide_tile(shared, pass, links, tile, columns, rows, tile_edge);
 }
 
 void gm_scatter_block_wide(const scatter_view *v, const gm_p2g_pass *pass,
