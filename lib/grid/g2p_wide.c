@@ -158,6 +158,22 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
       if (try_cpdi)
         gm_tile_values_start(links, &tile_values);
     }
+    gm_cpdi_kept kept; /* kept_cells excludes try_short: CPDI only */
+    if (kept_cells && gm_cpdi_kept_load(&v->cpdi_cache, p, &kept)) {
+      /* The fractions and corner gradients from the kept cells, bitwise
+       * gm_cpdi_support_2d's. Its own sums, before the others' zeros: the
+       * corners' gather sets every one (the zeros cost 7 stores). */
+      double corners[4][2], corner_gradient[4][2]; /* m, 1/m */
+      point_gather kept_sum;
+      gather_cpdi_kept_rows(v, &tile_values, &kept, acceleration, gradient);
+      gm_cpdi_kept_fractions(&shape_grid, v->position, deformation,
+                             v->domain_size, p, base, &kept, corners);
+      (void)gm_cpdi_corner_gradients_2d(corners, corner_gradient);
+      gather_cpdi_kept_2d(&tile_values, &kept, &corner_gradient[0][0],
+                          &kept_sum, acceleration, gradient);
+      store_point_gather(v, p, j, &kept_sum, NULL, out, 2, acceleration, false);
+      continue;
+    }
     point_gather sum = {
         {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
     double affine[2][2] = {{0.0, 0.0}, {0.0, 0.0}}; /* m^2/s, APIC's B_p */
@@ -178,20 +194,6 @@ gather_chunk_kind(const gather_view *v, size_t first, size_t count,
           continue;
         }
       }
-    }
-    gm_cpdi_kept kept;
-    if (kept_cells && gm_cpdi_kept_load(&v->cpdi_cache, p, &kept)) {
-      /* The fractions and corner gradients from the kept cells, bitwise
-       * gm_cpdi_support_2d's. */
-      double corners[4][2], corner_gradient[4][2]; /* m, 1/m */
-      gather_cpdi_kept_rows(v, &tile_values, &kept, acceleration, gradient);
-      gm_cpdi_kept_fractions(&shape_grid, v->position, deformation,
-                             v->domain_size, p, base, &kept, corners);
-      (void)gm_cpdi_corner_gradients_2d(corners, corner_gradient);
-      gather_cpdi_kept_2d(&tile_values, &kept, &corner_gradient[0][0], &sum,
-                          acceleration, gradient);
-      store_point_gather(v, p, j, &sum, affine, out, 2, acceleration, false);
-      continue;
     }
     if (try_cpdi) {
       gm_cpdi_support *corners = &support.cpdi;

@@ -219,6 +219,9 @@ static GM_ALWAYS_INLINE void gather_cpdi_corners_kind(
   gm_pair zero = {0.0, 0.0}, shares = {share, share};
   gm_pair acc = zero, vel = zero, column_x = zero, column_y = zero,
           empty_sum = zero;
+#else /* the sums start at 0 (every one is set, so sum may come unset) */
+  *sum = (point_gather){
+      {0.0, 0.0}, {0.0, 0.0}, {{0.0, 0.0}, {0.0, 0.0}}, {0.0, 0.0}};
 #endif
   for (int c = 0; c < 4; c++) {
     /* tile nodes (a, b) = (0, 0), (1, 0), (0, 1), (1, 1) */
