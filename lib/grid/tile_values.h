@@ -42,6 +42,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 /* Tile nodes per axis: two blocks. */
 #define GM_TILE_EDGE_2D  (2 * GM_BLOCK_EDGE_2D)
@@ -66,6 +67,21 @@ static inline void gm_tile_values_start(const uint32_t *links,
   tile->all_mass = true;
 }
 
+#if defined(__GNUC__)
+/* Nodes node and node + 1 of a field's x and y arrays into (x, y) per
+ * node at out[0], out[1]: the same values. */
+static GM_ALWAYS_INLINE void
+gm_tile_values_interleave(const double *const field[2], size_t node,
+                          double out[2][2]) {
+  gm_pair x, y;
+  memcpy(&x, &field[0][node], sizeof x);
+  memcpy(&y, &field[1][node], sizeof y);
+  gm_pair first = {x[0], y[0]}, second = {x[1], y[1]};
+  memcpy(out[0], &first, sizeof first);
+  memcpy(out[1], &second, sizeof second);
+}
+#endif
+
 /* Makes tile rows [first, end) copied (a support's rows, first < end):
  * the velocities, and the accelerations and masses where the pass reads
  * them (compile-time constants where inlined). The copied rows stay one
@@ -82,7 +98,10 @@ gm_tile_values_reach(const gather_view *v, gm_tile_values *tile, int first,
   if (low == high)
     low = high = first; /* none */
   int from = first < low ? first : low, to = end > high ? end : high;
-  bool positive = true;
+  bool positive = true; /* every copied mass > 0 (where copied) */
+#if defined(__GNUC__)
+  gm_pair_mask positive_lanes = {-1, -1}; /* the same per lane */
+#endif
   for (int y = from; y < to; y++) {
     if (y == low) /* skip the copied rows */
       y = high;
@@ -95,6 +114,24 @@ gm_tile_values_reach(const gather_view *v, gm_tile_values *tile, int first,
       size_t node0 =
           (size_t)block * GM_BLOCK_NODES + (size_t)(edge * (y % edge));
       int t = GM_TILE_EDGE_2D * y + edge * half;
+#if defined(__GNUC__)
+      /* two nodes at a time: their x and their y as pairs, interleaved
+       * into (v_x, v_y) per node, and the masses' test as a lane mask */
+      for (int x = 0; x < edge; x += 2) {
+        size_t node = node0 + (size_t)x;
+        gm_tile_values_interleave(v->grid_velocity, node,
+                                  &tile->velocity[t + x]);
+        if (acceleration)
+          gm_tile_values_interleave(v->grid_acceleration, node,
+                                    &tile->acceleration[t + x]);
+        if (mass) {
+          gm_pair m, zero = {0.0, 0.0};
+          memcpy(&m, &v->grid_mass[node], sizeof m);
+          memcpy(&tile->mass[t + x], &m, sizeof m);
+          positive_lanes &= (gm_pair_mask)(m > zero);
+        }
+      }
+#else
       for (int x = 0; x < edge; x++) {
         size_t node = node0 + (size_t)x;
         tile->velocity[t + x][0] = v->grid_velocity[0][node];
@@ -103,13 +140,16 @@ gm_tile_values_reach(const gather_view *v, gm_tile_values *tile, int first,
           tile->acceleration[t + x][0] = v->grid_acceleration[0][node];
           tile->acceleration[t + x][1] = v->grid_acceleration[1][node];
         }
-        if (mass) {
+        if (mass)
           tile->mass[t + x] = v->grid_mass[node];
-          positive &= v->grid_mass[node] > 0.0;
-        }
+        positive &= !mass || v->grid_mass[node] > 0.0;
       }
+#endif
     }
   }
+#if defined(__GNUC__)
+  positive = positive_lanes[0] != 0 && positive_lanes[1] != 0;
+#endif
   tile->low = from;
   tile->high = to;
   tile->all_mass = tile->all_mass && positive;
