@@ -209,7 +209,7 @@ static GM_ALWAYS_INLINE bool cpdi_corner_may_be_empty(const double *mass) {
  * g_c), so its mass tests are one look at the four masses
  * (cpdi_corner_may_be_empty), and none where every node the tile copied
  * has mass (test_mass false: each term of the node-by-node test would be
- * +0, as the sum it starts from; gather_cpdi_corners_tile). */
+ * +0, as the sum it starts from; gather_cpdi_corners_2d). */
 static GM_ALWAYS_INLINE void gather_cpdi_corners_kind(
     const gm_tile_values *tile, const int cell_node[4], const double *axis,
     const double *gradient_c, double share, point_gather *sum,

@@ -26,7 +26,7 @@
  * between reorderings (every 16 steps; after the fill, until the first,
  * a block's first point may lie in its top cell row), and it starts the
  * tile again at each change of block, so copying from row 0 copied rows
- * its points never read (79 -> 51 instructions per point-step of copies
+ * its points never read (79 -> 46 instructions per point-step of copies
  * at 99 856 points, bench/results/2026-11-30-cpdi21.md).
  *
  * Where the pass reads the masses, the tile also tells whether every node
@@ -44,7 +44,9 @@
 #include <stdint.h>
 #include <string.h>
 
-/* Tile nodes per axis: two blocks. */
+/* Tile nodes per axis: two blocks. A block's row is copied two nodes at
+ * a time (gm_tile_values_reach). */
+_Static_assert(GM_BLOCK_EDGE_2D % 2 == 0, "a block row of pairs of nodes");
 #define GM_TILE_EDGE_2D  (2 * GM_BLOCK_EDGE_2D)
 #define GM_TILE_NODES_2D (GM_TILE_EDGE_2D * GM_TILE_EDGE_2D)
 
@@ -86,8 +88,8 @@ gm_tile_values_interleave(const double *const field[2], size_t node,
  * the velocities, and the accelerations and masses where the pass reads
  * them (compile-time constants where inlined). The copied rows stay one
  * range: the rows between it and [first, end) are copied too. One copy
- * loop, inline: a call here, however rare, cost the gathers' point loops
- * the vector registers they keep across points. */
+ * loop, inline (out of line, behind a call, it saved nothing:
+ * bench/results/2026-11-30-cpdi21.md). */
 static GM_ALWAYS_INLINE void
 gm_tile_values_reach(const gather_view *v, gm_tile_values *tile, int first,
                      int end, const bool acceleration, const bool mass) {
