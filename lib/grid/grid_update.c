@@ -21,6 +21,7 @@ typedef struct update_context {
   int mode;
   bool wall_friction; /* planar walls apply Coulomb friction (see below) */
   gm_gap_layout gaps; /* the gap records' layout, once per update */
+  bool face_acts[4];  /* 2D: face 2 axis + side may hold or limit its nodes */
 } update_context;
 
 /* Whether the planar walls' Coulomb friction acts in this grid update:
@@ -285,6 +286,108 @@ static void update_free_block_2d(gm_grid *grid, size_t b, double dt,
   }
 }
 
+/* A node's velocity after the faces' conditions (held components zero,
+ * the others limited in velocity), its acceleration made consistent with
+ * it again: (v_new - v_old) / dt. */
+static inline void settle_node(gm_grid *grid, size_t node, int dim,
+                               const double velocity[2], const bool held[2],
+                               const double old_velocity[2], double dt,
+                               bool velocity_only) {
+  for (int k = 0; k < dim; k++) {
+    if (held[k]) {
+      grid->momentum[k][node] = 0.0;
+      if (!velocity_only)
+        grid->force[k][node] = -old_velocity[k] / dt;
+    } else if (velocity[k] != grid->momentum[k][node]) { /* approach */
+      grid->momentum[k][node] = velocity[k];
+      if (!velocity_only)
+        grid->force[k][node] = (velocity[k] - old_velocity[k]) / dt;
+    }
+  }
+}
+
+#if defined(__GNUC__)
+/* Whether constrain_faces can change the nodes of 2D column ix (of row
+ * iy): they are on or beyond a face that is neither open nor periodic,
+ * or on the symmetry axis (face_acts, gm_grid_update). Elsewhere it
+ * leaves the velocity as it is and holds nothing. */
+static inline bool column_acts(const update_context *ctx, int64_t ix,
+                               int64_t face_x) {
+  return (ix <= GM_GHOST_LAYERS && ctx->face_acts[0]) ||
+         (ix >= face_x && ctx->face_acts[1]);
+}
+
+static inline bool row_acts(const update_context *ctx, int64_t iy,
+                            int64_t face_y) {
+  return (iy <= GM_GHOST_LAYERS && ctx->face_acts[2]) ||
+         (iy >= face_y && ctx->face_acts[3]);
+}
+
+/* A 2D block on the box's faces and nothing else (no planar wall, face
+ * centre or rigid body near it), without damping or in a re-map: row by
+ * row, two nodes at a time as in update_free_block_2d where no face acts
+ * on them, the nodes of acting faces one by one with update_blocks'
+ * expressions (so the same bits). An open or periodic face leaves its
+ * nodes as the acceleration left them (constrain_faces skips it), so
+ * its nodes are pairs too. A quarter of the granular cloud's node
+ * layers' blocks are on a face, most of them on the open sides and top
+ * of the bench's box; node by node they took about 95 instructions per
+ * point-step (bench/results/2026-11-30-cloud23.md). */
+static void update_face_block_2d(const update_context *ctx, size_t b,
+                                 int64_t base_x, int64_t base_y) {
+  gm_domain *domain = ctx->domain;
+  gm_grid *grid = &domain->grid;
+  int64_t edge = (int64_t)1 << grid->shift;
+  int64_t face_x = domain->cells[0] + GM_GHOST_LAYERS;
+  int64_t face_y = domain->cells[1] + GM_GHOST_LAYERS;
+  double dt = ctx->dt;
+  double damping = domain->def.damping; /* not > 0, or a re-map */
+  bool velocity_only = ctx->mode == GM_GRID_VELOCITY_ONLY;
+  unsigned acting_columns = 0; /* bit c: column base_x + c */
+  for (int64_t column = 0; column < edge; column++)
+    if (column_acts(ctx, base_x + column, face_x))
+      acting_columns |= 1u << column;
+  for (int64_t row = 0; row < edge; row++) {
+    int64_t iy = base_y + row;
+    unsigned acting = row_acts(ctx, iy, face_y) ? ~0u : acting_columns;
+    size_t first = b * GM_BLOCK_NODES + (size_t)(row * edge);
+    for (int64_t column = 0; column < edge; column += 2) {
+      int64_t ix = base_x + column;
+      size_t node = first + (size_t)column;
+      if (!((acting >> column) & 3u)) {
+        update_undamped_pair(grid->mass + node, grid->momentum[0] + node,
+                             grid->momentum[1] + node, grid->force[0] + node,
+                             grid->force[1] + node, dt, velocity_only);
+        continue;
+      }
+      for (int64_t n = 0; n < 2; n++) {
+        double mass = grid->mass[node + (size_t)n];
+        double inverse_mass = mass > 0.0 ? 1.0 / mass : 0.0; /* empty: 0 */
+        double old_velocity[2];
+        for (int k = 0; k < 2; k++) {
+          double *motion = &grid->momentum[k][node + (size_t)n];
+          if (velocity_only)
+            *motion = old_velocity[k] = *motion * inverse_mass;
+          else
+            old_velocity[k] =
+                gm_node_accelerate(motion, &grid->force[k][node + (size_t)n],
+                                   inverse_mass, damping, dt);
+        }
+        if (!((acting >> (column + n)) & 1u))
+          continue; /* off the faces, or on open or periodic ones only */
+        bool held[2];
+        double velocity[2] = {grid->momentum[0][node + (size_t)n],
+                              grid->momentum[1][node + (size_t)n]};
+        constrain_faces(domain, &ctx->gaps, node + (size_t)n, ix + n, iy, dt,
+                        velocity, held);
+        settle_node(grid, node + (size_t)n, 2, velocity, held, old_velocity, dt,
+                    velocity_only);
+      }
+    }
+  }
+}
+#endif
+
 static void update_blocks(void *context, size_t begin, size_t end, int worker) {
   (void)worker;
   update_context *ctx = context;
@@ -327,32 +430,15 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
                            ctx->mode == GM_GRID_VELOCITY_ONLY);
       continue;
     }
-    /* A 2D block on the box's faces and nothing else: two nodes of a row
-     * off the faces are updated as in update_free_block_2d (the loop
-     * below only accelerates them), the granular cloud's node layers
-     * having a quarter of their blocks on a face. */
 #if defined(__GNUC__)
-    bool pairs_off_faces =
-        dim == 2 && !near_walls && !near_faces && domain->rigid_count == 0 &&
-        (ctx->mode == GM_GRID_VELOCITY_ONLY || !(damping > 0.0));
+    if (dim == 2 && !near_walls && !near_faces && domain->rigid_count == 0 &&
+        (ctx->mode == GM_GRID_VELOCITY_ONLY || !(damping > 0.0))) {
+      update_face_block_2d(ctx, b, base_x, base_y);
+      continue;
+    }
 #endif
     for (size_t local = 0; local < GM_BLOCK_NODES; local++) {
       size_t node = b * GM_BLOCK_NODES + local;
-#if defined(__GNUC__)
-      if (pairs_off_faces && local % 2 == 0) {
-        int64_t pair_x = base_x + (int64_t)(local & (size_t)(edge - 1));
-        int64_t pair_y = base_y + (int64_t)(local >> shift);
-        if (pair_x > GM_GHOST_LAYERS && pair_x + 1 < face_x &&
-            pair_y > GM_GHOST_LAYERS && pair_y < face_y) {
-          update_undamped_pair(grid->mass + node, grid->momentum[0] + node,
-                               grid->momentum[1] + node, grid->force[0] + node,
-                               grid->force[1] + node, dt,
-                               ctx->mode == GM_GRID_VELOCITY_ONLY);
-          local++; /* both nodes done */
-          continue;
-        }
-      }
-#endif
       double mass = grid->mass[node];
       double inverse_mass = mass > 0.0 ? 1.0 / mass : 0.0; /* empty: 0 */
       double old_velocity[2] = {0.0, 0.0};
@@ -391,17 +477,8 @@ static void update_blocks(void *context, size_t begin, size_t end, int worker) {
                       (size_t)ctx->gaps.centres, /* wide: all planes */
               index, dt, velocity);
         }
-        for (int k = 0; k < dim; k++) {
-          if (held[k]) {
-            grid->momentum[k][node] = 0.0;
-            if (ctx->mode != GM_GRID_VELOCITY_ONLY)
-              grid->force[k][node] = -old_velocity[k] / dt;
-          } else if (velocity[k] != grid->momentum[k][node]) { /* approach */
-            grid->momentum[k][node] = velocity[k];
-            if (ctx->mode != GM_GRID_VELOCITY_ONLY)
-              grid->force[k][node] = (velocity[k] - old_velocity[k]) / dt;
-          }
-        }
+        settle_node(grid, node, dim, velocity, held, old_velocity, dt,
+                    ctx->mode == GM_GRID_VELOCITY_ONLY);
       }
       if (near_walls && mass > 0.0)
         apply_walls(ctx, node, ix, iy, old_velocity, block_force);
@@ -420,7 +497,15 @@ void gm_grid_update(gm_domain *domain, double dt, int mode) {
     gm_grid_update_3d(domain, dt, mode);
     return;
   }
-  update_context ctx = {domain, dt, mode, wall_friction(mode), {0, 0, {0}}};
+  update_context ctx = {.domain = domain,
+                        .dt = dt,
+                        .mode = mode,
+                        .wall_friction = wall_friction(mode)};
   gm_gap_layout_of(domain, &ctx.gaps);
+  for (int face = 0; face < 4; face++)
+    ctx.face_acts[face] = domain->def.walls[face] != GM_WALL_OPEN &&
+                          domain->def.walls[face] != GM_WALL_PERIODIC;
+  if (domain->axisymmetric && domain->def.origin[0] == 0.0)
+    ctx.face_acts[0] = true; /* the symmetry axis (constrain_faces) */
   gm_parallel_for(&domain->pool, domain->grid.block_count, update_blocks, &ctx);
 }
