@@ -606,16 +606,16 @@ gm_status gm_granular_prepare(gm_domain *domain) {
     const int32_t *kept = work->labels_kept
                               ? points->buffer[work->labels_buffer].component
                               : NULL;
-    if (kept) {
+    if (kept) { /* component_size was counted from them too */
       components = work->labels_components;
       if (kept != work->label)
         memcpy(work->label, kept, count * sizeof(int32_t));
     } else {
       components = label_components(domain);
+      memset(work->component_size, 0, components * sizeof(uint32_t));
+      for (size_t p = 0; p < count; p++)
+        work->component_size[work->label[p]]++;
     }
-    memset(work->component_size, 0, components * sizeof(uint32_t));
-    for (size_t p = 0; p < count; p++)
-      work->component_size[work->label[p]]++;
   }
   work->labels_kept = true;
   work->labels_buffer = points->cur ^ 1;
