@@ -67,6 +67,7 @@ validate: all
 	sh validate/collapse_3d.sh
 	sh validate/silo_refinement.sh
 	sh validate/silo_edge.sh
+	sh validate/silo_similar.sh
 
 # Fuzzing: a private static build with clang, libFuzzer, ASan and UBSan.
 FUZZ_BUILD ?= build-fuzz
